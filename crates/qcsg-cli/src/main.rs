@@ -1,0 +1,3 @@
+//! The `qcsg` command line (CLI.md).
+
+fn main() {}
