@@ -1,3 +1,141 @@
-//! The `qcsg` command line (CLI.md).
+//! The `qcsg` command line (docs in CLI.md and `qcsg --help`).
+//!
+//! This file only declares the commands and flags (clap) and maps outcomes to exit codes; each
+//! command lives in its own module, and the two diagnostic formats in [`human`] and [`json`].
 
-fn main() {}
+mod check;
+mod human;
+mod json;
+
+use std::num::NonZeroUsize;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Exit status: the run succeeded (warnings allowed).
+const EXIT_OK: u8 = 0;
+/// Exit status: the input has errors, and they were printed.
+const EXIT_INPUT_ERRORS: u8 = 1;
+/// Exit status: usage error, unreadable input or unwritable output (clap also exits with 2).
+const EXIT_USAGE: u8 = 2;
+
+/// Solids built from quadric surfaces: check OpenSCAD-compatible `.qcsg` and `.scad` programs.
+#[derive(Debug, Parser)]
+#[command(name = "qcsg", version, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Parse and check programs, print their diagnostics; exit 1 if any has an error.
+    Check(CheckArgs),
+}
+
+/// Arguments of `qcsg check`.
+#[derive(Debug, Args)]
+struct CheckArgs {
+    /// Files to check (`.qcsg` or `.scad`); `-` reads standard input.
+    #[arg(value_name = "FILE", required = true)]
+    files: Vec<String>,
+
+    #[command(flatten)]
+    common: CommonArgs,
+}
+
+/// Flags every command accepts (CLI.md, "Common flags").
+#[derive(Debug, Args)]
+struct CommonArgs {
+    /// Override a top-level variable, as OpenSCAD's `-D` (VALUE is an expression); repeatable.
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
+    defines: Vec<(String, String)>,
+
+    /// How diagnostics are printed: `human` on standard error, `json` as one array on standard
+    /// output.
+    #[arg(long, value_enum, default_value_t = DiagnosticFormat::Human)]
+    format: DiagnosticFormat,
+
+    /// Report errors only: no warnings, infos, hints or summary line.
+    #[arg(short, long)]
+    quiet: bool,
+
+    /// Worker threads (default: one per CPU core). Output does not depend on it.
+    #[arg(long, value_name = "N")]
+    threads: Option<NonZeroUsize>,
+}
+
+/// The `--format` of diagnostics.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum DiagnosticFormat {
+    /// Source excerpts with labels and help, for people.
+    Human,
+    /// One JSON array, for tools (CLI.md, "Diagnostics JSON").
+    Json,
+}
+
+/// Splits `-D name=value` at its first `=`.
+fn parse_define(text: &str) -> Result<(String, String), String> {
+    let (name, value) = text
+        .split_once('=')
+        .ok_or_else(|| format!("expected NAME=VALUE, found `{text}`"))?;
+    let name = name.trim();
+    let is_identifier = name
+        .strip_prefix('$')
+        .unwrap_or(name)
+        .chars()
+        .enumerate()
+        .all(|(i, c)| c == '_' || c.is_ascii_alphabetic() || (i > 0 && c.is_ascii_digit()));
+    if name.is_empty() || name == "$" || !is_identifier {
+        return Err(format!("`{name}` is not a variable name"));
+    }
+    if value.trim().is_empty() {
+        return Err(format!("`-D {name}=` needs a value"));
+    }
+    Ok((name.to_owned(), value.to_owned()))
+}
+
+/// The directories of `QCSG_PATH` (colon-separated, like `PATH`), empty entries skipped.
+fn search_path_from_env() -> Vec<PathBuf> {
+    std::env::var_os("QCSG_PATH")
+        .map(|paths| {
+            std::env::split_paths(&paths)
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let status = match cli.command {
+        Command::Check(args) => check::run(args),
+    };
+    ExitCode::from(status)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn cli_definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn defines_split_at_the_first_equals_sign() {
+        assert_eq!(parse_define("w=10"), Ok(("w".into(), "10".into())));
+        assert_eq!(parse_define("$fn=a==b"), Ok(("$fn".into(), "a==b".into())));
+        assert_eq!(
+            parse_define("s=\"x=1\""),
+            Ok(("s".into(), "\"x=1\"".into()))
+        );
+        assert!(parse_define("w").is_err());
+        assert!(parse_define("=3").is_err());
+        assert!(parse_define("1w=3").is_err());
+        assert!(parse_define("w=").is_err());
+    }
+}

@@ -1,0 +1,159 @@
+//! `qcsg check FILE...`: parse and check each file, print the diagnostics, pick the exit code.
+//!
+//! Files are checked independently (each is its own program) and possibly in parallel, but the
+//! output is always in the order the files were given, so it never depends on `--threads`.
+
+use std::io::{IsTerminal, Read, Write};
+use std::num::NonZeroUsize;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use qcsg_diag::Diagnostic;
+use qcsg_sema::{Analysis, CheckOptions, FsLoader};
+
+use crate::human::{HumanRenderer, summary_line};
+use crate::{CheckArgs, DiagnosticFormat, EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
+
+/// The name standard input goes by in diagnostics.
+pub const STDIN_NAME: &str = "<stdin>";
+
+/// One input as read from the command line.
+enum Input {
+    /// Its name (the path as given, or `<stdin>`) and text.
+    Read { name: String, text: String },
+    /// It could not be read; the message says why.
+    Unreadable(String),
+}
+
+/// Runs `qcsg check` and returns the process exit status.
+pub fn run(args: CheckArgs) -> u8 {
+    let options = CheckOptions {
+        search_path: crate::search_path_from_env(),
+        defines: args.common.defines.clone(),
+    };
+    let inputs: Vec<Input> = args.files.iter().map(|file| read_input(file)).collect();
+    let threads = args
+        .common
+        .threads
+        .or_else(|| std::thread::available_parallelism().ok())
+        .unwrap_or(NonZeroUsize::MIN);
+    let analyses = check_all(&inputs, &options, threads);
+
+    let mut unreadable = false;
+    for input in &inputs {
+        if let Input::Unreadable(message) = input {
+            unreadable = true;
+            eprintln!("error: {message}");
+        }
+    }
+
+    let has_errors = analyses
+        .iter()
+        .flat_map(|a| &a.diagnostics)
+        .any(Diagnostic::is_error);
+    let shown = |d: &&Diagnostic| !args.common.quiet || d.is_error();
+    match args.common.format {
+        DiagnosticFormat::Json => {
+            let elements: Vec<_> = analyses
+                .iter()
+                .flat_map(|a| a.diagnostics.iter().filter(shown).map(move |d| (a, d)))
+                .map(|(a, d)| crate::json::JsonDiagnostic::new(&a.sources, d))
+                .collect();
+            let mut stdout = std::io::stdout().lock();
+            let written = serde_json::to_writer_pretty(&mut stdout, &elements)
+                .map_err(std::io::Error::from)
+                .and_then(|()| writeln!(stdout));
+            if written.is_err() {
+                return EXIT_USAGE;
+            }
+        }
+        DiagnosticFormat::Human => {
+            let stderr = std::io::stderr();
+            let colour =
+                stderr.is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty());
+            let renderer = HumanRenderer::for_terminal(colour);
+            let mut out = String::new();
+            let mut counts = [0usize; 4];
+            for analysis in &analyses {
+                for diagnostic in analysis.diagnostics.iter().filter(shown) {
+                    counts[diagnostic.severity as usize] += 1;
+                    out.push_str(&renderer.render(&analysis.sources, diagnostic));
+                }
+            }
+            if !args.common.quiet {
+                out.push_str(&summary_line(counts));
+                out.push('\n');
+            }
+            // A closed standard error is no reason to change the verdict on the input.
+            let _ = stderr.lock().write_all(out.as_bytes());
+        }
+    }
+
+    if unreadable {
+        EXIT_USAGE
+    } else if has_errors {
+        EXIT_INPUT_ERRORS
+    } else {
+        EXIT_OK
+    }
+}
+
+/// Reads one FILE argument; `-` is standard input.
+fn read_input(file: &str) -> Input {
+    if file == "-" {
+        let mut text = String::new();
+        return match std::io::stdin().read_to_string(&mut text) {
+            Ok(_) => Input::Read {
+                name: STDIN_NAME.to_owned(),
+                text,
+            },
+            Err(err) => Input::Unreadable(format!("cannot read standard input: {err}")),
+        };
+    }
+    match std::fs::read_to_string(file) {
+        Ok(text) => Input::Read {
+            name: file.to_owned(),
+            text,
+        },
+        Err(err) => Input::Unreadable(format!("cannot read `{file}`: {err}")),
+    }
+}
+
+/// Checks every readable input on up to `threads` threads; the result is in input order.
+fn check_all(inputs: &[Input], options: &CheckOptions, threads: NonZeroUsize) -> Vec<Analysis> {
+    let jobs: Vec<(&str, &str)> = inputs
+        .iter()
+        .filter_map(|input| match input {
+            Input::Read { name, text } => Some((name.as_str(), text.as_str())),
+            Input::Unreadable(_) => None,
+        })
+        .collect();
+    let check = |(name, text): (&str, &str)| {
+        qcsg_sema::check_file(name, text.to_owned(), options, &FsLoader)
+    };
+    let workers = threads.get().min(jobs.len());
+    if workers <= 1 {
+        return jobs.into_iter().map(check).collect();
+    }
+
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Analysis>>> = Mutex::new(jobs.iter().map(|_| None).collect());
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&job) = jobs.get(i) else { break };
+                    let analysis = check(job);
+                    results.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(analysis);
+                }
+            });
+        }
+    });
+    results
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .into_iter()
+        .map(|a| a.expect("every job ran to completion"))
+        .collect()
+}
