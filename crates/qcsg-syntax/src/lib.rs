@@ -4,6 +4,11 @@
 //! every error it recovered from. This crate knows nothing of evaluation or of editors.
 
 pub mod ast;
+pub mod codes;
+mod doc;
+pub mod lexer;
+mod parser;
+pub mod sexpr;
 
 pub use ast::SourceFile;
 pub use qcsg_diag::{Diagnostic, FileId, Span};
@@ -20,7 +25,34 @@ pub struct Parse {
 
 /// Parses one file. Never fails and never panics: syntax errors become diagnostics (attributed to
 /// `file`) and error nodes in the tree.
-pub fn parse(_text: &str, _file: FileId) -> Parse {
-    // Replaced by the lexer and recovering parser.
-    Parse { file: SourceFile { stmts: Vec::new(), comments: Vec::new() }, diagnostics: Vec::new() }
+pub fn parse(text: &str, file: FileId) -> Parse {
+    let lexed = lexer::lex(text, file);
+    let mut diagnostics = lexed.diagnostics;
+    // Escapes are checked once here; the parser decodes strings without reporting.
+    for &(tok, span) in &lexed.tokens {
+        if let lexer::Tok::Str(terminated) = tok {
+            let end = if terminated {
+                span.end as usize - 1
+            } else {
+                span.end as usize
+            };
+            let body = &text[span.start as usize + 1..end];
+            lexer::unescape(body, span.start as usize + 1, file, &mut diagnostics);
+        }
+    }
+    let tokens: Vec<(lexer::Tok, chumsky::span::SimpleSpan)> = lexed
+        .tokens
+        .iter()
+        .map(|&(tok, span)| (tok, chumsky::span::SimpleSpan::from(span.range())))
+        .collect();
+    let (stmts, syntax) = parser::parse_tokens(text, &lexed.comments, &tokens, file);
+    diagnostics.extend(syntax);
+    qcsg_diag::sort_diagnostics(&mut diagnostics);
+    Parse {
+        file: SourceFile {
+            stmts,
+            comments: lexed.comments,
+        },
+        diagnostics,
+    }
 }

@@ -1,0 +1,651 @@
+//! The lexer (LANGUAGE.md §2): source text to a vector of spanned tokens plus the comments.
+//!
+//! Built on logos. Comments are not tokens for the parser: they are collected into
+//! [`Lexed::comments`] so that the tree keeps them (formatting, folding, doc comments). Bad input
+//! never stops the lexer: a run of invalid characters becomes one [`Tok::Error`] token and one
+//! diagnostic, and unterminated strings, comments and paths are reported with their spans.
+
+use std::fmt;
+
+use logos::Logos;
+use qcsg_diag::{Diagnostic, FileId, Span};
+
+use crate::ast::{Comment, CommentKind};
+use crate::codes;
+
+/// A token kind. Tokens carry no text: the parser slices the source with the token's span, which
+/// keeps tokens `Copy` and the token vector compact.
+#[derive(Logos, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[logos(skip r"[ \t\r\n\x0C]+")]
+pub enum Tok {
+    /// A plain identifier `[A-Za-z_][A-Za-z0-9_]*`.
+    #[regex(r"[A-Za-z_][A-Za-z0-9_]*")]
+    Ident,
+    /// A special variable such as `$fn`.
+    #[regex(r"\$[A-Za-z0-9_]*")]
+    SpecialIdent,
+    /// A number literal such as `1`, `1.5`, `.5`, `1.`, `1e-3`.
+    #[regex(r"[0-9]+(\.[0-9]*)?([eE][+-]?[0-9]+)?")]
+    #[regex(r"\.[0-9]+([eE][+-]?[0-9]+)?")]
+    Number,
+    /// A string literal; `false` when it runs to the end of the file without its closing quote.
+    #[token("\"", lex_string)]
+    Str(bool),
+    /// `<path>` after `include` or `use` (produced by [`lex`], never by logos itself).
+    Path,
+
+    /// `module`
+    #[token("module")]
+    Module,
+    /// `function`
+    #[token("function")]
+    Function,
+    /// `if`
+    #[token("if")]
+    If,
+    /// `else`
+    #[token("else")]
+    Else,
+    /// `for`
+    #[token("for")]
+    For,
+    /// `let`
+    #[token("let")]
+    Let,
+    /// `each`
+    #[token("each")]
+    Each,
+    /// `true`
+    #[token("true")]
+    True,
+    /// `false`
+    #[token("false")]
+    False,
+    /// `undef`
+    #[token("undef")]
+    Undef,
+    /// `assert` (a name that also has a special expression form)
+    #[token("assert")]
+    Assert,
+    /// `echo` (a name that also has a special expression form)
+    #[token("echo")]
+    Echo,
+    /// `include`
+    #[token("include")]
+    Include,
+    /// `use`
+    #[token("use")]
+    Use,
+
+    /// `(`
+    #[token("(")]
+    LParen,
+    /// `)`
+    #[token(")")]
+    RParen,
+    /// `[`
+    #[token("[")]
+    LBracket,
+    /// `]`
+    #[token("]")]
+    RBracket,
+    /// `{`
+    #[token("{")]
+    LBrace,
+    /// `}`
+    #[token("}")]
+    RBrace,
+    /// `,`
+    #[token(",")]
+    Comma,
+    /// `;`
+    #[token(";")]
+    Semi,
+    /// `=`
+    #[token("=")]
+    Assign,
+    /// `:`
+    #[token(":")]
+    Colon,
+    /// `?`
+    #[token("?")]
+    Question,
+    /// `.`
+    #[token(".")]
+    Dot,
+    /// `+`
+    #[token("+")]
+    Plus,
+    /// `-`
+    #[token("-")]
+    Minus,
+    /// `*`
+    #[token("*")]
+    Star,
+    /// `/`
+    #[token("/")]
+    Slash,
+    /// `%`
+    #[token("%")]
+    Percent,
+    /// `^`
+    #[token("^")]
+    Caret,
+    /// `!`
+    #[token("!")]
+    Bang,
+    /// `#`
+    #[token("#")]
+    Hash,
+    /// `<`
+    #[token("<")]
+    Lt,
+    /// `<=`
+    #[token("<=")]
+    Le,
+    /// `>`
+    #[token(">")]
+    Gt,
+    /// `>=`
+    #[token(">=")]
+    Ge,
+    /// `==`
+    #[token("==")]
+    EqEq,
+    /// `!=`
+    #[token("!=")]
+    Ne,
+    /// `&&`
+    #[token("&&")]
+    AndAnd,
+    /// `||`
+    #[token("||")]
+    OrOr,
+
+    /// `// …` or `/// …` (never reaches the parser).
+    #[regex(r"//[^\n]*", allow_greedy = true)]
+    LineComment,
+    /// `/* … */` or `/** … */`; `false` when unterminated (never reaches the parser).
+    #[token("/*", lex_block_comment)]
+    BlockComment(bool),
+
+    /// A run of characters that start no token (reported once per run).
+    Error,
+    /// Stands for a region nested deeper than the parser accepts (reported once).
+    TooDeep,
+}
+
+/// Scans a string body after its opening quote; `true` when the closing quote was found.
+fn lex_string(lex: &mut logos::Lexer<'_, Tok>) -> bool {
+    let rest = lex.remainder().as_bytes();
+    let mut i = 0;
+    while i < rest.len() {
+        match rest[i] {
+            b'"' => {
+                lex.bump(i + 1);
+                return true;
+            }
+            // Skip the escaped byte unless it would split a multi-byte character; escapes are
+            // validated later.
+            b'\\' if i + 1 < rest.len() && rest[i + 1].is_ascii() => i += 2,
+            _ => i += 1,
+        }
+    }
+    lex.bump(rest.len());
+    false
+}
+
+/// Scans a block comment after `/*`; `true` when `*/` was found. Block comments do not nest.
+fn lex_block_comment(lex: &mut logos::Lexer<'_, Tok>) -> bool {
+    let rest = lex.remainder();
+    match rest.find("*/") {
+        Some(end) => {
+            lex.bump(end + 2);
+            true
+        }
+        None => {
+            lex.bump(rest.len());
+            false
+        }
+    }
+}
+
+impl Tok {
+    /// How the token is shown in "expected …, found …" messages.
+    pub fn describe(self) -> &'static str {
+        use Tok::*;
+        match self {
+            Ident | SpecialIdent => "identifier",
+            Number => "number",
+            Str(_) => "string",
+            Path => "`<path>`",
+            Module => "`module`",
+            Function => "`function`",
+            If => "`if`",
+            Else => "`else`",
+            For => "`for`",
+            Let => "`let`",
+            Each => "`each`",
+            True => "`true`",
+            False => "`false`",
+            Undef => "`undef`",
+            Assert => "`assert`",
+            Echo => "`echo`",
+            Include => "`include`",
+            Use => "`use`",
+            LParen => "`(`",
+            RParen => "`)`",
+            LBracket => "`[`",
+            RBracket => "`]`",
+            LBrace => "`{`",
+            RBrace => "`}`",
+            Comma => "`,`",
+            Semi => "`;`",
+            Assign => "`=`",
+            Colon => "`:`",
+            Question => "`?`",
+            Dot => "`.`",
+            Plus => "`+`",
+            Minus => "`-`",
+            Star => "`*`",
+            Slash => "`/`",
+            Percent => "`%`",
+            Caret => "`^`",
+            Bang => "`!`",
+            Hash => "`#`",
+            Lt => "`<`",
+            Le => "`<=`",
+            Gt => "`>`",
+            Ge => "`>=`",
+            EqEq => "`==`",
+            Ne => "`!=`",
+            AndAnd => "`&&`",
+            OrOr => "`||`",
+            LineComment | BlockComment(_) => "comment",
+            Error => "invalid character",
+            TooDeep => "nested region",
+        }
+    }
+}
+
+impl fmt::Display for Tok {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.describe())
+    }
+}
+
+/// The lexer's output.
+#[derive(Clone, Debug, Default)]
+pub struct Lexed {
+    /// Tokens for the parser (no comments), with their byte spans.
+    pub tokens: Vec<(Tok, Span)>,
+    /// Every comment in source order.
+    pub comments: Vec<Comment>,
+    /// Lexical errors in source order.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Delimiters may nest this deep; deeper regions are replaced by one [`Tok::TooDeep`] token and
+/// reported, which keeps the parser's recursion (and every later tree walk) bounded.
+pub const MAX_NESTING: usize = 256;
+
+/// Splits `text` into tokens and comments. Never fails: problems become diagnostics and
+/// [`Tok::Error`] tokens.
+pub fn lex(text: &str, file: FileId) -> Lexed {
+    let mut out = Lexed {
+        tokens: Vec::with_capacity(text.len() / 3),
+        ..Lexed::default()
+    };
+    let mut lexer = Tok::lexer(text);
+    while let Some(result) = lexer.next() {
+        let range = lexer.span();
+        let span = Span::new(range.start, range.end);
+        let tok = match result {
+            Ok(tok) => tok,
+            Err(()) => {
+                // Merge a run of bad characters into one token and one diagnostic.
+                if let Some((Tok::Error, last)) = out.tokens.last_mut()
+                    && last.end == span.start
+                {
+                    last.end = span.end;
+                    if let Some(diag) = out.diagnostics.last_mut() {
+                        diag.span.end = span.end;
+                    }
+                    continue;
+                }
+                out.diagnostics.push(Diagnostic::error(
+                    codes::INVALID_CHARACTER,
+                    "invalid character",
+                    file,
+                    span,
+                ));
+                out.tokens.push((Tok::Error, span));
+                continue;
+            }
+        };
+        match tok {
+            Tok::LineComment => {
+                let slice = &text[span.range()];
+                let kind = if slice.starts_with("///") && !slice.starts_with("////") {
+                    CommentKind::DocLine
+                } else {
+                    CommentKind::Line
+                };
+                out.comments.push(Comment { kind, span });
+            }
+            Tok::BlockComment(terminated) => {
+                let slice = &text[span.range()];
+                let kind =
+                    if slice.starts_with("/**") && !slice.starts_with("/***") && slice.len() > 4 {
+                        CommentKind::DocBlock
+                    } else {
+                        CommentKind::Block
+                    };
+                if !terminated {
+                    out.diagnostics.push(
+                        Diagnostic::error(
+                            codes::UNTERMINATED_BLOCK_COMMENT,
+                            "unterminated block comment",
+                            file,
+                            Span {
+                                start: span.start,
+                                end: span.start + 2,
+                            },
+                        )
+                        .with_help("close it with `*/`; block comments do not nest"),
+                    );
+                }
+                out.comments.push(Comment { kind, span });
+            }
+            Tok::Str(terminated) => {
+                if !terminated {
+                    out.diagnostics.push(
+                        Diagnostic::error(
+                            codes::UNTERMINATED_STRING,
+                            "unterminated string",
+                            file,
+                            Span {
+                                start: span.start,
+                                end: span.start + 1,
+                            },
+                        )
+                        .with_help("add the closing `\"`"),
+                    );
+                }
+                out.tokens.push((tok, span));
+            }
+            Tok::Include | Tok::Use => {
+                out.tokens.push((tok, span));
+                lex_path(&mut lexer, &mut out, file);
+            }
+            _ => out.tokens.push((tok, span)),
+        }
+    }
+    limit_nesting(&mut out, file);
+    out
+}
+
+/// After `include` / `use`: reads `<path>` if the next non-blank character is `<`.
+fn lex_path(lexer: &mut logos::Lexer<'_, Tok>, out: &mut Lexed, file: FileId) {
+    let rest = lexer.remainder();
+    let blank = rest.len() - rest.trim_start_matches([' ', '\t']).len();
+    if !rest[blank..].starts_with('<') {
+        return;
+    }
+    let start = lexer.span().end + blank;
+    let body = &rest[blank..];
+    let line_end = body.find(['\n', '\r']).unwrap_or(body.len());
+    match body[..line_end].find('>') {
+        Some(close) => {
+            out.tokens
+                .push((Tok::Path, Span::new(start, start + close + 1)));
+            lexer.bump(blank + close + 1);
+        }
+        None => {
+            out.diagnostics.push(
+                Diagnostic::error(
+                    codes::UNTERMINATED_PATH,
+                    "unterminated path: expected `>`",
+                    file,
+                    Span::new(start, start + line_end),
+                )
+                .with_help("write the path as `<file.scad>` on one line"),
+            );
+            out.tokens
+                .push((Tok::Path, Span::new(start, start + line_end)));
+            lexer.bump(blank + line_end);
+        }
+    }
+}
+
+/// Replaces each region nested more than [`MAX_NESTING`] delimiters deep by a single
+/// [`Tok::TooDeep`] token, so that the recursive descent below stays shallow. Long runs of prefix
+/// operators and modifiers (`- - - … x`, `* * * … cube()`) count as nesting too.
+fn limit_nesting(out: &mut Lexed, file: FileId) {
+    let mut depth = 0usize;
+    // Prefix-operator run length at the current position.
+    let mut run = 0usize;
+    let needs_limit = out
+        .tokens
+        .iter()
+        .any(|(t, _)| matches!(t, Tok::LParen | Tok::LBracket | Tok::LBrace))
+        || out.tokens.len() > MAX_NESTING;
+    if !needs_limit {
+        return;
+    }
+    let mut kept = Vec::with_capacity(out.tokens.len());
+    let mut tokens = std::mem::take(&mut out.tokens).into_iter().peekable();
+    while let Some((tok, span)) = tokens.next() {
+        let opens = matches!(tok, Tok::LParen | Tok::LBracket | Tok::LBrace);
+        let closes = matches!(tok, Tok::RParen | Tok::RBracket | Tok::RBrace);
+        let prefix = matches!(
+            tok,
+            Tok::Minus | Tok::Plus | Tok::Bang | Tok::Star | Tok::Hash | Tok::Percent | Tok::Caret
+        );
+        run = if prefix { run + 1 } else { 0 };
+        if closes {
+            depth = depth.saturating_sub(1);
+        }
+        if (opens && depth >= MAX_NESTING) || run > MAX_NESTING {
+            // Swallow the too-deep region: up to the matching closer (or the end of the run).
+            let mut end = span.end;
+            if opens {
+                let mut inner = 1usize;
+                while let Some((t, s)) = tokens.peek().copied() {
+                    match t {
+                        Tok::LParen | Tok::LBracket | Tok::LBrace => inner += 1,
+                        Tok::RParen | Tok::RBracket | Tok::RBrace => {
+                            inner -= 1;
+                            if inner == 0 {
+                                end = s.end;
+                                tokens.next();
+                                break;
+                            }
+                        }
+                        _ => {}
+                    }
+                    end = s.end;
+                    tokens.next();
+                }
+            } else {
+                while let Some((t, s)) = tokens.peek().copied() {
+                    if !matches!(
+                        t,
+                        Tok::Minus
+                            | Tok::Plus
+                            | Tok::Bang
+                            | Tok::Star
+                            | Tok::Hash
+                            | Tok::Percent
+                            | Tok::Caret
+                    ) {
+                        break;
+                    }
+                    end = s.end;
+                    tokens.next();
+                }
+                run = 0;
+            }
+            // The region's first line is enough to point at.
+            let shown = Span {
+                start: span.start,
+                end,
+            };
+            out.diagnostics.push(
+                Diagnostic::error(
+                    codes::NESTING_TOO_DEEP,
+                    format!("nesting too deep (more than {MAX_NESTING} levels)"),
+                    file,
+                    shown,
+                )
+                .with_help("split the expression or statement into named parts"),
+            );
+            kept.push((Tok::TooDeep, shown));
+            continue;
+        }
+        if opens {
+            depth += 1;
+        }
+        kept.push((tok, span));
+    }
+    out.tokens = kept;
+}
+
+/// Decodes the body of a string literal (the text between the quotes), reporting invalid escapes
+/// with their exact spans. `offset` is the byte offset of the body in the file.
+pub fn unescape(
+    body: &str,
+    offset: usize,
+    file: FileId,
+    diagnostics: &mut Vec<Diagnostic>,
+) -> String {
+    let mut out = String::with_capacity(body.len());
+    let mut chars = body.char_indices().peekable();
+    while let Some((i, c)) = chars.next() {
+        if c != '\\' {
+            out.push(c);
+            continue;
+        }
+        let Some((_, e)) = chars.next() else {
+            diagnostics.push(Diagnostic::error(
+                codes::INVALID_ESCAPE,
+                "invalid escape: `\\` at the end of the string",
+                file,
+                Span::new(offset + i, offset + i + 1),
+            ));
+            break;
+        };
+        match e {
+            '"' => out.push('"'),
+            '\\' => out.push('\\'),
+            'n' => out.push('\n'),
+            't' => out.push('\t'),
+            'r' => out.push('\r'),
+            'x' | 'u' => {
+                let want = if e == 'x' { 2 } else { 4 };
+                let start = i + 2;
+                let digits: String = body[start..]
+                    .chars()
+                    .take(want)
+                    .take_while(char::is_ascii_hexdigit)
+                    .collect();
+                let end = start + digits.len();
+                let value = u32::from_str_radix(&digits, 16).ok();
+                let decoded = value
+                    .filter(|_| digits.len() == want)
+                    .filter(|&v| e == 'u' || v <= 0x7f)
+                    .and_then(char::from_u32);
+                match decoded {
+                    Some(ch) if ch != '\0' => out.push(ch),
+                    _ => {
+                        let what = if e == 'x' {
+                            "expected two hex digits 01-7F after `\\x`"
+                        } else {
+                            "expected four hex digits after `\\u` naming a character"
+                        };
+                        diagnostics.push(Diagnostic::error(
+                            codes::INVALID_ESCAPE,
+                            format!("invalid escape: {what}"),
+                            file,
+                            Span::new(offset + i, offset + end),
+                        ));
+                    }
+                }
+                for _ in 0..digits.len() {
+                    chars.next();
+                }
+            }
+            other => {
+                diagnostics.push(
+                    Diagnostic::error(
+                        codes::INVALID_ESCAPE,
+                        format!("invalid escape `\\{other}`"),
+                        file,
+                        Span::new(offset + i, offset + i + 1 + other.len_utf8()),
+                    )
+                    .with_help("valid escapes: \\\" \\\\ \\n \\t \\r \\xHH \\uHHHH"),
+                );
+                out.push(other);
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kinds(text: &str) -> Vec<Tok> {
+        lex(text, FileId::default())
+            .tokens
+            .into_iter()
+            .map(|(t, _)| t)
+            .collect()
+    }
+
+    #[test]
+    fn numbers() {
+        use Tok::*;
+        assert_eq!(kinds("1 1.5 .5 1e-3 2.5E+4 1."), vec![Number; 6]);
+        assert_eq!(kinds("1e"), vec![Number, Ident]);
+        assert_eq!(kinds("v.x"), vec![Ident, Dot, Ident]);
+    }
+
+    #[test]
+    fn keywords_and_paths() {
+        use Tok::*;
+        assert_eq!(kinds("include <a/b.scad>"), vec![Include, Path]);
+        assert_eq!(kinds("use<x>"), vec![Use, Path]);
+        assert_eq!(kinds("a < b"), vec![Ident, Lt, Ident]);
+        assert_eq!(kinds("$fn intersection_for"), vec![SpecialIdent, Ident]);
+    }
+
+    #[test]
+    fn comments_are_kept_aside() {
+        let lexed = lex("/// doc\n// c\n/** d */ /* e */ /**/ x", FileId::default());
+        let kinds: Vec<_> = lexed.comments.iter().map(|c| c.kind).collect();
+        use CommentKind::*;
+        assert_eq!(kinds, vec![DocLine, Line, DocBlock, Block, Block]);
+        assert_eq!(lexed.tokens.len(), 1);
+    }
+
+    #[test]
+    fn error_runs_are_merged() {
+        let lexed = lex("a @@@ b", FileId::default());
+        assert_eq!(lexed.diagnostics.len(), 1);
+        assert_eq!(lexed.diagnostics[0].span, Span::new(2, 5));
+    }
+
+    #[test]
+    fn escapes() {
+        let mut diags = Vec::new();
+        let s = unescape(r#"a\"\\\n\t\r\x41\u263A"#, 0, FileId::default(), &mut diags);
+        assert_eq!(s, "a\"\\\n\t\r\u{41}\u{263A}");
+        assert!(diags.is_empty());
+        unescape(r"\q\x4", 10, FileId::default(), &mut diags);
+        assert_eq!(diags.len(), 2);
+        assert_eq!(diags[0].span, Span::new(10, 12));
+        assert_eq!(diags[1].span, Span::new(12, 15));
+    }
+}

@@ -1,0 +1,834 @@
+//! The recovering parser (LANGUAGE.md §3): tokens to [`SourceFile`] statements, built on chumsky.
+//!
+//! The grammar follows `grammar/qcsg.ebnf`. Expressions use chumsky's Pratt parser for the binary
+//! and prefix operators; everything else is recursive descent written so that no alternative
+//! re-parses a long prefix (vectors decide between list and range after their first element,
+//! statements starting with a name decide after the name), which keeps parsing linear.
+//!
+//! Recovery: a missing `;` is reported and assumed; a statement that cannot be parsed is skipped up
+//! to the next `;` or `}` (balanced groups skipped whole) and becomes [`StmtKind::Error`]; a
+//! parenthesised or bracketed expression that cannot be parsed becomes [`ExprKind::Error`].
+
+use chumsky::input::{Input as _, MappedInput};
+use chumsky::pratt::{infix, left, prefix, right};
+use chumsky::prelude::*;
+use qcsg_diag::{Diagnostic, FileId, Span};
+
+use crate::ast::*;
+use crate::codes;
+use crate::doc::doc_before;
+use crate::lexer::{Tok, unescape};
+
+/// The parser's input: a slice of spanned tokens.
+type In<'t> = MappedInput<'t, Tok, SimpleSpan, &'t [(Tok, SimpleSpan)]>;
+/// Errors collected by chumsky.
+type Ex<'t> = extra::Err<Rich<'t, Tok>>;
+
+/// What the parsers need besides the tokens: the text (to read names, numbers and strings) and
+/// the comments (for doc comments).
+#[derive(Clone, Copy)]
+struct Ctx<'t> {
+    text: &'t str,
+    comments: &'t [Comment],
+}
+
+impl<'t> Ctx<'t> {
+    fn ident(self, span: SimpleSpan) -> Ident {
+        Ident {
+            name: self.text[span.start..span.end].to_owned(),
+            span: sp(span),
+        }
+    }
+    fn number(self, span: SimpleSpan) -> f64 {
+        // The lexer only produces digit strings that Rust's float parser accepts.
+        self.text[span.start..span.end].parse().unwrap_or(f64::NAN)
+    }
+    fn string(self, span: SimpleSpan) -> String {
+        let end = if span.end - span.start >= 2 && self.text[span.start..span.end].ends_with('"') {
+            span.end - 1
+        } else {
+            span.end
+        };
+        let body = self.text.get(span.start + 1..end).unwrap_or("");
+        // Escape errors were reported once by `lex`; here only the value matters.
+        unescape(body, span.start + 1, FileId::default(), &mut Vec::new())
+    }
+    fn doc(self, start: usize) -> Option<Doc> {
+        doc_before(self.text, self.comments, start)
+    }
+}
+
+fn sp(span: SimpleSpan) -> Span {
+    Span::new(span.start, span.end)
+}
+
+fn boxed_expr(kind: ExprKind, span: SimpleSpan) -> Box<Expr> {
+    Box::new(Expr {
+        kind,
+        span: sp(span),
+    })
+}
+
+/// Parses the token slice into top-level statements plus diagnostics.
+pub(crate) fn parse_tokens(
+    text: &str,
+    comments: &[Comment],
+    tokens: &[(Tok, SimpleSpan)],
+    file: FileId,
+) -> (Vec<Stmt>, Vec<Diagnostic>) {
+    let ctx = Ctx { text, comments };
+    let eoi = SimpleSpan::from(text.len()..text.len());
+    let input = tokens.split_token_span(eoi);
+    let (stmts, errors) = file_parser(ctx).parse(input).into_output_errors();
+    let diagnostics = errors
+        .into_iter()
+        .map(|e| to_diagnostic(&e, tokens, text, file))
+        .collect();
+    (stmts.unwrap_or_default(), diagnostics)
+}
+
+/// Builds the parser for a whole file.
+fn file_parser<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Vec<Stmt>, Ex<'t>> {
+    let expr = expr_parser(ctx);
+    let stmt = stmt_parser(ctx, expr);
+    // A closing delimiter with nothing to close: report it and move on.
+    let stray = one_of([Tok::RParen, Tok::RBracket, Tok::RBrace])
+        .map_with(|_, e| Stmt {
+            kind: StmtKind::Error,
+            span: sp(e.span()),
+            doc: None,
+        })
+        .validate(|stmt, e, emitter| {
+            emitter.emit(Rich::custom(e.span(), "unexpected closing delimiter"));
+            stmt
+        });
+    stmt.or(stray)
+        .repeated()
+        .collect::<Vec<_>>()
+        .then_ignore(end())
+}
+
+/// Balanced `( … )`, `[ … ]` or `{ … }` group, skipped whole during recovery.
+fn balanced<'t>() -> impl Parser<'t, In<'t>, (), Ex<'t>> + Clone {
+    recursive(|group| {
+        let inner = group
+            .or(none_of([
+                Tok::LParen,
+                Tok::RParen,
+                Tok::LBracket,
+                Tok::RBracket,
+                Tok::LBrace,
+                Tok::RBrace,
+            ])
+            .ignored())
+            .repeated();
+        choice((
+            inner
+                .clone()
+                .delimited_by(just(Tok::LParen), just(Tok::RParen)),
+            inner
+                .clone()
+                .delimited_by(just(Tok::LBracket), just(Tok::RBracket)),
+            inner.delimited_by(just(Tok::LBrace), just(Tok::RBrace)),
+        ))
+    })
+}
+
+/// Name of a variable, function or module: an identifier or a `$`-variable. `assert` and `echo`
+/// are ordinary names where they are not the special expression forms.
+fn name<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Ident, Ex<'t>> + Clone {
+    one_of([Tok::Ident, Tok::SpecialIdent, Tok::Assert, Tok::Echo])
+        .map_with(move |_, e| ctx.ident(e.span()))
+        .labelled("identifier")
+}
+
+/// `name = value` (a `for`/`let` binding).
+fn binding<'t>(
+    ctx: Ctx<'t>,
+    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Binding, Ex<'t>> + Clone {
+    name(ctx)
+        .then_ignore(just(Tok::Assign).labelled("`=`"))
+        .then(expr)
+        .map_with(|(name, value), e| Binding {
+            name,
+            value,
+            span: sp(e.span()),
+        })
+}
+
+/// `( binding, … )`.
+fn bindings<'t>(
+    ctx: Ctx<'t>,
+    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Vec<Binding>, Ex<'t>> + Clone {
+    binding(ctx, expr)
+        .separated_by(just(Tok::Comma))
+        .allow_trailing()
+        .collect::<Vec<_>>()
+        .delimited_by(just(Tok::LParen), just(Tok::RParen).labelled("`)`"))
+}
+
+/// `( param, … )` where a parameter is `name` or `name = default`.
+fn params<'t>(
+    ctx: Ctx<'t>,
+    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Vec<Param>, Ex<'t>> + Clone {
+    name(ctx)
+        .then(just(Tok::Assign).ignore_then(expr).or_not())
+        .map_with(|(name, default), e| Param {
+            name,
+            default,
+            span: sp(e.span()),
+        })
+        .separated_by(just(Tok::Comma))
+        .allow_trailing()
+        .collect::<Vec<_>>()
+        .delimited_by(
+            just(Tok::LParen).labelled("`(`"),
+            just(Tok::RParen).labelled("`)`"),
+        )
+}
+
+/// `( arg, … )` with its span; an argument is `value` or `name = value`.
+fn args<'t>(
+    ctx: Ctx<'t>,
+    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, (Vec<Arg>, Span), Ex<'t>> + Clone {
+    let named = name(ctx).then_ignore(just(Tok::Assign)).then(expr.clone());
+    named
+        .map(|(name, value)| (Some(name), value))
+        .or(expr.map(|value| (None, value)))
+        .map_with(|(name, value), e| Arg {
+            name,
+            value,
+            span: sp(e.span()),
+        })
+        .separated_by(just(Tok::Comma))
+        .allow_trailing()
+        .collect::<Vec<_>>()
+        .delimited_by(just(Tok::LParen), just(Tok::RParen).labelled("`)`"))
+        .map_with(|args, e| (args, sp(e.span())))
+        .boxed()
+}
+
+/// The expression parser.
+fn expr_parser<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone {
+    recursive(move |expr| {
+        let expr = expr.boxed();
+        let literal = choice((
+            just(Tok::Number).map_with(move |_, e| ExprKind::Number(ctx.number(e.span()))),
+            one_of([Tok::Str(true), Tok::Str(false)])
+                .map_with(move |_, e| ExprKind::String(ctx.string(e.span()))),
+            just(Tok::True).to(ExprKind::Bool(true)),
+            just(Tok::False).to(ExprKind::Bool(false)),
+            just(Tok::Undef).to(ExprKind::Undef),
+            just(Tok::TooDeep).to(ExprKind::Error),
+            name(ctx).map(ExprKind::Ident),
+        ))
+        .map_with(|kind, e| Expr {
+            kind,
+            span: sp(e.span()),
+        });
+
+        let paren = expr
+            .clone()
+            .delimited_by(just(Tok::LParen), just(Tok::RParen).labelled("`)`"))
+            .map_with(|inner, e| Expr {
+                kind: ExprKind::Paren(Box::new(inner)),
+                span: sp(e.span()),
+            })
+            .recover_with(via_parser(nested_delimiters(
+                Tok::LParen,
+                Tok::RParen,
+                [(Tok::LBracket, Tok::RBracket), (Tok::LBrace, Tok::RBrace)],
+                |span| Expr {
+                    kind: ExprKind::Error,
+                    span: sp(span),
+                },
+            )));
+
+        let vector = bracket_parser(ctx, expr.clone()).recover_with(via_parser(nested_delimiters(
+            Tok::LBracket,
+            Tok::RBracket,
+            [(Tok::LParen, Tok::RParen), (Tok::LBrace, Tok::RBrace)],
+            |span| Expr {
+                kind: ExprKind::Error,
+                span: sp(span),
+            },
+        )));
+
+        let atom = choice((literal, paren, vector))
+            .labelled("expression")
+            .boxed();
+
+        enum Postfix {
+            Call(Vec<Arg>, Span),
+            Index(Expr),
+            Member(Ident),
+        }
+        let postfix_op = choice((
+            args(ctx, expr.clone()).map(|(a, s)| Postfix::Call(a, s)),
+            expr.clone()
+                .delimited_by(just(Tok::LBracket), just(Tok::RBracket).labelled("`]`"))
+                .map(Postfix::Index),
+            just(Tok::Dot).ignore_then(name(ctx)).map(Postfix::Member),
+        ));
+        let postfix = atom.foldl_with(postfix_op.repeated(), |base, op, e| {
+            let base = Box::new(base);
+            let kind = match op {
+                Postfix::Call(args, args_span) => ExprKind::Call {
+                    callee: base,
+                    args,
+                    args_span,
+                },
+                Postfix::Index(index) => ExprKind::Index {
+                    base,
+                    index: Box::new(index),
+                },
+                Postfix::Member(member) => ExprKind::Member { base, member },
+            };
+            Expr {
+                kind,
+                span: sp(e.span()),
+            }
+        });
+
+        let binary = |op: BinaryOp| {
+            move |lhs: Expr,
+                  (_, op_span): (Tok, SimpleSpan),
+                  rhs: Expr,
+                  e: &mut chumsky::input::MapExtra<'t, '_, In<'t>, Ex<'t>>| Expr {
+                kind: ExprKind::Binary {
+                    op,
+                    op_span: sp(op_span),
+                    lhs: Box::new(lhs),
+                    rhs: Box::new(rhs),
+                },
+                span: sp(e.span()),
+            }
+        };
+        let unary = |op: UnaryOp| {
+            move |(_, op_span): (Tok, SimpleSpan),
+                  operand: Expr,
+                  e: &mut chumsky::input::MapExtra<'t, '_, In<'t>, Ex<'t>>| Expr {
+                kind: ExprKind::Unary {
+                    op,
+                    op_span: sp(op_span),
+                    operand: Box::new(operand),
+                },
+                span: sp(e.span()),
+            }
+        };
+        let op = |tok: Tok| just(tok).map_with(|t, e| (t, e.span()));
+        use BinaryOp as B;
+        let operators = postfix
+            .pratt((
+                infix(right(8), op(Tok::Caret), binary(B::Pow)),
+                prefix(7, op(Tok::Minus), unary(UnaryOp::Neg)),
+                prefix(7, op(Tok::Plus), unary(UnaryOp::Plus)),
+                prefix(7, op(Tok::Bang), unary(UnaryOp::Not)),
+                infix(left(6), op(Tok::Star), binary(B::Mul)),
+                infix(left(6), op(Tok::Slash), binary(B::Div)),
+                infix(left(6), op(Tok::Percent), binary(B::Rem)),
+                infix(left(5), op(Tok::Plus), binary(B::Add)),
+                infix(left(5), op(Tok::Minus), binary(B::Sub)),
+                infix(left(4), op(Tok::Lt), binary(B::Lt)),
+                infix(left(4), op(Tok::Le), binary(B::Le)),
+                infix(left(4), op(Tok::Gt), binary(B::Gt)),
+                infix(left(4), op(Tok::Ge), binary(B::Ge)),
+                infix(left(3), op(Tok::EqEq), binary(B::Eq)),
+                infix(left(3), op(Tok::Ne), binary(B::Ne)),
+                infix(left(2), op(Tok::AndAnd), binary(B::And)),
+                infix(left(1), op(Tok::OrOr), binary(B::Or)),
+            ))
+            .boxed();
+
+        let ternary = operators
+            .then(
+                just(Tok::Question)
+                    .ignore_then(expr.clone())
+                    .then_ignore(just(Tok::Colon).labelled("`:`"))
+                    .then(expr.clone())
+                    .or_not(),
+            )
+            .map_with(|(cond, branches), e| match branches {
+                None => cond,
+                Some((then, els)) => Expr {
+                    kind: ExprKind::Ternary {
+                        cond: Box::new(cond),
+                        then: Box::new(then),
+                        els: Box::new(els),
+                    },
+                    span: sp(e.span()),
+                },
+            });
+
+        let let_expr = just(Tok::Let)
+            .ignore_then(bindings(ctx, expr.clone()))
+            .then(expr.clone())
+            .map_with(|(bindings, body), e| {
+                boxed_expr(
+                    ExprKind::Let {
+                        bindings,
+                        body: Box::new(body),
+                    },
+                    e.span(),
+                )
+            })
+            .map(|b| *b);
+        let function_lit = just(Tok::Function)
+            .ignore_then(params(ctx, expr.clone()))
+            .then(expr.clone())
+            .map_with(|(params, body), e| Expr {
+                kind: ExprKind::FunctionLit {
+                    params,
+                    body: Box::new(body),
+                },
+                span: sp(e.span()),
+            });
+        // `assert(…) body` / `echo(…) body`: the body is optional, as in OpenSCAD.
+        let special = one_of([Tok::Assert, Tok::Echo])
+            .then(args(ctx, expr.clone()))
+            .then(expr.clone().or_not())
+            .map_with(|((tok, (args, args_span)), body), e| {
+                let body = body.map(Box::new);
+                let kind = if tok == Tok::Assert {
+                    ExprKind::Assert {
+                        args,
+                        args_span,
+                        body,
+                    }
+                } else {
+                    ExprKind::Echo {
+                        args,
+                        args_span,
+                        body,
+                    }
+                };
+                Expr {
+                    kind,
+                    span: sp(e.span()),
+                }
+            });
+
+        choice((let_expr, function_lit, special, ternary)).labelled("expression")
+    })
+}
+
+/// `[ … ]`: a vector (with comprehension elements) or a range. The first element is parsed once
+/// and what follows it (`:` or `,`/`]`) decides which.
+fn bracket_parser<'t>(
+    ctx: Ctx<'t>,
+    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone {
+    let elem = list_elem_parser(ctx, expr.clone());
+    enum Tail {
+        Range(Expr, Option<Expr>),
+        List(Vec<ListElem>),
+    }
+    let range_tail = just(Tok::Colon)
+        .ignore_then(expr.clone())
+        .then(just(Tok::Colon).ignore_then(expr).or_not())
+        .map(|(a, b)| Tail::Range(a, b));
+    let list_tail = just(Tok::Comma)
+        .ignore_then(elem.clone())
+        .repeated()
+        .collect::<Vec<_>>()
+        .then_ignore(just(Tok::Comma).or_not())
+        .map(Tail::List);
+    elem.then(range_tail.or(list_tail))
+        .or_not()
+        .delimited_by(just(Tok::LBracket), just(Tok::RBracket).labelled("`]`"))
+        .validate(|body, e, emitter| {
+            let kind = match body {
+                None => ExprKind::Vector(Vec::new()),
+                Some((first, Tail::List(rest))) => {
+                    let mut elems = Vec::with_capacity(rest.len() + 1);
+                    elems.push(first);
+                    elems.extend(rest);
+                    ExprKind::Vector(elems)
+                }
+                Some((first, Tail::Range(second, third))) => match first.kind {
+                    ListElemKind::Expr(start) => {
+                        let (step, end) = match third {
+                            Some(end) => (Some(Box::new(second)), end),
+                            None => (None, second),
+                        };
+                        ExprKind::Range {
+                            start: Box::new(start),
+                            step,
+                            end: Box::new(end),
+                        }
+                    }
+                    _ => {
+                        emitter.emit(Rich::custom(
+                            SimpleSpan::from(first.span.range()),
+                            "a range starts with a plain expression, not a comprehension",
+                        ));
+                        ExprKind::Error
+                    }
+                },
+            };
+            Expr {
+                kind,
+                span: sp(e.span()),
+            }
+        })
+        .boxed()
+}
+
+/// An element of a vector: an expression or a comprehension (`for`, `if`, `let`, `each`).
+fn list_elem_parser<'t>(
+    ctx: Ctx<'t>,
+    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, ListElem, Ex<'t>> + Clone {
+    recursive(move |elem| {
+        let elem = elem.boxed();
+        let each = just(Tok::Each)
+            .ignore_then(elem.clone())
+            .map(|e| ListElemKind::Each(Box::new(e)));
+        // `for (i = 0; i < n; i = i + 1)`: told apart from `for (i = r)` by the `;` after the
+        // first bindings.
+        let binding_list = binding(ctx, expr.clone())
+            .separated_by(just(Tok::Comma))
+            .allow_trailing()
+            .collect::<Vec<_>>();
+        let c_for_tail = just(Tok::Semi)
+            .ignore_then(expr.clone())
+            .then_ignore(just(Tok::Semi).labelled("`;`"))
+            .then(binding_list.clone());
+        let for_ = just(Tok::For)
+            .ignore_then(
+                binding_list
+                    .then(c_for_tail.or_not())
+                    .delimited_by(just(Tok::LParen), just(Tok::RParen).labelled("`)`")),
+            )
+            .then(elem.clone())
+            .map(|((init, c_style), body)| match c_style {
+                Some((cond, update)) => ListElemKind::CFor {
+                    init,
+                    cond,
+                    update,
+                    body: Box::new(body),
+                },
+                None => ListElemKind::For {
+                    bindings: init,
+                    body: Box::new(body),
+                },
+            });
+        let if_ = just(Tok::If)
+            .ignore_then(
+                expr.clone()
+                    .delimited_by(just(Tok::LParen), just(Tok::RParen).labelled("`)`")),
+            )
+            .then(elem.clone())
+            .then(just(Tok::Else).ignore_then(elem.clone()).or_not())
+            .map(|((cond, then), els)| ListElemKind::If {
+                cond,
+                then: Box::new(then),
+                els: els.map(Box::new),
+            });
+        let let_ = just(Tok::Let)
+            .ignore_then(bindings(ctx, expr.clone()))
+            .then(elem.clone())
+            .map(|(bindings, body)| ListElemKind::Let {
+                bindings,
+                body: Box::new(body),
+            });
+        let comprehension = choice((each, for_, if_, let_)).map_with(|kind, e| ListElem {
+            kind,
+            span: sp(e.span()),
+        });
+        // `( for … )`: parenthesised comprehension elements. A parenthesised plain expression is
+        // left to the expression parser.
+        let paren = comprehension
+            .clone()
+            .delimited_by(just(Tok::LParen), just(Tok::RParen))
+            .map_with(|inner, e| ListElem {
+                kind: ListElemKind::Paren(Box::new(inner)),
+                span: sp(e.span()),
+            });
+        let plain = expr.map(|e| {
+            let span = e.span;
+            ListElem {
+                kind: ListElemKind::Expr(e),
+                span,
+            }
+        });
+        choice((comprehension, paren, plain))
+    })
+}
+
+/// The statement parser.
+fn stmt_parser<'t>(
+    ctx: Ctx<'t>,
+    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Stmt, Ex<'t>> + Clone {
+    recursive(move |stmt| {
+        let stmt = stmt.boxed();
+        let semi = |what: &'static str| {
+            just(Tok::Semi)
+                .labelled(what)
+                .ignored()
+                .recover_with(via_parser(empty()))
+        };
+        let paren_expr = expr.clone().delimited_by(
+            just(Tok::LParen).labelled("`(`"),
+            just(Tok::RParen).labelled("`)`"),
+        );
+        let mk = |kind: StmtKind, span: SimpleSpan| Stmt {
+            kind,
+            span: sp(span),
+            doc: None,
+        };
+
+        let empty_stmt = just(Tok::Semi).map_with(move |_, e| mk(StmtKind::Empty, e.span()));
+        let block = stmt
+            .clone()
+            .repeated()
+            .collect::<Vec<_>>()
+            .delimited_by(just(Tok::LBrace), just(Tok::RBrace).labelled("`}`"))
+            .map_with(move |stmts, e| mk(StmtKind::Block(stmts), e.span()));
+        let module_def = just(Tok::Module)
+            .ignore_then(name(ctx))
+            .then(params(ctx, expr.clone()))
+            .then(stmt.clone())
+            .map_with(move |((name, params), body), e| Stmt {
+                kind: StmtKind::ModuleDef {
+                    name,
+                    params,
+                    body: Box::new(body),
+                },
+                span: sp(e.span()),
+                doc: ctx.doc(e.span().start),
+            });
+        let function_def = just(Tok::Function)
+            .ignore_then(name(ctx))
+            .then(params(ctx, expr.clone()))
+            .then_ignore(just(Tok::Assign).labelled("`=`"))
+            .then(expr.clone())
+            .then_ignore(semi("`;` after function definition"))
+            .map_with(move |((name, params), body), e| Stmt {
+                kind: StmtKind::FunctionDef { name, params, body },
+                span: sp(e.span()),
+                doc: ctx.doc(e.span().start),
+            });
+        let if_ = just(Tok::If)
+            .ignore_then(paren_expr.clone())
+            .then(stmt.clone())
+            .then(just(Tok::Else).ignore_then(stmt.clone()).or_not())
+            .map_with(move |((cond, then), els), e| {
+                mk(
+                    StmtKind::If {
+                        cond,
+                        then: Box::new(then),
+                        els: els.map(Box::new),
+                    },
+                    e.span(),
+                )
+            });
+        let for_ = just(Tok::For)
+            .ignore_then(bindings(ctx, expr.clone()))
+            .then(stmt.clone())
+            .map_with(move |(bindings, body), e| {
+                mk(
+                    StmtKind::For {
+                        bindings,
+                        body: Box::new(body),
+                    },
+                    e.span(),
+                )
+            });
+        let let_ = just(Tok::Let)
+            .ignore_then(bindings(ctx, expr.clone()))
+            .then(stmt.clone())
+            .map_with(move |(bindings, body), e| {
+                mk(
+                    StmtKind::Let {
+                        bindings,
+                        body: Box::new(body),
+                    },
+                    e.span(),
+                )
+            });
+        let path = just(Tok::Path).labelled("`<path>`").map_with(move |_, e| {
+            let span: SimpleSpan = e.span();
+            let raw = &ctx.text[span.start..span.end];
+            let inner = raw.strip_prefix('<').unwrap_or(raw);
+            let inner = inner.strip_suffix('>').unwrap_or(inner);
+            PathLit {
+                path: inner.to_owned(),
+                span: sp(span),
+            }
+        });
+        let include = just(Tok::Include)
+            .ignore_then(path)
+            .map_with(move |p, e| mk(StmtKind::Include(p), e.span()));
+        let use_ = just(Tok::Use)
+            .ignore_then(path)
+            .map_with(move |p, e| mk(StmtKind::Use(p), e.span()));
+
+        // A statement that starts with a name: an assignment or a module instantiation.
+        enum Tail {
+            Assign(Expr),
+            Instantiate(Vec<Arg>, Span, Option<Stmt>),
+        }
+        let child = just(Tok::Semi).to(None).or(stmt.clone().map(Some));
+        let named = name(ctx)
+            .then(choice((
+                just(Tok::Assign)
+                    .ignore_then(expr.clone())
+                    .then_ignore(semi("`;` after assignment"))
+                    .map(Tail::Assign),
+                args(ctx, expr.clone())
+                    .then(child)
+                    .map(|((args, args_span), child)| Tail::Instantiate(args, args_span, child)),
+            )))
+            .map_with(move |(name, tail), e| {
+                let span = sp(e.span());
+                match tail {
+                    Tail::Assign(value) => Stmt {
+                        kind: StmtKind::Assign { name, value },
+                        span,
+                        doc: ctx.doc(span.start as usize),
+                    },
+                    Tail::Instantiate(args, args_span, child) => Stmt {
+                        kind: StmtKind::Instantiate {
+                            name,
+                            args,
+                            args_span,
+                            child: child.map(Box::new),
+                        },
+                        span,
+                        doc: None,
+                    },
+                }
+            });
+
+        let modifier = choice((
+            just(Tok::Star).to(Modifier::Disable),
+            just(Tok::Bang).to(Modifier::ShowOnly),
+            just(Tok::Hash).to(Modifier::Highlight),
+            just(Tok::Percent).to(Modifier::Background),
+        ))
+        .map_with(|m, e| (m, sp(e.span())))
+        .then(stmt.clone())
+        .map_with(move |((modifier, modifier_span), body), e| {
+            mk(
+                StmtKind::Modified {
+                    modifier,
+                    modifier_span,
+                    body: Box::new(body),
+                },
+                e.span(),
+            )
+        });
+
+        let too_deep = just(Tok::TooDeep).map_with(move |_, e| mk(StmtKind::Error, e.span()));
+
+        // Skips a broken statement: up to and including the next `;`, or up to a `}`, skipping
+        // balanced groups whole.
+        let skip = balanced()
+            .or(none_of([Tok::Semi, Tok::RBrace, Tok::RParen, Tok::RBracket]).ignored())
+            .repeated()
+            .at_least(1)
+            .then(just(Tok::Semi).or_not())
+            .ignored()
+            .or(just(Tok::Semi).ignored())
+            .map_with(move |_, e| mk(StmtKind::Error, e.span()));
+
+        choice((
+            named,
+            block,
+            module_def,
+            function_def,
+            if_,
+            for_,
+            let_,
+            modifier,
+            include,
+            use_,
+            empty_stmt,
+            too_deep,
+        ))
+        .labelled("statement")
+        .recover_with(via_parser(skip))
+        .boxed()
+    })
+}
+
+/// Turns a chumsky error into a diagnostic with a readable message and a precise span.
+fn to_diagnostic(
+    error: &Rich<'_, Tok>,
+    tokens: &[(Tok, SimpleSpan)],
+    text: &str,
+    file: FileId,
+) -> Diagnostic {
+    let span = *error.span();
+    match error.reason() {
+        chumsky::error::RichReason::Custom(message) => {
+            let code = if message.starts_with("unexpected closing") {
+                codes::UNEXPECTED_CLOSING_DELIMITER
+            } else {
+                codes::EXPECTED
+            };
+            Diagnostic::error(code, message.clone(), file, sp(span))
+        }
+        chumsky::error::RichReason::ExpectedFound { expected, found } => {
+            use chumsky::error::RichPattern;
+            let mut labels: Vec<String> = Vec::new();
+            let mut toks: Vec<String> = Vec::new();
+            for pattern in expected {
+                match pattern {
+                    RichPattern::Label(l) => labels.push(l.to_string()),
+                    RichPattern::Token(t) => toks.push(t.describe().to_owned()),
+                    RichPattern::Identifier(i) => toks.push(format!("`{i}`")),
+                    RichPattern::EndOfInput => toks.push("end of file".to_owned()),
+                    _ => {}
+                }
+            }
+            // Labels say what was wanted in words; fall back to tokens only without them.
+            let mut wanted = if labels.is_empty() { toks } else { labels };
+            wanted.sort();
+            wanted.dedup();
+            // A specific "`;` after …" beats a plain "`;`".
+            let specific: Vec<String> = wanted
+                .iter()
+                .filter(|w| w.contains(" after "))
+                .cloned()
+                .collect();
+            if !specific.is_empty() {
+                wanted.retain(|w| {
+                    !specific.iter().any(|s| s.starts_with(w.as_str())) || w.contains(" after ")
+                });
+            }
+            let wanted_text = match wanted.len() {
+                0 => "something else".to_owned(),
+                1 => wanted[0].clone(),
+                n => format!("{} or {}", wanted[..n - 1].join(", "), wanted[n - 1]),
+            };
+            let found_text = match found {
+                Some(t) => t.describe().to_owned(),
+                None => "end of file".to_owned(),
+            };
+            let message = format!("expected {wanted_text}, found {found_text}");
+            // "Expected `;`" and friends point just after the previous token, where the missing
+            // token belongs, rather than at whatever follows on the next line.
+            let only_closers = !wanted.is_empty()
+                && wanted.iter().all(|w| {
+                    w.starts_with("`;`") || w == "`)`" || w == "`]`" || w == "`}`" || w == "`,`"
+                });
+            let primary = if only_closers || found.is_none() {
+                let index = tokens.partition_point(|(_, s)| s.start < span.start);
+                match index.checked_sub(1).and_then(|i| tokens.get(i)) {
+                    Some((_, prev)) => Span::empty(prev.end),
+                    None => Span::empty(span.start.min(text.len())),
+                }
+            } else {
+                sp(span)
+            };
+            Diagnostic::error(codes::EXPECTED, message, file, primary)
+        }
+    }
+}
