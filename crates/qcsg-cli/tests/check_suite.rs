@@ -1,0 +1,152 @@
+//! The language suite: every `*.qcsg` / `*.scad` file under `<workspace>/tests/check/` (skipping
+//! `lib/` directories) is checked with `qcsg_sema::check_file` and its diagnostics compared with
+//! the inline annotations described in `tests/README.md`.
+//!
+//! Every case runs; all mismatches are reported, per file, before the test fails.
+//! `QCSG_SUITE_FILTER=text` runs only the cases whose path contains `text`.
+
+mod annotations;
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::{Path, PathBuf};
+
+use annotations::{Reported, compare, parse_annotations};
+use qcsg_sema::{CheckOptions, FsLoader};
+
+/// `<workspace>/tests/check`.
+fn suite_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/check")
+}
+
+/// Every case file below `dir`, sorted, `lib/` directories skipped.
+fn collect_cases(dir: &Path, cases: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        panic!("cannot read the suite directory {}", dir.display());
+    };
+    let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    paths.sort();
+    for path in paths {
+        if path.is_dir() {
+            if path.file_name().is_some_and(|name| name != "lib") {
+                collect_cases(&path, cases);
+            }
+        } else if path
+            .extension()
+            .is_some_and(|ext| ext == "qcsg" || ext == "scad")
+        {
+            cases.push(path);
+        }
+    }
+}
+
+/// Checks one case; returns its failure report, or `None` when it passes.
+fn run_case(root: &Path, path: &Path) -> Option<String> {
+    let shown = |p: &Path| p.strip_prefix(root).unwrap_or(p).display().to_string();
+    let text = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(err) => return Some(format!("cannot read: {err}\n")),
+    };
+    let name = path.to_string_lossy().into_owned();
+    let checked = catch_unwind(AssertUnwindSafe(|| {
+        qcsg_sema::check_file(&name, text, &CheckOptions::default(), &FsLoader)
+    }));
+    let analysis = match checked {
+        Ok(analysis) => analysis,
+        Err(panic) => {
+            let message = panic
+                .downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| panic.downcast_ref::<&str>().copied())
+                .unwrap_or("(no message)");
+            return Some(format!("  check_file panicked: {message}\n"));
+        }
+    };
+
+    // The case file and every file it loaded carry expectations; a library's annotations are
+    // expected whenever a case loads it.
+    let mut report = String::new();
+    for (file, source) in analysis.sources.iter() {
+        let (expected, malformed) = parse_annotations(&source.text);
+        let reported: Vec<Reported> = analysis
+            .diagnostics
+            .iter()
+            .filter(|d| d.file == file)
+            .map(|d| Reported::new(&source.text, d))
+            .collect();
+        let mismatches = compare(&expected, &reported);
+        if malformed.is_empty() && mismatches.is_empty() {
+            continue;
+        }
+        if file != analysis.main {
+            let _ = writeln!(report, "  in {}:", shown(Path::new(&source.name)));
+        }
+        for annotation in &malformed {
+            let _ = writeln!(report, "  {annotation}");
+        }
+        if !mismatches.missing.is_empty() {
+            let _ = writeln!(report, "  expected, not reported:");
+            for expectation in &mismatches.missing {
+                let _ = writeln!(report, "    {expectation}");
+            }
+        }
+        if !mismatches.unexpected.is_empty() {
+            let _ = writeln!(report, "  reported, not expected:");
+            for diagnostic in &mismatches.unexpected {
+                let _ = writeln!(report, "    {diagnostic}");
+            }
+        }
+    }
+    (!report.is_empty()).then_some(report)
+}
+
+#[test]
+fn language_suite() {
+    let root = suite_root();
+    let mut cases = Vec::new();
+    collect_cases(&root, &mut cases);
+    assert!(!cases.is_empty(), "no cases found under {}", root.display());
+    if let Ok(filter) = std::env::var("QCSG_SUITE_FILTER") {
+        cases.retain(|path| path.to_string_lossy().contains(&filter));
+    }
+
+    // Pass/fail counts per top-level directory of the suite.
+    let mut per_directory: BTreeMap<String, (usize, usize)> = BTreeMap::new();
+    let mut failures = String::new();
+    for path in &cases {
+        let relative = path.strip_prefix(&root).unwrap_or(path);
+        let directory = match relative.components().count() {
+            1 => ".".to_owned(),
+            _ => relative
+                .components()
+                .next()
+                .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                .unwrap_or_default(),
+        };
+        let counts = per_directory.entry(directory).or_default();
+        match run_case(&root, path) {
+            None => counts.0 += 1,
+            Some(report) => {
+                counts.1 += 1;
+                let _ = writeln!(
+                    failures,
+                    "FAIL tests/check/{}\n{report}",
+                    relative.display()
+                );
+            }
+        }
+    }
+
+    let mut summary = String::from("language suite, per directory (passed / failed):\n");
+    for (directory, (passed, failed)) in &per_directory {
+        let _ = writeln!(
+            summary,
+            "  {directory:<24} {passed:>4} passed {failed:>4} failed"
+        );
+    }
+    let failed: usize = per_directory.values().map(|c| c.1).sum();
+    let _ = writeln!(summary, "{} passed, {failed} failed", cases.len() - failed);
+    eprintln!("{summary}");
+    assert!(failed == 0, "{failures}{summary}");
+}
