@@ -1,0 +1,75 @@
+//! The conservative signed distance of paper §3.3 (eqs. 10-12).
+//!
+//! Along any unit direction `v`, `Q(x₀ + t v) = Q(x₀) + 2t (A x₀ − b)ᵀv + t² vᵀAv` is bounded by
+//! `Q(x₀) ± 2t ‖A x₀ − b‖ + t² λ_max/min`; the first root of the bound that can reach zero is a
+//! radius around `x₀` free of surface.
+
+use glam::DVec3;
+
+use crate::quadric::{EPS, Quadric};
+
+impl Quadric {
+    /// Conservative signed distance from the world point `p` to the surface (eq. 12): positive
+    /// outside (`Q > 0`), negative inside, and `|d|` never exceeds the true Euclidean distance to
+    /// the surface.
+    ///
+    /// The bound is rigorous in floating point, not just in exact arithmetic: the value's
+    /// rounding error (see [`Quadric::value_with_error`]), the gradient's rounding error, the
+    /// eigenvalue bounds ([`Quadric::eigenvalue_bounds`]) and the rounding of `p − origin` are all
+    /// accounted for, so a point within rounding noise of the surface gets `±0.0`. Infinite when
+    /// no surface point exists in the relevant direction (e.g. outside of an empty quadric); NaN
+    /// only for non-finite `p`. The tests check `|d| ≤ true distance` on thousands of points around
+    /// every kind, and `|d| ≥ 0.5 · true distance` within 1e-3 relative of a sphere's surface.
+    #[inline]
+    pub fn conservative_distance(&self, p: DVec3) -> f64 {
+        let x = p - self.origin();
+        let ax = self.apply_a(x);
+        let l = self.linear();
+        let half_gradient = ax + l;
+        let value = x.dot(ax + 2.0 * l) + self.constant();
+
+        let abs_x = x.abs();
+        let abs_ax = self.apply_abs_a(abs_x);
+        let abs_l = l.abs();
+        let value_error = 16.0 * EPS * (abs_x.dot(abs_ax + 2.0 * abs_l) + self.constant().abs());
+        let gradient_error = 8.0 * EPS * (abs_ax + abs_l).length();
+
+        let magnitude = value.abs() - value_error;
+        if magnitude <= 0.0 {
+            return 0.0f64.copysign(value);
+        }
+        let slope = half_gradient.length() + gradient_error;
+        let (lower, upper) = self.eigenvalue_bounds();
+        // Curvature that pushes the bound towards zero: λ_max inside, −λ_min outside.
+        let curvature = if value < 0.0 { upper } else { -lower };
+        let t = first_root(magnitude, slope, curvature);
+        // Absorb the rounding of t itself and of p − origin.
+        let t = (t * (1.0 - 8.0 * EPS) - 2.0 * EPS * abs_x.max_element()).max(0.0);
+        t.copysign(value)
+    }
+}
+
+/// Smallest positive root of `magnitude − 2 slope t − curvature t² = 0`, written without
+/// cancellation as `magnitude / (slope + sqrt(slope² + magnitude · curvature))`; infinite when
+/// there is none.
+#[inline]
+fn first_root(magnitude: f64, slope: f64, curvature: f64) -> f64 {
+    // Scale to keep slope² and the product in range.
+    let s = slope.max((magnitude * curvature.abs()).sqrt());
+    if s == 0.0 {
+        return f64::INFINITY;
+    }
+    if !s.is_finite() {
+        return 0.0;
+    }
+    let (slope_s, disc_s) = (slope / s, (magnitude / s) * (curvature / s));
+    let discriminant = slope_s * slope_s + disc_s;
+    if discriminant < 0.0 {
+        return f64::INFINITY;
+    }
+    let denominator = slope_s + discriminant.sqrt();
+    if denominator <= 0.0 {
+        return f64::INFINITY;
+    }
+    (magnitude / s) / denominator
+}
