@@ -59,11 +59,8 @@ pub fn run(args: CheckArgs) -> u8 {
                 .flat_map(|a| a.diagnostics.iter().filter(shown).map(move |d| (a, d)))
                 .map(|(a, d)| crate::json::JsonDiagnostic::new(&a.sources, d))
                 .collect();
-            let mut stdout = std::io::stdout().lock();
-            let written = serde_json::to_writer_pretty(&mut stdout, &elements)
-                .map_err(std::io::Error::from)
-                .and_then(|()| writeln!(stdout));
-            if written.is_err() {
+            let text = crate::json::array_text(&elements);
+            if std::io::stdout().lock().write_all(text.as_bytes()).is_err() {
                 return EXIT_USAGE;
             }
         }

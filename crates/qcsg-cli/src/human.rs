@@ -7,7 +7,10 @@
 use std::fmt;
 use std::sync::Arc;
 
-use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource, SourceSpan};
+use miette::{
+    GraphicalReportHandler, GraphicalTheme, LabeledSpan, MietteError, MietteSpanContents,
+    SourceCode, SourceSpan, SpanContents,
+};
 use qcsg_diag::{Diagnostic, FileId, Severity, SourceMap, Span};
 
 /// Width of the output when it is not a terminal (or the terminal's width is unknown).
@@ -85,7 +88,7 @@ struct Report {
     message: String,
     severity: miette::Severity,
     help: Option<String>,
-    source: NamedSource<Arc<str>>,
+    source: FileSource,
     labels: Vec<LabeledSpan>,
     /// Labels in other files, as reports of their own. (miette's "related" reports would do, but
     /// it heads each with a bare "Advice:".)
@@ -136,16 +139,54 @@ impl Report {
     }
 }
 
-/// The file as miette reads it. A missing final newline is added, because miette draws no marker
-/// for an empty span at the very end of a file ("unexpected end of file") otherwise.
-fn named_source(sources: &SourceMap, file: FileId) -> NamedSource<Arc<str>> {
+/// A source file as miette reads it.
+///
+/// Two differences from miette's `NamedSource`: the `file:line:column` header counts the column
+/// in characters (miette counts bytes, which puts `größe` columns off), and a missing final
+/// newline is added, without which miette draws no marker for an empty span at the very end of
+/// the file ("unexpected end of file").
+#[derive(Debug)]
+struct FileSource {
+    name: String,
+    text: Arc<str>,
+}
+
+impl SourceCode for FileSource {
+    fn read_span<'a>(
+        &'a self,
+        span: &SourceSpan,
+        context_lines_before: usize,
+        context_lines_after: usize,
+    ) -> Result<Box<dyn SpanContents<'a> + 'a>, MietteError> {
+        let text: &'a str = &self.text;
+        let contents = text.read_span(span, context_lines_before, context_lines_after)?;
+        let start = contents.span().offset().min(text.len());
+        let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
+        let column = text
+            .get(line_start..start)
+            .map_or(0, |prefix| prefix.chars().count());
+        Ok(Box::new(MietteSpanContents::new_named(
+            self.name.clone(),
+            contents.data(),
+            *contents.span(),
+            contents.line(),
+            column,
+            contents.line_count(),
+        )))
+    }
+}
+
+fn named_source(sources: &SourceMap, file: FileId) -> FileSource {
     let file = sources.get(file);
     let text = if file.text.ends_with('\n') {
         file.text.clone()
     } else {
         format!("{}\n", file.text)
     };
-    NamedSource::new(&file.name, Arc::from(text))
+    FileSource {
+        name: file.name.clone(),
+        text: Arc::from(text),
+    }
 }
 
 fn source_span(span: Span) -> SourceSpan {
@@ -175,7 +216,7 @@ impl miette::Diagnostic for Report {
             .map(|h| Box::new(h) as Box<dyn fmt::Display + 'a>)
     }
 
-    fn source_code(&self) -> Option<&dyn miette::SourceCode> {
+    fn source_code(&self) -> Option<&dyn SourceCode> {
         Some(&self.source)
     }
 

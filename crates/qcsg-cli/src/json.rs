@@ -67,6 +67,22 @@ impl<'a> JsonDiagnostic<'a> {
     }
 }
 
+/// The output array: one diagnostic per line, so that the text is both valid JSON and easy to
+/// read and grep.
+pub fn array_text(elements: &[JsonDiagnostic<'_>]) -> String {
+    if elements.is_empty() {
+        return "[]\n".to_owned();
+    }
+    let lines: Vec<String> = elements
+        .iter()
+        .map(|element| {
+            // Plain data of strings and numbers: serialising it cannot fail.
+            serde_json::to_string(element).unwrap_or_default()
+        })
+        .collect();
+    format!("[\n  {}\n]\n", lines.join(",\n  "))
+}
+
 fn range(sources: &SourceMap, file: FileId, span: Span) -> JsonRange {
     let file = sources.get(file);
     let position = |offset: u32| {

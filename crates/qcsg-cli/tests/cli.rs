@@ -1,0 +1,266 @@
+//! End-to-end tests of the `qcsg` binary: exit codes, standard input, the human rendering and the
+//! JSON format (snapshots), and UTF-16 columns. The binary runs in `tests/fixtures/` so that file
+//! names in the output are short and stable; its standard error is a pipe, so it is colourless.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// What a run of the binary produced.
+struct Run {
+    status: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures")
+}
+
+/// Runs `qcsg args…` in `tests/fixtures/` with `stdin` as standard input.
+fn qcsg(args: &[&str], stdin: &str) -> Run {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+        .args(args)
+        .current_dir(fixtures())
+        .env_remove("QCSG_PATH")
+        .env_remove("COLUMNS")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the qcsg binary starts");
+    // A run that does not read its input closes the pipe early; that is not a failure here.
+    let _ = child
+        .stdin
+        .take()
+        .expect("piped stdin")
+        .write_all(stdin.as_bytes());
+    let output = child.wait_with_output().expect("the qcsg binary finishes");
+    Run {
+        status: output.status.code().expect("exited, not killed"),
+        stdout: String::from_utf8(output.stdout).expect("UTF-8 stdout"),
+        stderr: String::from_utf8(output.stderr).expect("UTF-8 stderr"),
+    }
+}
+
+fn json(run: &Run) -> Vec<serde_json::Value> {
+    serde_json::from_str(&run.stdout)
+        .unwrap_or_else(|e| panic!("stdout is not a JSON array ({e}):\n{}", run.stdout))
+}
+
+#[test]
+fn clean_file_exits_0_with_a_summary() {
+    let run = qcsg(&["check", "clean.qcsg"], "");
+    assert_eq!((run.status, run.stdout.as_str()), (0, ""), "{}", run.stderr);
+    assert_eq!(run.stderr, "0 errors, 0 warnings\n");
+
+    let run = qcsg(&["check", "--format", "json", "clean.qcsg"], "");
+    assert_eq!(
+        (run.status, run.stdout.as_str(), run.stderr.as_str()),
+        (0, "[]\n", "")
+    );
+
+    let run = qcsg(&["check", "-q", "clean.qcsg"], "");
+    assert_eq!(
+        (run.status, run.stdout.as_str(), run.stderr.as_str()),
+        (0, "", "")
+    );
+}
+
+#[test]
+fn errors_exit_1_rendered_for_people() {
+    let run = qcsg(&["check", "syntax_errors.qcsg"], "");
+    assert_eq!(run.status, 1);
+    assert_eq!(run.stdout, "");
+    assert!(
+        !run.stderr.contains('\u{1b}'),
+        "no colour without a terminal"
+    );
+    insta::assert_snapshot!(run.stderr);
+}
+
+#[test]
+fn errors_exit_1_as_json() {
+    let run = qcsg(&["check", "--format", "json", "syntax_errors.qcsg"], "");
+    assert_eq!((run.status, run.stderr.as_str()), (1, ""));
+    for diagnostic in json(&run) {
+        let keys: Vec<&str> = diagnostic
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(String::as_str)
+            .collect();
+        let mut expected = [
+            "byte_range",
+            "code",
+            "file",
+            "help",
+            "labels",
+            "message",
+            "range",
+            "severity",
+        ];
+        expected.sort_unstable();
+        assert_eq!(keys, expected);
+    }
+    insta::assert_snapshot!(run.stdout);
+}
+
+#[test]
+fn json_columns_count_utf16_code_units() {
+    let run = qcsg(&["check", "--format", "json", "unicode.qcsg"], "");
+    assert_eq!(run.status, 1);
+    let text = std::fs::read_to_string(fixtures().join("unicode.qcsg")).unwrap();
+    let at = text.find('@').unwrap();
+    let line_start = text[..at].rfind('\n').unwrap() + 1;
+    let diagnostics = json(&run);
+    let diagnostic = diagnostics
+        .iter()
+        .find(|d| d["byte_range"][0] == at)
+        .unwrap_or_else(|| panic!("a diagnostic at the `@` (byte {at}):\n{}", run.stdout));
+    let utf16: usize = text[line_start..at].encode_utf16().count();
+    assert_ne!(
+        utf16,
+        at - line_start,
+        "the line must have multi-byte text before the error"
+    );
+    assert_eq!(
+        diagnostic["range"]["start"],
+        serde_json::json!({"line": 1, "character": utf16})
+    );
+    assert_eq!(diagnostic["file"], "unicode.qcsg");
+}
+
+#[test]
+fn quiet_keeps_errors_only() {
+    let run = qcsg(&["check", "-q", "syntax_errors.qcsg"], "");
+    assert_eq!(run.status, 1);
+    assert!(run.stderr.contains("error["), "{}", run.stderr);
+    assert!(
+        !run.stderr.contains("errors,"),
+        "no summary line:\n{}",
+        run.stderr
+    );
+}
+
+#[test]
+fn dash_reads_standard_input_as_stdin() {
+    let source = std::fs::read_to_string(fixtures().join("syntax_errors.qcsg")).unwrap();
+    let run = qcsg(&["check", "--format", "json", "-"], &source);
+    assert_eq!(run.status, 1);
+    let diagnostics = json(&run);
+    assert!(!diagnostics.is_empty());
+    assert!(
+        diagnostics.iter().all(|d| d["file"] == "<stdin>"),
+        "{}",
+        run.stdout
+    );
+
+    let run = qcsg(&["check", "-"], "cube(1);\n");
+    assert_eq!(run.status, 0, "{}", run.stderr);
+}
+
+#[test]
+fn unreadable_input_exits_2() {
+    let run = qcsg(&["check", "no-such-file.qcsg"], "");
+    assert_eq!(run.status, 2);
+    assert!(
+        run.stderr.contains("cannot read `no-such-file.qcsg`"),
+        "{}",
+        run.stderr
+    );
+
+    // A directory is not a readable file either; the readable file is still checked.
+    let run = qcsg(
+        &["check", "--format", "json", ".", "syntax_errors.qcsg"],
+        "",
+    );
+    assert_eq!(run.status, 2);
+    assert!(run.stderr.contains("cannot read `.`"), "{}", run.stderr);
+    assert!(!json(&run).is_empty());
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    for args in [
+        &["check"][..],
+        &["check", "--format", "xml", "clean.qcsg"],
+        &["check", "-D", "novalue", "clean.qcsg"],
+        &["check", "--threads", "0", "clean.qcsg"],
+        &["check", "--no-such-flag", "clean.qcsg"],
+        &["no-such-command"],
+        &[],
+    ] {
+        let run = qcsg(args, "");
+        assert_eq!(run.status, 2, "qcsg {args:?}:\n{}", run.stderr);
+    }
+    assert_eq!(qcsg(&["--help"], "").status, 0);
+    assert_eq!(qcsg(&["--version"], "").status, 0);
+}
+
+#[test]
+fn common_flags_are_accepted() {
+    let run = qcsg(
+        &[
+            "check",
+            "-D",
+            "w=3",
+            "-D",
+            "$fn=12",
+            "--threads",
+            "2",
+            "clean.qcsg",
+        ],
+        "",
+    );
+    assert_eq!(run.status, 0, "{}", run.stderr);
+}
+
+#[test]
+fn several_files_report_in_argument_order_for_any_thread_count() {
+    let files = [
+        "syntax_errors.qcsg",
+        "clean.qcsg",
+        "unicode.qcsg",
+        "syntax_errors.qcsg",
+    ];
+    let run_with = |threads: &str| {
+        let mut args = vec!["check", "--format", "json", "--threads", threads];
+        args.extend(files);
+        qcsg(&args, "")
+    };
+    let one = run_with("1");
+    assert_eq!(one.status, 1);
+    let names: Vec<String> = json(&one)
+        .iter()
+        .map(|d| d["file"].as_str().unwrap().to_owned())
+        .collect();
+    let mut order = names.clone();
+    order.dedup();
+    assert_eq!(
+        order,
+        ["syntax_errors.qcsg", "unicode.qcsg", "syntax_errors.qcsg"]
+    );
+    assert_eq!(run_with("3").stdout, one.stdout);
+}
+
+#[test]
+fn examples_check_clean() {
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&examples)
+        .expect("examples/ exists")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|ext| ext == "qcsg"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 3, "at least three examples");
+    for file in files {
+        let run = qcsg(&["check", "--format", "json", file.to_str().unwrap()], "");
+        assert_eq!(
+            (run.status, run.stdout.as_str()),
+            (0, "[]\n"),
+            "{}",
+            file.display()
+        );
+    }
+}
