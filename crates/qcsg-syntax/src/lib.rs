@@ -45,7 +45,10 @@ pub fn parse(text: &str, file: FileId) -> Parse {
         .iter()
         .map(|&(tok, span)| (tok, chumsky::span::SimpleSpan::from(span.range())))
         .collect();
-    let (stmts, syntax) = parser::parse_tokens(text, &lexed.comments, &tokens, file);
+    let eof_reported = diagnostics.iter().any(|d| {
+        d.code == codes::UNTERMINATED_STRING || d.code == codes::UNTERMINATED_BLOCK_COMMENT
+    });
+    let (stmts, syntax) = parser::parse_tokens(text, &lexed.comments, &tokens, file, eof_reported);
     diagnostics.extend(syntax);
     qcsg_diag::sort_diagnostics(&mut diagnostics);
     Parse {

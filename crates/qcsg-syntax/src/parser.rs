@@ -53,6 +53,15 @@ impl<'t> Ctx<'t> {
         // Escape errors were reported once by `lex`; here only the value matters.
         unescape(body, span.start + 1, FileId::default(), &mut Vec::new())
     }
+    /// Whether a line break separates `offset` from the token before it.
+    fn newline_before(self, offset: usize) -> bool {
+        let before = &self.text.as_bytes()[..offset.min(self.text.len())];
+        before
+            .iter()
+            .rev()
+            .find(|b| !matches!(b, b' ' | b'\t' | b'\r'))
+            == Some(&b'\n')
+    }
     fn doc(self, start: usize) -> Option<Doc> {
         doc_before(self.text, self.comments, start)
     }
@@ -69,22 +78,60 @@ fn boxed_expr(kind: ExprKind, span: SimpleSpan) -> Box<Expr> {
     })
 }
 
-/// Parses the token slice into top-level statements plus diagnostics.
+/// Parses the token slice into top-level statements plus diagnostics. `eof_reported`: the lexer
+/// already reported something that runs to the end of the file (an unterminated string or
+/// comment), so "found end of file" errors would only repeat it.
 pub(crate) fn parse_tokens(
     text: &str,
     comments: &[Comment],
     tokens: &[(Tok, SimpleSpan)],
     file: FileId,
+    eof_reported: bool,
 ) -> (Vec<Stmt>, Vec<Diagnostic>) {
     let ctx = Ctx { text, comments };
     let eoi = SimpleSpan::from(text.len()..text.len());
     let input = tokens.split_token_span(eoi);
     let (stmts, errors) = file_parser(ctx).parse(input).into_output_errors();
-    let diagnostics = errors
-        .into_iter()
-        .map(|e| to_diagnostic(&e, tokens, text, file))
-        .collect();
+    let mut diagnostics: Vec<Diagnostic> = Vec::with_capacity(errors.len());
+    let mut eof_done = eof_reported;
+    for error in &errors {
+        match error.found() {
+            // The lexer reported these already.
+            Some(Tok::Error | Tok::TooDeep) => continue,
+            None if eof_done => continue,
+            None => eof_done = true,
+            Some(_) => {}
+        }
+        let diagnostic = to_diagnostic(error, tokens, text, file);
+        if !diagnostics
+            .iter()
+            .any(|d| d.span == diagnostic.span && d.message == diagnostic.message)
+        {
+            diagnostics.push(diagnostic);
+        }
+    }
     (stmts.unwrap_or_default(), diagnostics)
+}
+
+/// The innermost opening delimiter left unclosed at the end of the tokens, if any.
+fn unclosed_delimiter(tokens: &[(Tok, SimpleSpan)]) -> Option<(Tok, SimpleSpan)> {
+    let mut stack: Vec<(Tok, SimpleSpan)> = Vec::new();
+    for &(tok, span) in tokens {
+        let opener = match tok {
+            Tok::LParen | Tok::LBracket | Tok::LBrace => {
+                stack.push((tok, span));
+                continue;
+            }
+            Tok::RParen => Tok::LParen,
+            Tok::RBracket => Tok::LBracket,
+            Tok::RBrace => Tok::LBrace,
+            _ => continue,
+        };
+        if stack.last().is_some_and(|(t, _)| *t == opener) {
+            stack.pop();
+        }
+    }
+    stack.pop()
 }
 
 /// Builds the parser for a whole file.
@@ -107,6 +154,34 @@ fn file_parser<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Vec<Stmt>, Ex<'t>> {
         .collect::<Vec<_>>()
         .then_ignore(end())
 }
+
+/// Balanced `( … )` or `[ … ]` group, skipped whole during recovery.
+fn balanced_groups<'t>() -> impl Parser<'t, In<'t>, (), Ex<'t>> + Clone {
+    let inner = balanced().or(none_of(DELIMITERS).ignored()).repeated();
+    choice((
+        inner
+            .clone()
+            .delimited_by(just(Tok::LParen), just(Tok::RParen)),
+        inner.delimited_by(just(Tok::LBracket), just(Tok::RBracket)),
+    ))
+}
+
+/// Balanced `{ … }` group, skipped whole during recovery.
+fn balanced_braces<'t>() -> impl Parser<'t, In<'t>, (), Ex<'t>> + Clone {
+    balanced()
+        .or(none_of(DELIMITERS).ignored())
+        .repeated()
+        .delimited_by(just(Tok::LBrace), just(Tok::RBrace))
+}
+
+const DELIMITERS: [Tok; 6] = [
+    Tok::LParen,
+    Tok::RParen,
+    Tok::LBracket,
+    Tok::RBracket,
+    Tok::LBrace,
+    Tok::RBrace,
+];
 
 /// Balanced `( … )`, `[ … ]` or `{ … }` group, skipped whole during recovery.
 fn balanced<'t>() -> impl Parser<'t, In<'t>, (), Ex<'t>> + Clone {
@@ -571,7 +646,21 @@ fn stmt_parser<'t>(
             just(Tok::Semi)
                 .labelled(what)
                 .ignored()
-                .recover_with(via_parser(empty()))
+                // A `;` missing at the end of a line (or of the file) is reported and assumed;
+                // anywhere else the statement is broken and skipped.
+                .recover_with(via_parser(
+                    end()
+                        .or(any()
+                            .try_map(move |_, span: SimpleSpan| {
+                                if ctx.newline_before(span.start) {
+                                    Ok(())
+                                } else {
+                                    Err(Rich::custom(span, "no line break"))
+                                }
+                            })
+                            .ignored())
+                        .rewind(),
+                ))
         };
         let paren_expr = expr.clone().delimited_by(
             just(Tok::LParen).labelled("`(`"),
@@ -674,7 +763,10 @@ fn stmt_parser<'t>(
             Assign(Expr),
             Instantiate(Vec<Arg>, Span, Option<Stmt>),
         }
-        let child = just(Tok::Semi).to(None).or(stmt.clone().map(Some));
+        let child = just(Tok::Semi)
+            .labelled("`;`")
+            .to(None)
+            .or(stmt.clone().map(Some));
         let named = name(ctx)
             .then(choice((
                 just(Tok::Assign)
@@ -729,13 +821,23 @@ fn stmt_parser<'t>(
 
         // Skips a broken statement: up to and including the next `;`, or up to a `}`, skipping
         // balanced groups whole.
-        let skip = balanced()
-            .or(none_of([Tok::Semi, Tok::RBrace, Tok::RParen, Tok::RBracket]).ignored())
+        // A `{ … }` group ends the skipped statement, as it would end a module definition.
+        let brace_group = balanced_braces();
+        let skip = balanced_groups()
+            .or(none_of([
+                Tok::Semi,
+                Tok::LBrace,
+                Tok::RBrace,
+                Tok::RParen,
+                Tok::RBracket,
+            ])
+            .ignored())
             .repeated()
             .at_least(1)
-            .then(just(Tok::Semi).or_not())
+            .then(just(Tok::Semi).ignored().or(brace_group.clone()).or_not())
             .ignored()
             .or(just(Tok::Semi).ignored())
+            .or(brace_group)
             .map_with(move |_, e| mk(StmtKind::Error, e.span()));
 
         choice((
@@ -812,6 +914,31 @@ fn to_diagnostic(
                 Some(t) => t.describe().to_owned(),
                 None => "end of file".to_owned(),
             };
+            if found.is_none()
+                && let Some((open, open_span)) = unclosed_delimiter(tokens)
+            {
+                let close = match open {
+                    Tok::LParen => "`)`",
+                    Tok::LBracket => "`]`",
+                    _ => "`}`",
+                };
+                return Diagnostic::error(
+                    codes::UNCLOSED_DELIMITER,
+                    format!("unclosed {open}"),
+                    file,
+                    sp(open_span),
+                )
+                .with_label(
+                    file,
+                    Span::empty(text.len()),
+                    format!("expected {close} before the end of the file"),
+                );
+            }
+            let code = if wanted.len() == 1 && wanted[0] == "`<path>`" {
+                codes::MISSING_PATH
+            } else {
+                codes::EXPECTED
+            };
             let message = format!("expected {wanted_text}, found {found_text}");
             // "Expected `;`" and friends point just after the previous token, where the missing
             // token belongs, rather than at whatever follows on the next line.
@@ -828,7 +955,7 @@ fn to_diagnostic(
             } else {
                 sp(span)
             };
-            Diagnostic::error(codes::EXPECTED, message, file, primary)
+            Diagnostic::error(code, message, file, primary)
         }
     }
 }

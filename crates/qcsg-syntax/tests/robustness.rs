@@ -1,0 +1,186 @@
+//! The parser never panics, never hangs and keeps every span inside the text: random bytes,
+//! token soups, mutations of real files, every prefix of every example, and deep nesting.
+
+use std::path::{Path, PathBuf};
+
+use proptest::prelude::*;
+use qcsg_syntax::{FileId, Parse, parse};
+
+/// Parses `text` and checks that every diagnostic span lies within it, on char boundaries.
+fn check(text: &str) -> Parse {
+    let parse = parse(text, FileId::default());
+    for d in &parse.diagnostics {
+        let range = d.span.range();
+        assert!(
+            range.start <= range.end && range.end <= text.len(),
+            "{d:?} outside {text:?}"
+        );
+        assert!(
+            text.is_char_boundary(range.start) && text.is_char_boundary(range.end),
+            "{d:?} splits a character of {text:?}"
+        );
+        for label in &d.labels {
+            assert!(
+                label.span.end as usize <= text.len(),
+                "{d:?} label outside {text:?}"
+            );
+        }
+    }
+    parse
+}
+
+/// Every `.qcsg` / `.scad` file under the workspace's `examples/` and `tests/`, plus this
+/// crate's own corpus.
+fn corpus() -> Vec<PathBuf> {
+    let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let workspace = crate_dir
+        .parent()
+        .and_then(Path::parent)
+        .expect("crates/<name> layout");
+    let mut files = Vec::new();
+    let mut dirs = vec![
+        workspace.join("examples"),
+        workspace.join("tests"),
+        crate_dir.join("tests"),
+    ];
+    while let Some(dir) = dirs.pop() {
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if matches!(
+                path.extension().and_then(|e| e.to_str()),
+                Some("qcsg" | "scad")
+            ) {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+#[test]
+fn corpus_parses_cleanly() {
+    let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(crate_dir.join("tests/data/all_syntax.scad")).unwrap();
+    let parse = check(&text);
+    assert!(parse.diagnostics.is_empty(), "{:#?}", parse.diagnostics);
+}
+
+#[test]
+fn every_prefix_of_every_file() {
+    let files = corpus();
+    assert!(!files.is_empty());
+    for path in files {
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        // Long files: every byte near the start, then a stride, to stay fast in debug builds.
+        let stride = (text.len() / 2000).max(1);
+        for cut in (0..=text.len()).filter(|&i| i < 2000 || i % stride == 0) {
+            if text.is_char_boundary(cut) {
+                check(&text[..cut]);
+            }
+        }
+    }
+}
+
+#[test]
+fn deep_nesting_is_reported_not_overflowed() {
+    for (open, close) in [("(", ")"), ("[", "]"), ("{", "}")] {
+        let n = 100_000;
+        let deep = format!("x = {}1{};", open.repeat(n), close.repeat(n));
+        let parse = check(&deep);
+        assert!(
+            parse.diagnostics.iter().any(|d| d.code == "E0006"),
+            "{open}"
+        );
+        let unclosed = format!("x = {}", open.repeat(n));
+        check(&unclosed);
+    }
+    for prefix in ["-", "!", "+", "*", "#", "%"] {
+        let text = format!(
+            "x = {}1;\n{}cube();",
+            prefix.repeat(100_000),
+            prefix.repeat(100_000)
+        );
+        let parse = check(&text);
+        assert!(
+            parse.diagnostics.iter().any(|d| d.code == "E0006"),
+            "{prefix}"
+        );
+    }
+    // Nesting within the limit parses without diagnostics.
+    let ok = format!("x = {}1{};", "(".repeat(200), ")".repeat(200));
+    assert!(check(&ok).diagnostics.is_empty());
+}
+
+#[test]
+fn long_chains_parse() {
+    let sum = format!("x = 1{};", " + 1".repeat(5_000));
+    assert!(check(&sum).diagnostics.is_empty());
+    let pow = format!("x = 2{};", " ^ 2".repeat(200));
+    assert!(check(&pow).diagnostics.is_empty());
+    let chain = format!("{}cube();", "translate([1, 0, 0]) ".repeat(200));
+    assert!(check(&chain).diagnostics.is_empty());
+    let elses = format!("if (a) b();{}", " else if (a) b();".repeat(200));
+    assert!(check(&elses).diagnostics.is_empty());
+}
+
+const SOUP: &[&str] = &[
+    "x", "$fn", "1", ".5", "\"s\"", "\"", "\\", "(", ")", "[", "]", "{", "}", ",", ";", "=", ":",
+    "?", ".", "+", "-", "*", "/", "%", "^", "!", "#", "<", ">", "<=", "==", "!=", "&&", "||",
+    "module", "function", "if", "else", "for", "let", "each", "true", "undef", "include", "use",
+    "<a.scad>", "assert", "echo", "//", "/*", "*/", "\n", " ", "é", "@", "\0",
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..200)) {
+        check(&String::from_utf8_lossy(&bytes));
+    }
+
+    #[test]
+    fn token_soup(picks in proptest::collection::vec(0..SOUP.len(), 0..120)) {
+        let text: String = picks.iter().map(|&i| SOUP[i]).collect::<Vec<_>>().join(" ");
+        check(&text);
+        let tight: String = picks.iter().map(|&i| SOUP[i]).collect();
+        check(&tight);
+    }
+
+    #[test]
+    fn mutated_corpus(
+        edits in proptest::collection::vec((any::<prop::sample::Index>(), 0..SOUP.len(), 0..3u8), 1..8)
+    ) {
+        let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut text = std::fs::read_to_string(crate_dir.join("tests/data/all_syntax.scad")).unwrap();
+        for (at, pick, how) in edits {
+            let mut i = at.index(text.len() + 1);
+            while !text.is_char_boundary(i) {
+                i -= 1;
+            }
+            match how {
+                0 => text.insert_str(i, SOUP[pick]),
+                1 => {
+                    let mut j = (i + 1 + pick).min(text.len());
+                    while !text.is_char_boundary(j) {
+                        j -= 1;
+                    }
+                    text.replace_range(i..j, "");
+                }
+                _ => {
+                    let mut j = (i + 1).min(text.len());
+                    while !text.is_char_boundary(j) {
+                        j += 1;
+                    }
+                    text.replace_range(i..j, SOUP[pick]);
+                }
+            }
+        }
+        check(&text);
+    }
+}
