@@ -1,0 +1,96 @@
+//! The conservative distance (eqs. 10-12) against an independent true distance.
+
+mod common;
+
+use common::{Rng, catalogue, points_around, true_distance};
+use qcsg_quadric::{DVec3, Quadric};
+
+/// Slack for the oracle's own rounding: relative `1e-9` plus `1e-12` of the feature size.
+fn allowed(truth: f64, size: f64) -> f64 {
+    truth * (1.0 + 1e-9) + 1e-12 * size
+}
+
+fn check_lower_bound(
+    name: &str,
+    quadric: &Quadric,
+    size: f64,
+    rng: &mut Rng,
+    count: usize,
+) -> usize {
+    let mut checked = 0;
+    for p in points_around(rng, quadric, size, count) {
+        let d = quadric.conservative_distance(p);
+        assert!(!d.is_nan(), "{name}: NaN at {p}");
+        let value = quadric.value(p);
+        assert!(
+            d == 0.0 || d.signum() == value.signum(),
+            "{name}: sign of d = {d} disagrees with Q = {value} at {p}"
+        );
+        let truth = true_distance(quadric, p);
+        assert!(
+            d.abs() <= allowed(truth, size),
+            "{name}: |d| = {} exceeds the true distance {truth} at {p}",
+            d.abs()
+        );
+        checked += 1;
+    }
+    checked
+}
+
+#[test]
+fn lower_bound_on_every_kind() {
+    let mut rng = Rng::new(0x5eed_0001);
+    let mut total = 0;
+    for case in catalogue() {
+        total += check_lower_bound(case.name, &case.quadric, case.size, &mut rng, 120);
+    }
+    assert!(total >= 2000, "{total}");
+}
+
+#[test]
+fn lower_bound_on_transformed_kinds() {
+    let mut rng = Rng::new(0x5eed_0002);
+    let mut total = 0;
+    for case in catalogue() {
+        for _ in 0..2 {
+            let m = rng.similarity(10.0, 100.0);
+            let Some(q) = case.quadric.transformed(&m) else {
+                panic!("{}: transform failed", case.name)
+            };
+            let scale = m.x_axis.truncate().length();
+            total += check_lower_bound(case.name, &q, case.size * scale, &mut rng, 60);
+        }
+    }
+    assert!(total >= 2000, "{total}");
+}
+
+#[test]
+fn tight_near_a_sphere() {
+    // Paper §3.3: the relative error vanishes towards the surface.
+    let q = Quadric::sphere(DVec3::new(3.0, -2.0, 1.0), 2.0).unwrap();
+    let mut rng = Rng::new(7);
+    for _ in 0..500 {
+        let dir = rng.direction();
+        let gap = 2.0 * 10f64.powf(rng.range(-9.0, -3.0));
+        for sign in [-1.0, 1.0] {
+            let p = DVec3::new(3.0, -2.0, 1.0) + dir * (2.0 + sign * gap);
+            let d = q.conservative_distance(p);
+            assert!(d * sign > 0.0);
+            assert!(d.abs() <= gap * (1.0 + 1e-6), "{d} vs {gap}");
+            assert!(d.abs() >= gap * (1.0 - 2e-3), "{d} vs {gap}");
+        }
+    }
+}
+
+#[test]
+fn exact_for_planes() {
+    let q = Quadric::half_space(DVec3::new(1e6, 0.0, 0.0), DVec3::new(1.0, 2.0, 2.0)).unwrap();
+    let n = DVec3::new(1.0, 2.0, 2.0) / 3.0;
+    for s in [-1e3, -1.0, -1e-6, 1e-6, 1.0, 1e3] {
+        let p = DVec3::new(1e6, 0.0, 0.0) - n.cross(DVec3::Z) * 3.0 + n * s;
+        let d = q.conservative_distance(p);
+        assert!((d - s).abs() <= 1e-9 * s.abs().max(1e-3), "{d} vs {s}");
+        // p itself carries rounding of about 1e6 ε ≈ 1e-10.
+        assert!(d.abs() <= s.abs() + 1e-9);
+    }
+}
