@@ -17,7 +17,8 @@ use qcsg_sema::{CheckOptions, FsLoader};
 
 /// `<workspace>/tests/check`.
 fn suite_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/check")
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/check");
+    root.canonicalize().unwrap_or(root)
 }
 
 /// Every case file below `dir`, sorted, `lib/` directories skipped.
