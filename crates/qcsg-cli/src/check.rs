@@ -66,8 +66,7 @@ pub fn run(args: CheckArgs) -> u8 {
         }
         DiagnosticFormat::Human => {
             let stderr = std::io::stderr();
-            let colour =
-                stderr.is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty());
+            let colour = wants_colour(stderr.is_terminal(), std::env::var_os("NO_COLOR"));
             let renderer = HumanRenderer::for_terminal(colour);
             let mut out = String::new();
             let mut counts = [0usize; 4];
@@ -93,6 +92,12 @@ pub fn run(args: CheckArgs) -> u8 {
     } else {
         EXIT_OK
     }
+}
+
+/// Colour only on a terminal, and not when `NO_COLOR` is set to anything but the empty string
+/// (<https://no-color.org>).
+fn wants_colour(is_terminal: bool, no_color: Option<std::ffi::OsString>) -> bool {
+    is_terminal && no_color.is_none_or(|value| value.is_empty())
 }
 
 /// Reads one FILE argument; `-` is standard input.
@@ -153,4 +158,17 @@ fn check_all(inputs: &[Input], options: &CheckOptions, threads: NonZeroUsize) ->
         .into_iter()
         .map(|a| a.expect("every job ran to completion"))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colour_needs_a_terminal_and_no_no_color() {
+        assert!(wants_colour(true, None));
+        assert!(wants_colour(true, Some("".into())));
+        assert!(!wants_colour(true, Some("1".into())));
+        assert!(!wants_colour(false, None));
+    }
 }
