@@ -151,3 +151,43 @@ fn language_suite() {
     eprintln!("{summary}");
     assert!(failed == 0, "{failures}{summary}");
 }
+
+/// The runner end to end on real `check_file` output: a right annotation passes, a wrong one
+/// fails with both sides of the mismatch in the report.
+#[test]
+fn runner_detects_a_wrong_expectation() {
+    let dir = std::env::temp_dir().join(format!("qcsg-check-suite-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let case = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        run_case(&dir, &path)
+    };
+
+    let right = case("right.qcsg", "x = ;\n//  ^ error[E0002]\n");
+    assert_eq!(right, None);
+
+    let wrong_column = case("column.qcsg", "x = ;\n//   ^ error[E0002]\n").expect("fails");
+    assert!(
+        wrong_column.contains("expected, not reported:\n    1:6-1:7"),
+        "{wrong_column}"
+    );
+    assert!(
+        wrong_column.contains("reported, not expected:\n    1:5-1:6"),
+        "{wrong_column}"
+    );
+
+    let unannotated = case("bare.qcsg", "x = ;\n").expect("fails");
+    assert!(
+        unannotated.contains("reported, not expected"),
+        "{unannotated}"
+    );
+
+    let missing = case("missing.qcsg", "x = 1;\n//  ^ error[E0002]\n").expect("fails");
+    assert!(missing.contains("expected, not reported"), "{missing}");
+
+    let malformed = case("malformed.qcsg", "x = ;\n//  ^ error(E0002)\n").expect("fails");
+    assert!(malformed.contains("malformed annotation"), "{malformed}");
+
+    std::fs::remove_dir_all(&dir).unwrap();
+}
