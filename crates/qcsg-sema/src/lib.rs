@@ -1,11 +1,36 @@
 //! Name resolution, include/use loading and static checking of qcsg programs (LANGUAGE.md §6).
 //!
 //! [`check_file`] is the entry point: it parses the main file, loads what it includes or uses
-//! through a [`FileLoader`], resolves every name and reports static errors and warnings.
+//! through a [`FileLoader`], resolves every name and reports static errors and warnings. The
+//! [`Analysis`] it returns also records what it resolved — every definition and, for every name
+//! reference, the definition it resolves to — as plain data for the evaluator and the language
+//! server (hover, go-to-definition, references, rename).
+//!
+//! Decisions where OpenSCAD is lenient:
+//! - Extra positional arguments (to built-ins and to user modules and functions) are errors
+//!   ([`codes::TOO_MANY_ARGUMENTS`]): OpenSCAD ignores them, so they are certainly a mistake.
+//! - A user parameter without a default that a call does not supply is an error
+//!   ([`codes::MISSING_ARGUMENT`]): it would be `undef`. Write `p = undef` to make it optional.
+//! - `$`-arguments (`$fn = 32`, `$my = 1`) are accepted by every module and function call.
+//! - A variable read by an assignment before its own assignment in the same scope is an error
+//!   ([`codes::USED_BEFORE_ASSIGNMENT`]) unless an enclosing scope defines it, which is what
+//!   OpenSCAD then reads.
+//! - Overriding a variable of an included file after the `include` is not a reassignment warning
+//!   (the customary way to configure a library), as in OpenSCAD.
+
+pub mod builtins;
+pub mod codes;
+mod loader;
+mod resolve;
+mod suggest;
+pub mod ty;
 
 use std::path::{Path, PathBuf};
 
-use qcsg_diag::{Diagnostic, FileId, SourceMap};
+use qcsg_diag::{Diagnostic, FileId, SourceMap, Span};
+
+pub use loader::{FileLink, LinkKind, STDIN_NAME};
+pub use ty::Ty;
 
 /// Reads files for `include` / `use`; the CLI reads the file system, the language server also
 /// sees unsaved editor buffers.
@@ -34,6 +59,102 @@ pub struct CheckOptions {
     pub defines: Vec<(String, String)>,
 }
 
+/// Handle of a [`Definition`] in [`Analysis::definitions`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct DefId(pub u32);
+
+/// What a definition defines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DefKind {
+    /// `name = value;`
+    Variable,
+    /// A parameter of a module, function or function literal.
+    Parameter,
+    /// A `for` variable (statement, comprehension or `intersection_for`).
+    LoopVariable,
+    /// A `let` variable.
+    LetVariable,
+    /// `module name(…) …`
+    Module,
+    /// `function name(…) = …;`
+    Function,
+}
+
+/// A parameter of a module, function or function-literal variable.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamInfo {
+    /// Its name.
+    pub name: String,
+    /// The span of the name.
+    pub name_span: Span,
+    /// The whole parameter, default included.
+    pub span: Span,
+    /// Whether it has a default value.
+    pub has_default: bool,
+    /// Its own definition (references to the parameter resolve to it).
+    pub def: DefId,
+}
+
+/// A name introduced in the source.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Definition {
+    /// What it defines.
+    pub kind: DefKind,
+    /// The name.
+    pub name: String,
+    /// The file it is written in.
+    pub file: FileId,
+    /// The span of the name.
+    pub name_span: Span,
+    /// The whole definition (statement, binding or parameter).
+    pub span: Span,
+    /// Its doc comment, markers stripped.
+    pub doc: Option<String>,
+    /// Parameters of modules, functions and variables holding a function literal.
+    pub params: Option<Vec<ParamInfo>>,
+    /// The module, function or function-literal variable it belongs to.
+    pub parent: Option<DefId>,
+    /// For a reassignment, the earlier assignment of the same variable in the same scope.
+    pub redefines: Option<DefId>,
+    /// The statically inferred type of a variable's value ([`Ty::Any`] when unknown).
+    pub ty: Ty,
+}
+
+/// The namespace a reference looks a name up in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Namespace {
+    /// Variables (parameters, loop and `let` variables included).
+    Variable,
+    /// Functions.
+    Function,
+    /// Modules.
+    Module,
+}
+
+/// What a reference resolves to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Target {
+    /// A definition in the source.
+    Definition(DefId),
+    /// A built-in ([`builtins`]), looked up by the reference's name and namespace.
+    Builtin,
+    /// A variable given on the command line (`-D name=value`).
+    CommandLine,
+}
+
+/// A use of a name that resolved.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Reference {
+    /// The file it is in.
+    pub file: FileId,
+    /// The span of the name.
+    pub span: Span,
+    /// The namespace it was looked up in.
+    pub namespace: Namespace,
+    /// What it resolves to.
+    pub target: Target,
+}
+
 /// The result of checking one program.
 #[derive(Debug)]
 pub struct Analysis {
@@ -43,19 +164,82 @@ pub struct Analysis {
     pub main: FileId,
     /// Every diagnostic of every file, sorted by [`qcsg_diag::sort_diagnostics`].
     pub diagnostics: Vec<Diagnostic>,
+    /// The syntax tree of every file, indexed by [`FileId`].
+    pub trees: Vec<qcsg_syntax::SourceFile>,
+    /// Every `include` / `use` statement and the file it resolved to.
+    pub links: Vec<FileLink>,
+    /// Every definition, indexed by [`DefId`].
+    pub definitions: Vec<Definition>,
+    /// Every resolved name reference (a definition's own name is not a reference).
+    pub references: Vec<Reference>,
+}
+
+impl Analysis {
+    /// The definition behind a handle.
+    pub fn definition(&self, id: DefId) -> Option<&Definition> {
+        self.definitions.get(id.0 as usize)
+    }
+
+    /// The syntax tree of a file.
+    pub fn tree(&self, file: FileId) -> Option<&qcsg_syntax::SourceFile> {
+        self.trees.get(file.0 as usize)
+    }
+
+    /// Whether the program has errors.
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(Diagnostic::is_error)
+    }
+
+    /// The reference whose name covers byte `offset` of `file`.
+    pub fn reference_at(&self, file: FileId, offset: usize) -> Option<&Reference> {
+        self.references
+            .iter()
+            .find(|r| r.file == file && r.span.contains(offset))
+    }
+
+    /// The definition whose name covers byte `offset` of `file`.
+    pub fn definition_at(&self, file: FileId, offset: usize) -> Option<(DefId, &Definition)> {
+        self.definitions
+            .iter()
+            .enumerate()
+            .find(|(_, d)| d.file == file && d.name_span.contains(offset))
+            .map(|(i, d)| (DefId(i as u32), d))
+    }
+
+    /// Every reference to a definition, in creation order.
+    pub fn references_to(&self, id: DefId) -> impl Iterator<Item = &Reference> {
+        self.references
+            .iter()
+            .filter(move |r| r.target == Target::Definition(id))
+    }
 }
 
 /// Checks the program whose main file is `name` (a path, or `<stdin>`) with contents `text`.
 pub fn check_file(
     name: &str,
     text: String,
-    _options: &CheckOptions,
-    _loader: &dyn FileLoader,
+    options: &CheckOptions,
+    loader: &dyn FileLoader,
 ) -> Analysis {
     let mut sources = SourceMap::new();
     let main = sources.add(name, text);
-    let parse = qcsg_syntax::parse(&sources.get(main).text, main);
-    let mut diagnostics = parse.diagnostics;
+    let mut diagnostics = Vec::new();
+    let loaded = loader::load_program(&mut sources, main, options, loader, &mut diagnostics);
+    let defines = options.defines.iter().map(|(name, _)| name.clone());
+    let resolved = resolve::Resolver::new(&loaded, &sources, main, defines).run();
+    diagnostics.extend(resolved.diagnostics);
     qcsg_diag::sort_diagnostics(&mut diagnostics);
-    Analysis { sources, main, diagnostics }
+    diagnostics.dedup();
+    let loader::Loaded {
+        trees, link_list, ..
+    } = loaded;
+    Analysis {
+        sources,
+        main,
+        diagnostics,
+        trees,
+        links: link_list,
+        definitions: resolved.definitions,
+        references: resolved.references,
+    }
 }

@@ -1,0 +1,767 @@
+//! Signatures of the built-in modules, functions and variables (LANGUAGE.md §4-§5), and the
+//! OpenSCAD constructs the language rejects because no quadric represents them exactly.
+//!
+//! Parameter names and positional order follow OpenSCAD 2021.01 (`cylinder(h, r1, r2, center)`,
+//! `sphere(r)` with `d` by name only, …). Every built-in module also accepts any `$`-argument
+//! (`$fn = 32`), which sets a special variable for its subtree.
+
+use crate::ty::{ParamTy, Ty};
+
+/// One parameter of a built-in module or function.
+#[derive(Clone, Copy, Debug)]
+pub struct BuiltinParam {
+    /// The parameter's name (for named arguments).
+    pub name: &'static str,
+    /// What it accepts.
+    pub ty: ParamTy,
+    /// Whether a call must supply it.
+    pub required: bool,
+    /// Whether it may be given by position (otherwise by name only, like `sphere(d = 2)`).
+    pub positional: bool,
+}
+
+const fn pos(name: &'static str, ty: ParamTy) -> BuiltinParam {
+    BuiltinParam {
+        name,
+        ty,
+        required: false,
+        positional: true,
+    }
+}
+
+const fn req(name: &'static str, ty: ParamTy) -> BuiltinParam {
+    BuiltinParam {
+        name,
+        ty,
+        required: true,
+        positional: true,
+    }
+}
+
+const fn named(name: &'static str, ty: ParamTy) -> BuiltinParam {
+    BuiltinParam {
+        name,
+        ty,
+        required: false,
+        positional: false,
+    }
+}
+
+/// What kind of built-in module it is (for hover and the evaluator).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModuleKind {
+    /// A solid primitive such as `cube` or `ellipsoid`.
+    Primitive,
+    /// A transform of its children such as `translate`.
+    Transform,
+    /// A boolean operation on its children such as `difference`.
+    Boolean,
+    /// Anything else: `children`, `echo`, `assert`, `render`, `color`.
+    Other,
+}
+
+/// A built-in module.
+#[derive(Clone, Copy, Debug)]
+pub struct BuiltinModule {
+    /// Its name.
+    pub name: &'static str,
+    /// Its parameters, positional ones first in positional order.
+    pub params: &'static [BuiltinParam],
+    /// Whether it takes any number of arguments of any name (`echo`).
+    pub variadic: bool,
+    /// What kind of module it is.
+    pub kind: ModuleKind,
+    /// One line for hover.
+    pub doc: &'static str,
+}
+
+/// What a built-in function returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Returns {
+    /// A number.
+    Number,
+    /// A boolean.
+    Bool,
+    /// A string.
+    String,
+    /// A vector of unknown length.
+    Vector,
+    /// A vector of three numbers.
+    Vector3,
+}
+
+impl Returns {
+    /// The static type of the result.
+    pub fn ty(self) -> Ty {
+        match self {
+            Returns::Number => Ty::Number,
+            Returns::Bool => Ty::Bool,
+            Returns::String => Ty::String,
+            Returns::Vector => Ty::any_vector(),
+            Returns::Vector3 => Ty::number_vector(Some(3)),
+        }
+    }
+}
+
+/// A built-in function.
+#[derive(Clone, Copy, Debug)]
+pub struct BuiltinFunction {
+    /// Its name.
+    pub name: &'static str,
+    /// Its fixed parameters in positional order.
+    pub params: &'static [BuiltinParam],
+    /// For variadic functions (`min`, `str`, `concat`): what every further argument accepts.
+    pub rest: Option<ParamTy>,
+    /// At least this many arguments (for variadic functions).
+    pub min_args: usize,
+    /// What it returns.
+    pub returns: Returns,
+    /// One line for hover.
+    pub doc: &'static str,
+}
+
+use ParamTy as P;
+
+const VEC23: &[u32] = &[2, 3];
+const VEC3: &[u32] = &[3];
+
+/// Every built-in module, OpenSCAD's supported subset and the quadric-native additions.
+pub const MODULES: &[BuiltinModule] = &[
+    BuiltinModule {
+        name: "cube",
+        params: &[pos("size", P::NumberOrVector(VEC3)), pos("center", P::Bool)],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "cube(size = 1, center = false): a box spanning [0, size] per axis unless centred",
+    },
+    BuiltinModule {
+        name: "sphere",
+        params: &[pos("r", P::Number), named("d", P::Number)],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "sphere(r = 1) or sphere(d = 2): a ball centred at the origin",
+    },
+    BuiltinModule {
+        name: "cylinder",
+        params: &[
+            pos("h", P::Number),
+            pos("r1", P::Number),
+            pos("r2", P::Number),
+            pos("center", P::Bool),
+            named("r", P::Number),
+            named("d", P::Number),
+            named("d1", P::Number),
+            named("d2", P::Number),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "cylinder(h, r | r1, r2 | d | d1, d2, center = false): a cylinder or cone frustum along Z",
+    },
+    BuiltinModule {
+        name: "ellipsoid",
+        params: &[
+            pos("r", P::NumberOrVector(VEC3)),
+            named("d", P::NumberOrVector(VEC3)),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "ellipsoid(r = [a, b, c]): an ellipsoid centred at the origin with semi-axes a, b, c",
+    },
+    BuiltinModule {
+        name: "paraboloid",
+        params: &[
+            pos("h", P::Number),
+            pos("r", P::NumberOrVector(&[2])),
+            pos("center", P::Bool),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "paraboloid(h, r): an elliptic paraboloid with its apex at the origin, radius r at height h",
+    },
+    BuiltinModule {
+        name: "hyperboloid",
+        params: &[
+            pos("h", P::Number),
+            pos("r", P::NumberOrVector(&[2])),
+            pos("c", P::Number),
+            pos("sheets", P::Number),
+            pos("center", P::Bool),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "hyperboloid(h, r, c, sheets = 1): a hyperboloid of one or two sheets along Z, cut at height h",
+    },
+    BuiltinModule {
+        name: "cone",
+        params: &[
+            pos("h", P::Number),
+            pos("r", P::NumberOrVector(&[2])),
+            pos("center", P::Bool),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "cone(h, r): an elliptic cone with its apex at the origin, radius r at height h",
+    },
+    BuiltinModule {
+        name: "halfspace",
+        params: &[
+            req("normal", P::NumberVector(VEC3)),
+            pos("offset", P::Number),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "halfspace(normal, offset = 0): the unbounded solid normal · p <= offset",
+    },
+    BuiltinModule {
+        name: "quadric",
+        params: &[req("q", P::List(&[4, 10]))],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "quadric(q): where the quadric form (4x4 symmetric matrix or 10 coefficients) is <= 0",
+    },
+    BuiltinModule {
+        name: "translate",
+        params: &[pos("v", P::NumberVector(VEC23))],
+        variadic: false,
+        kind: ModuleKind::Transform,
+        doc: "translate(v): moves the children by v",
+    },
+    BuiltinModule {
+        name: "rotate",
+        params: &[
+            pos("a", P::NumberOrVector(&[1, 2, 3])),
+            pos("v", P::NumberVector(VEC23)),
+        ],
+        variadic: false,
+        kind: ModuleKind::Transform,
+        doc: "rotate(a) about Z, rotate([x, y, z]) about X then Y then Z, rotate(a, v) about axis v (degrees)",
+    },
+    BuiltinModule {
+        name: "scale",
+        params: &[pos("v", P::NumberOrVector(VEC23))],
+        variadic: false,
+        kind: ModuleKind::Transform,
+        doc: "scale(s) or scale([sx, sy, sz]): scales the children",
+    },
+    BuiltinModule {
+        name: "mirror",
+        params: &[pos("v", P::NumberVector(VEC23))],
+        variadic: false,
+        kind: ModuleKind::Transform,
+        doc: "mirror(v): reflects the children across the plane through the origin with normal v",
+    },
+    BuiltinModule {
+        name: "multmatrix",
+        params: &[pos("m", P::List(&[3, 4]))],
+        variadic: false,
+        kind: ModuleKind::Transform,
+        doc: "multmatrix(m): applies a 4x4 (or 3x4) matrix to the children",
+    },
+    BuiltinModule {
+        name: "resize",
+        params: &[
+            pos("newsize", P::NumberOrVector(VEC23)),
+            pos("auto", P::BoolOrVector),
+            named("convexity", P::Number),
+        ],
+        variadic: false,
+        kind: ModuleKind::Transform,
+        doc: "resize(newsize, auto = false): scales the children to the given bounding-box size",
+    },
+    BuiltinModule {
+        name: "color",
+        params: &[
+            pos("c", P::StringOrVector(&[3, 4])),
+            pos("alpha", P::Number),
+        ],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "color(c, alpha = 1): colours the children (a name, \"#rrggbb\" or [r, g, b, a]); no effect on geometry",
+    },
+    BuiltinModule {
+        name: "union",
+        params: &[],
+        variadic: false,
+        kind: ModuleKind::Boolean,
+        doc: "union(): everything inside any child",
+    },
+    BuiltinModule {
+        name: "intersection",
+        params: &[],
+        variadic: false,
+        kind: ModuleKind::Boolean,
+        doc: "intersection(): what is inside every child",
+    },
+    BuiltinModule {
+        name: "difference",
+        params: &[],
+        variadic: false,
+        kind: ModuleKind::Boolean,
+        doc: "difference(): the first child minus all the others",
+    },
+    BuiltinModule {
+        name: "complement",
+        params: &[],
+        variadic: false,
+        kind: ModuleKind::Boolean,
+        doc: "complement(): everything outside the children (must end up bounded)",
+    },
+    BuiltinModule {
+        name: "intersection_for",
+        params: &[],
+        variadic: true,
+        kind: ModuleKind::Boolean,
+        doc: "intersection_for(i = range): the intersection of the child over every iteration",
+    },
+    BuiltinModule {
+        name: "render",
+        params: &[pos("convexity", P::Number)],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "render(): accepted and passed through",
+    },
+    BuiltinModule {
+        name: "children",
+        params: &[pos("index", P::Selection)],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "children(), children(i), children([i, j]): the children of the current module instance",
+    },
+    BuiltinModule {
+        name: "echo",
+        params: &[],
+        variadic: true,
+        kind: ModuleKind::Other,
+        doc: "echo(…): prints its arguments",
+    },
+    BuiltinModule {
+        name: "assert",
+        params: &[req("condition", P::Any), pos("message", P::Any)],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "assert(condition, message): stops with an error when condition is false",
+    },
+];
+
+const NUM: &[BuiltinParam] = &[req("x", P::Number)];
+
+const fn math(name: &'static str, doc: &'static str) -> BuiltinFunction {
+    BuiltinFunction {
+        name,
+        params: NUM,
+        rest: None,
+        min_args: 1,
+        returns: Returns::Number,
+        doc,
+    }
+}
+
+const ANY_X: &[BuiltinParam] = &[req("x", P::Any)];
+
+const fn predicate(name: &'static str, doc: &'static str) -> BuiltinFunction {
+    BuiltinFunction {
+        name,
+        params: ANY_X,
+        rest: None,
+        min_args: 1,
+        returns: Returns::Bool,
+        doc,
+    }
+}
+
+/// Every built-in function.
+pub const FUNCTIONS: &[BuiltinFunction] = &[
+    math("abs", "abs(x): absolute value"),
+    math("sign", "sign(x): -1, 0 or 1"),
+    math("sin", "sin(x): sine of x degrees"),
+    math("cos", "cos(x): cosine of x degrees"),
+    math("tan", "tan(x): tangent of x degrees"),
+    math("asin", "asin(x): arc sine in degrees"),
+    math("acos", "acos(x): arc cosine in degrees"),
+    math("atan", "atan(x): arc tangent in degrees"),
+    BuiltinFunction {
+        name: "atan2",
+        params: &[req("y", P::Number), req("x", P::Number)],
+        rest: None,
+        min_args: 2,
+        returns: Returns::Number,
+        doc: "atan2(y, x): angle of (x, y) in degrees",
+    },
+    math("floor", "floor(x): largest integer <= x"),
+    math("ceil", "ceil(x): smallest integer >= x"),
+    math("round", "round(x): nearest integer, halves away from zero"),
+    math("ln", "ln(x): natural logarithm"),
+    BuiltinFunction {
+        name: "log",
+        params: &[req("x", P::Number), pos("y", P::Number)],
+        rest: None,
+        min_args: 1,
+        returns: Returns::Number,
+        doc: "log(x): base-10 logarithm; log(b, x): base-b logarithm",
+    },
+    math("exp", "exp(x): e to the power x"),
+    BuiltinFunction {
+        name: "pow",
+        params: &[req("base", P::Number), req("exponent", P::Number)],
+        rest: None,
+        min_args: 2,
+        returns: Returns::Number,
+        doc: "pow(base, exponent)",
+    },
+    math("sqrt", "sqrt(x): square root"),
+    BuiltinFunction {
+        name: "min",
+        params: &[],
+        rest: Some(P::NumberOrVector(&[])),
+        min_args: 1,
+        returns: Returns::Number,
+        doc: "min(a, b, …) or min(v): the smallest value",
+    },
+    BuiltinFunction {
+        name: "max",
+        params: &[],
+        rest: Some(P::NumberOrVector(&[])),
+        min_args: 1,
+        returns: Returns::Number,
+        doc: "max(a, b, …) or max(v): the largest value",
+    },
+    BuiltinFunction {
+        name: "norm",
+        params: &[req("v", P::NumberVector(&[]))],
+        rest: None,
+        min_args: 1,
+        returns: Returns::Number,
+        doc: "norm(v): Euclidean length of a vector",
+    },
+    BuiltinFunction {
+        name: "cross",
+        params: &[
+            req("a", P::NumberVector(VEC23)),
+            req("b", P::NumberVector(VEC23)),
+        ],
+        rest: None,
+        min_args: 2,
+        returns: Returns::Vector3,
+        doc: "cross(a, b): cross product of two 3-vectors",
+    },
+    BuiltinFunction {
+        name: "len",
+        params: &[req("v", P::StringOrList)],
+        rest: None,
+        min_args: 1,
+        returns: Returns::Number,
+        doc: "len(v): number of elements of a vector or characters of a string",
+    },
+    BuiltinFunction {
+        name: "concat",
+        params: &[],
+        rest: Some(P::Any),
+        min_args: 0,
+        returns: Returns::Vector,
+        doc: "concat(a, b, …): the vectors joined (non-vectors count as one element)",
+    },
+    BuiltinFunction {
+        name: "lookup",
+        params: &[req("key", P::Number), req("table", P::List(&[]))],
+        rest: None,
+        min_args: 2,
+        returns: Returns::Number,
+        doc: "lookup(key, [[k, v], …]): linear interpolation in a table",
+    },
+    BuiltinFunction {
+        name: "str",
+        params: &[],
+        rest: Some(P::Any),
+        min_args: 0,
+        returns: Returns::String,
+        doc: "str(a, b, …): the values converted to text and joined",
+    },
+    BuiltinFunction {
+        name: "chr",
+        params: &[],
+        rest: Some(P::Any),
+        min_args: 1,
+        returns: Returns::String,
+        doc: "chr(code, …): the characters with these Unicode code points",
+    },
+    BuiltinFunction {
+        name: "ord",
+        params: &[req("c", P::String)],
+        rest: None,
+        min_args: 1,
+        returns: Returns::Number,
+        doc: "ord(c): the Unicode code point of a one-character string",
+    },
+    BuiltinFunction {
+        name: "search",
+        params: &[
+            req("match_value", P::Any),
+            req("string_or_vector", P::StringOrList),
+            pos("num_returns_per_match", P::Number),
+            pos("index_col_num", P::Number),
+        ],
+        rest: None,
+        min_args: 2,
+        returns: Returns::Vector,
+        doc: "search(match_value, string_or_vector, num_returns_per_match = 1, index_col_num = 0)",
+    },
+    predicate("is_undef", "is_undef(x): whether x is undef"),
+    predicate("is_bool", "is_bool(x): whether x is a boolean"),
+    predicate("is_num", "is_num(x): whether x is a number"),
+    predicate("is_string", "is_string(x): whether x is a string"),
+    predicate("is_list", "is_list(x): whether x is a vector"),
+    predicate("is_function", "is_function(x): whether x is a function"),
+    BuiltinFunction {
+        name: "rands",
+        params: &[
+            req("min_value", P::Number),
+            req("max_value", P::Number),
+            req("value_count", P::Number),
+            pos("seed_value", P::Number),
+        ],
+        rest: None,
+        min_args: 3,
+        returns: Returns::Vector,
+        doc: "rands(min, max, n, seed): n pseudo-random numbers, deterministic given a seed",
+    },
+];
+
+/// Built-in special variables: never undefined.
+pub const SPECIAL_VARIABLES: &[(&str, &str)] = &[
+    ("$fn", "number of fragments (no effect: surfaces are exact)"),
+    (
+        "$fa",
+        "minimum fragment angle (no effect: surfaces are exact)",
+    ),
+    (
+        "$fs",
+        "minimum fragment size (no effect: surfaces are exact)",
+    ),
+    ("$t", "animation time in [0, 1)"),
+    (
+        "$children",
+        "number of children of the current module instance",
+    ),
+    (
+        "$preview",
+        "whether the scene is being previewed rather than rendered",
+    ),
+    ("$vpr", "viewport rotation"),
+    ("$vpt", "viewport translation"),
+    ("$vpd", "viewport camera distance"),
+    ("$vpf", "viewport field of view"),
+    (
+        "$parent_modules",
+        "number of modules in the instantiation stack",
+    ),
+];
+
+/// Built-in ordinary variables.
+pub const VARIABLES: &[(&str, &str, Ty)] = &[("PI", "the constant π", Ty::Number)];
+
+/// An OpenSCAD construct that the language rejects.
+#[derive(Clone, Copy, Debug)]
+pub struct Unsupported {
+    /// Its name.
+    pub name: &'static str,
+    /// Why it cannot be represented.
+    pub reason: &'static str,
+    /// What to use instead, where there is something.
+    pub instead: Option<&'static str>,
+}
+
+const fn unsupported(
+    name: &'static str,
+    reason: &'static str,
+    instead: Option<&'static str>,
+) -> Unsupported {
+    Unsupported {
+        name,
+        reason,
+        instead,
+    }
+}
+
+const TWO_D: &str = "it is a 2-D shape, and qcsg solids are 3-D solids bounded by quadric surfaces";
+
+/// OpenSCAD modules with no exact quadric representation.
+pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
+    unsupported(
+        "polyhedron",
+        "its faces are arbitrary polygons, which in general are no combination of quadric solids",
+        Some(
+            "a convex polyhedron is an `intersection()` of `halfspace(normal, offset)` solids, one per face",
+        ),
+    ),
+    unsupported(
+        "linear_extrude",
+        "it extrudes a 2-D outline, and 2-D shapes have no quadric representation",
+        Some(
+            "extrude a disc with `cylinder(h, r)` and a rectangle with `cube([x, y, h])`; a tapered disc is `cylinder(h, r1, r2)`",
+        ),
+    ),
+    unsupported(
+        "rotate_extrude",
+        "the surface swept by a general outline (a torus, for example) is not a quadric",
+        Some(
+            "a rectangle on the axis sweeps to `cylinder`, a right triangle to `cylinder(h, r1, 0)`, a half-disc to `sphere`",
+        ),
+    ),
+    unsupported(
+        "surface",
+        "a heightfield is a triangle mesh, not a quadric surface",
+        None,
+    ),
+    unsupported(
+        "import",
+        "imported meshes and drawings are triangles or 2-D outlines, not quadric surfaces",
+        Some("model the part with primitives, or approximate a convex part with `halfspace`s"),
+    ),
+    unsupported(
+        "text",
+        "glyph outlines are 2-D curves of higher degree than quadrics",
+        None,
+    ),
+    unsupported(
+        "circle",
+        TWO_D,
+        Some("a disc of thickness h is `cylinder(h, r)`"),
+    ),
+    unsupported(
+        "square",
+        TWO_D,
+        Some("a plate of thickness h is `cube([x, y, h])`"),
+    ),
+    unsupported(
+        "polygon",
+        TWO_D,
+        Some("a convex prism is an `intersection()` of `halfspace`s and two capping half-spaces"),
+    ),
+    unsupported(
+        "hull",
+        "the convex hull of curved solids is bounded by surfaces that are not quadrics",
+        Some(
+            "write the hull's parts explicitly (e.g. a capsule is a cylinder and two spheres); a convex polytope is an `intersection()` of `halfspace`s",
+        ),
+    ),
+    unsupported(
+        "minkowski",
+        "a Minkowski sum of curved solids has offset surfaces that are not quadrics",
+        Some("round edges explicitly with cylinders and spheres"),
+    ),
+    unsupported(
+        "offset",
+        "it offsets 2-D outlines, and 2-D shapes have no quadric representation",
+        None,
+    ),
+    unsupported(
+        "projection",
+        "it produces a 2-D outline, and qcsg solids are 3-D",
+        None,
+    ),
+];
+
+/// OpenSCAD built-in functions the language does not provide.
+pub const UNSUPPORTED_FUNCTIONS: &[Unsupported] = &[
+    unsupported(
+        "version",
+        "a qcsg program does not depend on the OpenSCAD version",
+        None,
+    ),
+    unsupported(
+        "version_num",
+        "a qcsg program does not depend on the OpenSCAD version",
+        None,
+    ),
+    unsupported(
+        "parent_module",
+        "the module instantiation stack is not exposed",
+        None,
+    ),
+    unsupported("dxf_dim", "DXF drawings are 2-D and not supported", None),
+    unsupported("dxf_cross", "DXF drawings are 2-D and not supported", None),
+];
+
+/// The built-in module called `name`.
+pub fn module(name: &str) -> Option<&'static BuiltinModule> {
+    MODULES.iter().find(|m| m.name == name)
+}
+
+/// The built-in function called `name`.
+pub fn function(name: &str) -> Option<&'static BuiltinFunction> {
+    FUNCTIONS.iter().find(|f| f.name == name)
+}
+
+/// The rejected OpenSCAD module called `name`.
+pub fn unsupported_module(name: &str) -> Option<&'static Unsupported> {
+    UNSUPPORTED_MODULES.iter().find(|m| m.name == name)
+}
+
+/// The rejected OpenSCAD function called `name`.
+pub fn unsupported_function(name: &str) -> Option<&'static Unsupported> {
+    UNSUPPORTED_FUNCTIONS.iter().find(|f| f.name == name)
+}
+
+/// Whether `$name` is a built-in special variable.
+pub fn is_special_variable(name: &str) -> bool {
+    SPECIAL_VARIABLES.iter().any(|(n, _)| *n == name)
+}
+
+/// The built-in ordinary variable called `name` and its type.
+pub fn variable(name: &str) -> Option<&'static Ty> {
+    VARIABLES
+        .iter()
+        .find(|(n, _, _)| *n == name)
+        .map(|(_, _, ty)| ty)
+}
+
+/// Whether `name` is one of the tessellation variables that have no effect on exact surfaces.
+pub fn is_tessellation_variable(name: &str) -> bool {
+    matches!(name, "$fn" | "$fa" | "$fs")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_across_tables() {
+        let mut names = std::collections::HashSet::new();
+        for name in MODULES
+            .iter()
+            .map(|m| m.name)
+            .chain(UNSUPPORTED_MODULES.iter().map(|m| m.name))
+        {
+            assert!(names.insert(name), "module {name} listed twice");
+        }
+        let mut names = std::collections::HashSet::new();
+        for name in FUNCTIONS
+            .iter()
+            .map(|f| f.name)
+            .chain(UNSUPPORTED_FUNCTIONS.iter().map(|f| f.name))
+        {
+            assert!(names.insert(name), "function {name} listed twice");
+        }
+    }
+
+    #[test]
+    fn openscad_positional_orders() {
+        let names = |m: &BuiltinModule| {
+            m.params
+                .iter()
+                .filter(|p| p.positional)
+                .map(|p| p.name)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(
+            names(module("cylinder").unwrap()),
+            ["h", "r1", "r2", "center"]
+        );
+        assert_eq!(names(module("sphere").unwrap()), ["r"]);
+        assert_eq!(names(module("cube").unwrap()), ["size", "center"]);
+        for f in FUNCTIONS {
+            let required = f.params.iter().filter(|p| p.required).count();
+            assert!(f.min_args >= required, "{}", f.name);
+        }
+    }
+}

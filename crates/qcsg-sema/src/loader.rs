@@ -1,0 +1,267 @@
+//! Loading the files a program pulls in with `include <…>` and `use <…>`.
+//!
+//! Every file is read and parsed once, however often it is included or used. A path resolves
+//! relative to the directory of the file that names it, then relative to each directory of the
+//! search path (`QCSG_PATH`), as OpenSCAD does. Files are identified by their lexically normalised
+//! path, because the loader may serve editor buffers that do not exist on disk.
+
+use std::collections::HashMap;
+use std::path::{Component, Path, PathBuf};
+
+use qcsg_diag::{Diagnostic, FileId, SourceMap, Span};
+use qcsg_syntax::ast::{SourceFile, Stmt, StmtKind};
+
+use crate::{CheckOptions, FileLoader, codes};
+
+/// The name under which standard input is checked; its includes resolve from the current
+/// directory.
+pub const STDIN_NAME: &str = "<stdin>";
+
+/// Whether an edge is an `include` or a `use`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LinkKind {
+    /// `include <…>`: everything of the file, spliced in place.
+    Include,
+    /// `use <…>`: the file's modules and functions only.
+    Use,
+}
+
+/// One `include <…>` or `use <…>` statement and the file it resolved to.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FileLink {
+    /// Include or use.
+    pub kind: LinkKind,
+    /// The file the statement is in.
+    pub file: FileId,
+    /// The span of `<path>`.
+    pub span: Span,
+    /// The file it names, or `None` when it was not found.
+    pub target: Option<FileId>,
+}
+
+/// Every file of a program, parsed, with the links between them.
+pub(crate) struct Loaded {
+    /// The tree of each file, indexed by `FileId`.
+    pub trees: Vec<SourceFile>,
+    /// Where each `include` / `use` leads, keyed by (file, start of the `<path>` span).
+    pub links: HashMap<(FileId, u32), FileLink>,
+    /// Links in the order they were found.
+    pub link_list: Vec<FileLink>,
+}
+
+impl Loaded {
+    /// The file an include or use at `span` of `file` resolved to.
+    pub fn target(&self, file: FileId, span: Span) -> Option<FileId> {
+        self.links
+            .get(&(file, span.start))
+            .and_then(|link| link.target)
+    }
+
+    /// The tree of `file`.
+    pub fn tree(&self, file: FileId) -> Option<&SourceFile> {
+        self.trees.get(file.0 as usize)
+    }
+}
+
+/// Removes `.` components and folds `..` into its parent where there is one.
+pub(crate) fn normalize(path: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for component in path.components() {
+        match component {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                let last_is_normal =
+                    matches!(out.components().next_back(), Some(Component::Normal(_)));
+                if last_is_normal {
+                    out.pop();
+                } else if !matches!(
+                    out.components().next_back(),
+                    Some(Component::RootDir | Component::Prefix(_))
+                ) {
+                    out.push("..");
+                }
+            }
+            other => out.push(other.as_os_str()),
+        }
+    }
+    if out.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        out
+    }
+}
+
+/// The directory `include`s of a file resolve from.
+fn base_dir(name: &str) -> PathBuf {
+    if name == STDIN_NAME {
+        return PathBuf::from(".");
+    }
+    match Path::new(name).parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Every `include` / `use` statement of a tree, in source order, found without recursion.
+fn link_statements(tree: &SourceFile) -> Vec<(LinkKind, &qcsg_syntax::ast::PathLit)> {
+    let mut found = Vec::new();
+    let mut stack: Vec<&Stmt> = tree.stmts.iter().rev().collect();
+    while let Some(stmt) = stack.pop() {
+        match &stmt.kind {
+            StmtKind::Include(path) => found.push((LinkKind::Include, path)),
+            StmtKind::Use(path) => found.push((LinkKind::Use, path)),
+            StmtKind::Block(stmts) => stack.extend(stmts.iter().rev()),
+            StmtKind::ModuleDef { body, .. }
+            | StmtKind::For { body, .. }
+            | StmtKind::Let { body, .. }
+            | StmtKind::Modified { body, .. } => stack.push(body),
+            StmtKind::If { then, els, .. } => {
+                if let Some(els) = els {
+                    stack.push(els);
+                }
+                stack.push(then);
+            }
+            StmtKind::Instantiate {
+                child: Some(child), ..
+            } => stack.push(child),
+            _ => {}
+        }
+    }
+    found
+}
+
+/// Parses `main` and loads, parses and links everything it includes or uses, transitively.
+pub(crate) fn load_program(
+    sources: &mut SourceMap,
+    main: FileId,
+    options: &CheckOptions,
+    loader: &dyn FileLoader,
+    diagnostics: &mut Vec<Diagnostic>,
+) -> Loaded {
+    let mut loaded = Loaded {
+        trees: Vec::new(),
+        links: HashMap::new(),
+        link_list: Vec::new(),
+    };
+    let mut by_path: HashMap<PathBuf, FileId> = HashMap::new();
+    let main_name = sources.get(main).name.clone();
+    if main_name != STDIN_NAME {
+        by_path.insert(normalize(Path::new(&main_name)), main);
+    }
+    let mut next = main.0 as usize;
+    // Files are added to the source map in discovery order, so walking ids is a breadth-first
+    // traversal that parses each file exactly once.
+    while next < sources.iter().count() {
+        let file = FileId(next as u32);
+        next += 1;
+        let parse = qcsg_syntax::parse(&sources.get(file).text, file);
+        diagnostics.extend(parse.diagnostics);
+        let tree = parse.file;
+        let dir = base_dir(&sources.get(file).name);
+        for (kind, path) in link_statements(&tree) {
+            let target = resolve_link(sources, &mut by_path, &dir, &path.path, options, loader);
+            let target = match target {
+                Ok(target) => Some(target),
+                Err(searched) => {
+                    let keyword = if kind == LinkKind::Include {
+                        "include"
+                    } else {
+                        "use"
+                    };
+                    let help = format!(
+                        "searched {}; set QCSG_PATH to add library directories",
+                        searched
+                            .iter()
+                            .map(|p| format!("`{}`", p.display()))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    );
+                    diagnostics.push(
+                        Diagnostic::error(
+                            codes::FILE_NOT_FOUND,
+                            format!("cannot find `{}` named by `{keyword}`", path.path),
+                            file,
+                            path.span,
+                        )
+                        .with_help(help),
+                    );
+                    None
+                }
+            };
+            let link = FileLink {
+                kind,
+                file,
+                span: path.span,
+                target,
+            };
+            loaded.links.insert((file, path.span.start), link.clone());
+            loaded.link_list.push(link);
+        }
+        if loaded.trees.len() <= file.0 as usize {
+            loaded
+                .trees
+                .resize_with(file.0 as usize + 1, || SourceFile {
+                    stmts: Vec::new(),
+                    comments: Vec::new(),
+                });
+        }
+        loaded.trees[file.0 as usize] = tree;
+    }
+    loaded
+}
+
+/// Finds and loads the file `path` names; on failure, the places searched.
+fn resolve_link(
+    sources: &mut SourceMap,
+    by_path: &mut HashMap<PathBuf, FileId>,
+    dir: &Path,
+    path: &str,
+    options: &CheckOptions,
+    loader: &dyn FileLoader,
+) -> Result<FileId, Vec<PathBuf>> {
+    let written = Path::new(path);
+    let candidates: Vec<PathBuf> = if path.is_empty() {
+        Vec::new()
+    } else if written.is_absolute() {
+        vec![normalize(written)]
+    } else {
+        std::iter::once(dir)
+            .chain(options.search_path.iter().map(PathBuf::as_path))
+            .map(|base| normalize(&base.join(written)))
+            .collect()
+    };
+    for candidate in &candidates {
+        if let Some(&known) = by_path.get(candidate) {
+            return Ok(known);
+        }
+        if let Ok(text) = loader.load(candidate) {
+            let id = sources.add(candidate.to_string_lossy().into_owned(), text);
+            by_path.insert(candidate.clone(), id);
+            return Ok(id);
+        }
+    }
+    Err(candidates)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normalize_folds_dots() {
+        assert_eq!(
+            normalize(Path::new("a/./b/../c.scad")),
+            PathBuf::from("a/c.scad")
+        );
+        assert_eq!(normalize(Path::new("../x/../y")), PathBuf::from("../y"));
+        assert_eq!(normalize(Path::new("/a/../../b")), PathBuf::from("/b"));
+        assert_eq!(normalize(Path::new("./")), PathBuf::from("."));
+    }
+
+    #[test]
+    fn base_dir_of_stdin_is_current() {
+        assert_eq!(base_dir(STDIN_NAME), PathBuf::from("."));
+        assert_eq!(base_dir("main.scad"), PathBuf::from("."));
+        assert_eq!(base_dir("dir/main.scad"), PathBuf::from("dir"));
+    }
+}
