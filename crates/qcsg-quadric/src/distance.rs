@@ -54,7 +54,16 @@ impl Quadric {
 /// there is none.
 #[inline]
 fn first_root(magnitude: f64, slope: f64, curvature: f64) -> f64 {
-    // Scale to keep slope² and the product in range.
+    let discriminant = slope * slope + magnitude * curvature;
+    // The fast path is exact to a few ulps unless the discriminant over- or underflows.
+    let fast_path_safe = discriminant.is_finite() && discriminant.abs() >= f64::MIN_POSITIVE;
+    if fast_path_safe {
+        if discriminant < 0.0 {
+            return f64::INFINITY;
+        }
+        return magnitude / (slope + discriminant.sqrt());
+    }
+    // Rare: squares under- or overflow. Scale to keep slope² and the product in range.
     let s = slope.max((magnitude * curvature.abs()).sqrt());
     if s == 0.0 {
         return f64::INFINITY;
@@ -62,8 +71,8 @@ fn first_root(magnitude: f64, slope: f64, curvature: f64) -> f64 {
     if !s.is_finite() {
         return 0.0;
     }
-    let (slope_s, disc_s) = (slope / s, (magnitude / s) * (curvature / s));
-    let discriminant = slope_s * slope_s + disc_s;
+    let slope_s = slope / s;
+    let discriminant = slope_s * slope_s + (magnitude / s) * (curvature / s);
     if discriminant < 0.0 {
         return f64::INFINITY;
     }

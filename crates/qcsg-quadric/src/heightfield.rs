@@ -186,21 +186,29 @@ impl Heightfield {
     /// Exact up to the rounding of [`Self::distortion`]; the tests check it against dense
     /// sampling.
     pub fn distortion_bounds(&self, x: (f64, f64), y: (f64, f64)) -> Option<(f64, f64)> {
-        let xs = candidates(x);
-        let ys = candidates(y);
-        let mut bounds = (f64::INFINITY, 0.0f64);
-        for &cx in xs.iter().flatten() {
-            for &cy in ys.iter().flatten() {
-                let d = self.distortion(cx, cy)?;
-                bounds = (bounds.0.min(d), bounds.1.max(d));
+        let (xs, nx) = candidates(x);
+        let (ys, ny) = candidates(y);
+        // Track the extremes of |∇h|² = num / den and take the two square roots at the end.
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+        for &cx in &xs[..nx] {
+            for &cy in &ys[..ny] {
+                let (num, den) = self.slope_parts(cx, cy)?;
+                let ratio = if num == 0.0 { 0.0 } else { num / den };
+                lo = lo.min(ratio);
+                hi = hi.max(ratio);
             }
         }
-        Some(bounds)
+        Some(((1.0 + lo).sqrt(), (1.0 + hi).sqrt()))
     }
 }
 
-/// The ends of an interval plus zero if it lies strictly inside.
-fn candidates((a, b): (f64, f64)) -> [Option<f64>; 3] {
+/// The ends of an interval plus zero if it lies strictly inside, and how many there are.
+#[inline]
+fn candidates((a, b): (f64, f64)) -> ([f64; 3], usize) {
     let (lo, hi) = (a.min(b), a.max(b));
-    [Some(lo), Some(hi), (lo < 0.0 && hi > 0.0).then_some(0.0)]
+    if lo < 0.0 && hi > 0.0 {
+        ([lo, hi, 0.0], 3)
+    } else {
+        ([lo, hi, 0.0], 2)
+    }
 }

@@ -187,8 +187,12 @@ impl Quadric {
     /// a central quadric, a cone's apex, every point of a degenerate quadric).
     #[inline]
     pub fn normal(&self, p: DVec3) -> Option<DVec3> {
-        // Scaling first keeps the normalisation free of overflow and underflow.
         let g = self.gradient(p);
+        let length_squared = g.length_squared();
+        if length_squared >= f64::MIN_POSITIVE && length_squared <= f64::MAX {
+            return Some(g / length_squared.sqrt());
+        }
+        // Rare: the squared length under- or overflowed. Scaling first keeps it in range.
         let m = g.abs().max_element();
         if m == 0.0 || !m.is_finite() {
             return None;
