@@ -189,7 +189,7 @@ impl Quadric {
     pub fn normal(&self, p: DVec3) -> Option<DVec3> {
         let g = self.gradient(p);
         let length_squared = g.length_squared();
-        if length_squared >= f64::MIN_POSITIVE && length_squared <= f64::MAX {
+        if (f64::MIN_POSITIVE..=f64::MAX).contains(&length_squared) {
             return Some(g / length_squared.sqrt());
         }
         // Rare: the squared length under- or overflowed. Scaling first keeps it in range.
