@@ -19,7 +19,9 @@ impl Quadric {
     /// accounted for, so a point within rounding noise of the surface gets `±0.0`. Infinite when
     /// no surface point exists in the relevant direction (e.g. outside of an empty quadric); NaN
     /// only for non-finite `p`. The tests check `|d| ≤ true distance` on thousands of points around
-    /// every kind, and `|d| ≥ 0.5 · true distance` within 1e-3 relative of a sphere's surface.
+    /// every kind (also transformed, and on extreme radii and translations), and
+    /// `|d| ≥ (1 − 2·10⁻³) · true distance` within `10⁻³` of a sphere's radius from its surface
+    /// (the relative error vanishes towards the surface, paper §3.3).
     #[inline]
     pub fn conservative_distance(&self, p: DVec3) -> f64 {
         let x = p - self.origin();

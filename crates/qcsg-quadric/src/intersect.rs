@@ -59,9 +59,13 @@ impl Quadric {
     /// The discriminant `β² − αγ` is computed with a compensated product where it cancels
     /// (Kahan's trick), and is treated as zero — a [`LineIntersection::Tangent`] double root —
     /// when it lies within its rounding bound `16 ε (β² + |α| Γ)`, `Γ` being the magnitude of
-    /// the terms of `γ`. Each returned root `t` satisfies `|Q(p + t v)| ≤ 1e-12 · M(t)` with `M`
-    /// the magnitude of the terms of the polynomial at `t` (checked by the tests); tangent roots
-    /// are accurate to about `√ε` of the local feature size, as the problem is ill-posed there.
+    /// the terms of `γ`. Each returned root `t` satisfies
+    /// `|Q(p + t v)| ≤ 1e-12 · M(t) + 4 ε |p + t v|_∞ |∇Q|` with `M` the magnitude of the terms of
+    /// the polynomial at `t` (the second term is the rounding of forming the world point); tangent
+    /// roots satisfy it with `1e-6` and are accurate to about `√ε` of the local feature size, as
+    /// the problem is ill-posed there. The stiff suite checks roots to `1e-9` relative on spheres
+    /// of radius `1e-6` to `1e6` at `1e6`, slabs of width `2e-6`, and lines within `1e-9` rad of
+    /// a cylinder's axis (far root `±1e9`).
     pub fn intersect_line(&self, p: DVec3, v: DVec3) -> LineIntersection {
         let x = p - self.origin();
         let av = self.apply_a(v);
