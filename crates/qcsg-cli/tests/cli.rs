@@ -19,11 +19,21 @@ fn fixtures() -> PathBuf {
 
 /// Runs `qcsg args…` in `tests/fixtures/` with `stdin` as standard input.
 fn qcsg(args: &[&str], stdin: &str) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+    qcsg_with_path(args, stdin, None)
+}
+
+/// Runs `qcsg args…` with `QCSG_PATH` set to `search_path`, or unset.
+fn qcsg_with_path(args: &[&str], stdin: &str, search_path: Option<&str>) -> Run {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_qcsg"));
+    command
         .args(args)
         .current_dir(fixtures())
         .env_remove("QCSG_PATH")
-        .env_remove("COLUMNS")
+        .env_remove("COLUMNS");
+    if let Some(search_path) = search_path {
+        command.env("QCSG_PATH", search_path);
+    }
+    let mut child = command
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -104,6 +114,43 @@ fn errors_exit_1_as_json() {
         assert_eq!(keys, expected);
     }
     insta::assert_snapshot!(run.stdout);
+}
+
+#[test]
+fn help_and_labels_in_included_files_are_rendered() {
+    let run = qcsg(&["check", "names.qcsg"], "");
+    assert_eq!(run.status, 1);
+    insta::assert_snapshot!("names_human", run.stderr);
+
+    let run = qcsg(&["check", "--format", "json", "names.qcsg"], "");
+    assert_eq!(run.status, 1);
+    let diagnostics = json(&run);
+    let in_library = diagnostics
+        .iter()
+        .flat_map(|d| d["labels"].as_array().unwrap())
+        .find(|label| label["file"] == "lib/parts.qcsg")
+        .unwrap_or_else(|| panic!("a label in lib/parts.qcsg:\n{}", run.stdout));
+    assert_eq!(in_library["range"]["start"]["line"], 1);
+    insta::assert_snapshot!("names_json", run.stdout);
+}
+
+#[test]
+fn qcsg_path_is_searched_for_use_and_include() {
+    let without = qcsg(&["check", "--format", "json", "uses_search_path.qcsg"], "");
+    assert_eq!(without.status, 1);
+    assert!(
+        json(&without).iter().any(|d| d["code"] == "E0401"),
+        "{}",
+        without.stdout
+    );
+
+    let library = fixtures().join("search_path");
+    let search_path = format!("/no/such/directory::{}", library.display());
+    let with = qcsg_with_path(&["check", "uses_search_path.qcsg"], "", Some(&search_path));
+    assert_eq!(
+        (with.status, with.stderr.as_str()),
+        (0, "0 errors, 0 warnings\n")
+    );
 }
 
 #[test]

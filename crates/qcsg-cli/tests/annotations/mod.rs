@@ -59,6 +59,8 @@ pub struct Reported {
     pub code: String,
     /// The message.
     pub message: String,
+    /// The help text, shown in reports (annotations match the message only).
+    pub help: Option<String>,
 }
 
 impl Reported {
@@ -74,6 +76,7 @@ impl Reported {
             severity: diagnostic.severity.as_str(),
             code: diagnostic.code.to_owned(),
             message: diagnostic.message.clone(),
+            help: diagnostic.help.clone(),
         }
     }
 }
@@ -384,6 +387,7 @@ mod tests {
             },
             code: code.to_owned(),
             message: message.to_owned(),
+            help: None,
         }
     }
 
