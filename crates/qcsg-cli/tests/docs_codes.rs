@@ -1,5 +1,6 @@
-//! The table of diagnostic codes in `docs/language.md` lists exactly the codes the checker can
-//! report: those of `qcsg_syntax::codes::ALL` and `qcsg_sema::codes::ALL`.
+//! `docs/language.md` stays true: its table of diagnostic codes lists exactly the codes the checker
+//! can report (those of `qcsg_syntax::codes::ALL` and `qcsg_sema::codes::ALL`), and its examples
+//! parse.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -22,10 +23,14 @@ fn documented_codes(manual: &str) -> Vec<String> {
         .collect()
 }
 
+fn manual() -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/language.md");
+    std::fs::read_to_string(&path).expect("docs/language.md is readable")
+}
+
 #[test]
 fn manual_documents_every_code_exactly_once() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/language.md");
-    let manual = std::fs::read_to_string(&path).expect("docs/language.md is readable");
+    let manual = manual();
     let documented = documented_codes(&manual);
     let unique: BTreeSet<&str> = documented.iter().map(String::as_str).collect();
     assert_eq!(
@@ -53,4 +58,25 @@ fn table_parser_reads_the_first_column_of_the_section_only() {
     let manual = "| `E9999` | before |\n## Diagnostic codes\n\n| code | meaning |\n| --- | --- |\n\
                   | `E0001` | a |\n| `W0101` | `b` |\n\n## Next\n| `E0002` | after |\n";
     assert_eq!(documented_codes(manual), ["E0001", "W0101"]);
+}
+
+/// Examples are fragments (they may name things defined elsewhere), but each must be valid syntax.
+#[test]
+fn manual_examples_have_no_syntax_errors() {
+    let manual = manual();
+    let examples: Vec<&str> = manual
+        .split("```openscad\n")
+        .skip(1)
+        .map(|rest| rest.split_once("```").expect("closed code block").0)
+        .collect();
+    assert!(examples.len() >= 10, "found {} examples", examples.len());
+    for example in examples {
+        let parse = qcsg_syntax::parse(example, qcsg_diag::FileId(0));
+        let messages: Vec<String> = parse
+            .diagnostics
+            .iter()
+            .map(|d| format!("{}: {}", d.code, d.message))
+            .collect();
+        assert!(messages.is_empty(), "{messages:?} in\n{example}");
+    }
 }
