@@ -196,6 +196,28 @@ proptest! {
     }
 
     #[test]
+    fn canonical_form_reproduces_the_quadric(index in 0usize..20, seed in any::<u64>()) {
+        // Q(p) and the frame's Σ λ y² + 2 m·y + κ agree (the snapped terms are within tolerance).
+        let cases = catalogue();
+        let case = &cases[index % cases.len()];
+        let mut rng = Rng::new(seed);
+        let q = case.quadric.transformed(&rng.similarity(10.0, 1e3)).expect("invertible");
+        let frame = q.frame();
+        for _ in 0..20 {
+            let p = frame.centre + rng.direction() * rng.range(0.0, 10.0) * case.size;
+            let y = frame.to_frame(p);
+            prop_assert!((frame.to_world(y) - p).length() <= 1e-12 * (p.length() + 1.0));
+            let (value, _) = q.value_with_error(p);
+            let canonical = frame.canonical_value(y);
+            let terms = common::raw_value(&q.coefficients().map(f64::abs), (p - q.origin()).abs());
+            let gradient = q.gradient(p).length();
+            let tolerance = 1e-9 * terms + 1e-12 * gradient * (p - q.origin()).length() + 1e-300;
+            prop_assert!((value - canonical).abs() <= tolerance,
+                "{}: Q = {value}, canonical = {canonical}", case.name);
+        }
+    }
+
+    #[test]
     fn heightfields_lie_on_the_surface(index in 0usize..20, seed in any::<u64>()) {
         let cases = catalogue();
         let case = &cases[index % cases.len()];

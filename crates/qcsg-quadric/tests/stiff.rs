@@ -762,3 +762,36 @@ fn heightfields_of_a_far_small_sphere() {
         }
     }
 }
+
+#[test]
+fn centres_follow_transforms() {
+    // Apex, vertex and axis points map with the transform: to 1e-9 of the feature size plus the
+    // rounding of world coordinates (a few ε |centre|).
+    let chain = [rotate(31), scale(1e-3), translate(1e6, -2e6, 5e5)];
+    let apex = DVec3::new(1.0, 2.0, 3.0);
+    let cases = [
+        (
+            "cone apex",
+            Quadric::cone(apex, DVec3::new(1.0, 1.0, 0.0), 0.3),
+        ),
+        (
+            "ellipsoid centre",
+            Quadric::ellipsoid(apex, DVec3::new(1.0, 1e2, 1e-2)),
+        ),
+        (
+            "hyperboloid centre",
+            Quadric::hyperboloid_one_sheet(apex, DVec3::Z, 2.0, 1.0),
+        ),
+        (
+            "paraboloid vertex",
+            Quadric::paraboloid(apex, DVec3::Y, 0.5),
+        ),
+    ];
+    for (name, q) in cases {
+        let (q, total) = apply(&q.expect("valid"), &chain);
+        let expected = total.transform_point3(apex);
+        let error = (q.frame().centre - expected).length();
+        let bound = 1e-9 * 1e-3 + 8.0 * EPS * expected.length();
+        assert!(error <= bound, "{name}: off by {error:e} (bound {bound:e})");
+    }
+}
