@@ -1,4 +1,4 @@
-//! Diagnostics for tools: the `--format json` shape of CLI.md ("Diagnostics JSON").
+//! Diagnostics for tools: the `--format json` array (its shape is documented in README.md).
 //!
 //! Lines and characters are zero-based and characters count UTF-16 code units, as in LSP, so an
 //! editor can use the positions without re-reading the file. Labels also carry their `file` and

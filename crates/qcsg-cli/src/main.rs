@@ -1,4 +1,4 @@
-//! The `qcsg` command line (docs in CLI.md and `qcsg --help`).
+//! The `qcsg` command line: commands, flags and exit codes (`qcsg --help`, README.md).
 //!
 //! This file only declares the commands and flags (clap) and maps outcomes to exit codes; each
 //! command lives in its own module, and the two diagnostic formats in [`human`] and [`json`].
@@ -45,7 +45,7 @@ struct CheckArgs {
     common: CommonArgs,
 }
 
-/// Flags every command accepts (CLI.md, "Common flags").
+/// Flags every command accepts.
 #[derive(Debug, Args)]
 struct CommonArgs {
     /// Override a top-level variable, as OpenSCAD's `-D` (VALUE is an expression); repeatable.
@@ -71,7 +71,7 @@ struct CommonArgs {
 enum DiagnosticFormat {
     /// Source excerpts with labels and help, for people.
     Human,
-    /// One JSON array, for tools (CLI.md, "Diagnostics JSON").
+    /// One JSON array on standard output, positions as in LSP (zero-based, UTF-16 columns).
     Json,
 }
 
