@@ -1,7 +1,8 @@
 //! Diagnostics for people: qcsg's plain [`Diagnostic`] rendered by miette's graphical handler.
 //!
-//! miette draws one source per report, so labels that point into another file (say, "defined
-//! here" in an included library) become related reports of their own, drawn under the main one.
+//! miette draws one source per report, so a label that points into another file (say, "defined
+//! here" in an included library) becomes a note of its own, with its own excerpt, drawn under the
+//! main report.
 //! Without a terminal the output is fixed-width and colourless, so it can be snapshot-tested.
 
 use std::fmt;
@@ -114,7 +115,7 @@ impl Report {
                     message: format!("note: {}", label.message),
                     severity: miette::Severity::Advice,
                     help: None,
-                    source: named_source(sources, label.file),
+                    source: file_source(sources, label.file),
                     labels: vec![LabeledSpan::new_primary_with_span(
                         None,
                         source_span(label.span),
@@ -132,7 +133,7 @@ impl Report {
                 Severity::Info | Severity::Hint => miette::Severity::Advice,
             },
             help: diagnostic.help.clone(),
-            source: named_source(sources, diagnostic.file),
+            source: file_source(sources, diagnostic.file),
             labels,
             notes,
         }
@@ -160,11 +161,18 @@ impl SourceCode for FileSource {
     ) -> Result<Box<dyn SpanContents<'a> + 'a>, MietteError> {
         let text: &'a str = &self.text;
         let contents = text.read_span(span, context_lines_before, context_lines_after)?;
+        // Byte-level: a span may (wrongly) start inside a character, and that must not panic.
         let start = contents.span().offset().min(text.len());
-        let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
-        let column = text
-            .get(line_start..start)
-            .map_or(0, |prefix| prefix.chars().count());
+        let before = &text.as_bytes()[..start];
+        let line_start = before
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |i| i + 1);
+        // Count characters as the bytes that do not continue a UTF-8 sequence.
+        let column = before[line_start..]
+            .iter()
+            .filter(|&&b| b & 0xC0 != 0x80)
+            .count();
         Ok(Box::new(MietteSpanContents::new_named(
             self.name.clone(),
             contents.data(),
@@ -176,7 +184,7 @@ impl SourceCode for FileSource {
     }
 }
 
-fn named_source(sources: &SourceMap, file: FileId) -> FileSource {
+fn file_source(sources: &SourceMap, file: FileId) -> FileSource {
     let file = sources.get(file);
     let text = if file.text.ends_with('\n') {
         file.text.clone()
@@ -324,6 +332,29 @@ mod tests {
         let renderer = HumanRenderer::plain();
         insta::assert_snapshot!(
             renderer.render(&sources, &diagnostic) + &renderer.render(&sources, &eof)
+        );
+    }
+
+    #[test]
+    fn odd_spans_render_without_panicking() {
+        let mut sources = SourceMap::new();
+        let file = sources.add("odd.qcsg", "é = 1;\n");
+        let renderer = HumanRenderer::plain();
+        for span in [
+            Span::new(1, 2),
+            Span::new(0, 100),
+            Span::new(50, 60),
+            Span::empty(0),
+        ] {
+            let diagnostic = Diagnostic::error("E0001", "odd span", file, span);
+            assert!(renderer.render(&sources, &diagnostic).contains("odd span"));
+        }
+        let empty = sources.add("empty.qcsg", "");
+        let diagnostic = Diagnostic::error("E0002", "empty file", empty, Span::empty(0));
+        assert!(
+            renderer
+                .render(&sources, &diagnostic)
+                .contains("empty file")
         );
     }
 
