@@ -164,6 +164,32 @@ fn check_all(inputs: &[Input], options: &CheckOptions, threads: NonZeroUsize) ->
 mod tests {
     use super::*;
 
+    /// Every prefix of some broken and some valid programs: whatever the checker reports, both
+    /// formats render it.
+    #[test]
+    fn every_truncation_renders_in_both_formats() {
+        let programs = [
+            include_str!("../tests/fixtures/syntax_errors.qcsg"),
+            include_str!("../tests/fixtures/names.qcsg"),
+            include_str!("../tests/fixtures/unicode.qcsg"),
+            include_str!("../../../examples/machined_block.qcsg"),
+        ];
+        let renderer = HumanRenderer::plain();
+        for program in programs {
+            for end in (0..=program.len()).filter(|&end| program.is_char_boundary(end)) {
+                let text = program[..end].to_owned();
+                let analysis =
+                    qcsg_sema::check_file("t.qcsg", text, &CheckOptions::default(), &FsLoader);
+                for diagnostic in &analysis.diagnostics {
+                    let human = renderer.render(&analysis.sources, diagnostic);
+                    assert!(human.contains(diagnostic.code), "{human}");
+                    let json = crate::json::JsonDiagnostic::new(&analysis.sources, diagnostic);
+                    assert!(serde_json::to_string(&json).is_ok());
+                }
+            }
+        }
+    }
+
     #[test]
     fn colour_needs_a_terminal_and_no_no_color() {
         assert!(wants_colour(true, None));
