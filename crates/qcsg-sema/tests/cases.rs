@@ -16,6 +16,7 @@ struct Expect {
     end: Option<usize>,
     severity: String,
     code: String,
+    fragment: String,
 }
 
 fn annotations(text: &str) -> Vec<(Expect, bool)> {
@@ -48,6 +49,7 @@ fn annotations(text: &str) -> Vec<(Expect, bool)> {
                     end: None,
                     severity,
                     code,
+                    fragment: fragment_of(at),
                 },
                 true,
             ));
@@ -79,11 +81,19 @@ fn annotations(text: &str) -> Vec<(Expect, bool)> {
                 end,
                 severity,
                 code,
+                fragment: fragment_of(after),
             },
             false,
         ));
     }
     out
+}
+
+/// The message fragment after `]:`, if any.
+fn fragment_of(text: &str) -> String {
+    text.split_once("]:")
+        .map(|(_, f)| f.trim().to_string())
+        .unwrap_or_default()
 }
 
 fn split_tag(tag: &str) -> (String, String) {
@@ -145,14 +155,16 @@ fn check_case(path: &Path) -> Result<(), String> {
                     end,
                     severity: d.severity.as_str().to_string(),
                     code: d.code.to_string(),
+                    fragment: String::new(),
                 };
                 (expect, d.message.clone())
             })
             .collect();
         let mut missing = Vec::new();
         for (want, unstated_end) in &expected {
-            let found = reported.iter().position(|(got, _)| {
-                got.line == want.line
+            let found = reported.iter().position(|(got, message)| {
+                message.contains(&want.fragment)
+                    && got.line == want.line
                     && got.column == want.column
                     && got.severity == want.severity
                     && got.code == want.code

@@ -1,0 +1,38 @@
+// OpenSCAD constructs that no quadric represents exactly are errors with a reason and, where
+// there is one, an alternative.
+
+linear_extrude(height = 5) circle(2);
+//@ 4:1 error[E0301]: `linear_extrude` is not supported
+//                         ^^^^^^ error[E0301]: 2-D shape
+rotate_extrude() translate([2, 0]) square(1);
+//@ 7:1 error[E0301]
+//                                 ^^^^^^ error[E0301]
+polyhedron(points = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], faces = [[0, 1, 2]]);
+//@ 10:1 error[E0301]: faces
+hull() { sphere(1); translate([3, 0, 0]) sphere(1); }
+//@ 12:1 error[E0301]
+minkowski() { cube(1); sphere(0.1); }
+//@ 14:1 error[E0301]
+translate([1, 1, 1]) import("part.stl");
+//                   ^^^^^^ error[E0301]
+translate([0, 0, 0]) text("hello");
+//                   ^^^^ error[E0301]
+translate([0, 0, 0]) surface(file = "h.dat");
+//                   ^^^^^^^ error[E0301]
+translate([0, 0, 0]) polygon([[0, 0], [1, 0], [0, 1]]);
+//                   ^^^^^^^ error[E0301]
+translate([0, 0, 0]) projection() sphere(1);
+//                   ^^^^^^^^^^ error[E0301]
+translate([0, 0, 0]) offset(r = 1) square(1);
+//                   ^^^^^^ error[E0301]
+//                                 ^^^^^^ error[E0301]
+echo(version());
+//   ^^^^^^^ error[E0302]
+
+// A user definition of the same name is fine: it shadows the OpenSCAD built-in (here only in
+// the module's scope, since definitions are hoisted to the whole scope they are in).
+module custom() {
+    module circle(r) cylinder(h = 1, r = r);
+    circle(3);
+}
+custom();
