@@ -1,0 +1,3 @@
+//! Benchmark of DNF construction (filled in with the DNF).
+
+fn main() {}

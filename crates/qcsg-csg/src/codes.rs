@@ -1,0 +1,21 @@
+//! Stable diagnostic codes of the scene IR (E0600–E0699).
+
+/// The solid (or a term of its DNF) is unbounded.
+pub const UNBOUNDED: &str = "E0600";
+/// Expanding the scene to its DNF would exceed the term limit.
+pub const TERM_LIMIT: &str = "E0601";
+/// A transform is singular, so the part below it has no volume and was left out.
+pub const SINGULAR_TRANSFORM: &str = "E0602";
+/// There is no root to build a DNF from.
+pub const NO_ROOT: &str = "E0603";
+
+/// Every code with a one-line description, for the documentation table.
+pub const ALL: &[(&str, &str)] = &[
+    (UNBOUNDED, "the resulting solid is unbounded"),
+    (TERM_LIMIT, "the DNF of the scene exceeds the term limit"),
+    (
+        SINGULAR_TRANSFORM,
+        "a singular transform flattens a part to zero volume; it was left out",
+    ),
+    (NO_ROOT, "the scene has no root solid"),
+];

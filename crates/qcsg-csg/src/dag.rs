@@ -1,0 +1,516 @@
+//! The transformed CSG DAG: an arena of hash-consed nodes with 4×4 transforms on the edges.
+//!
+//! Leaves hold one quadric each in the primitive's local frame; inner nodes are variadic union
+//! and intersection, difference (first child minus the rest), complement, and the wrappers the
+//! renderer needs (colour, highlight). Equal nodes (same kind, children, transforms, exact
+//! coefficients, source and declared bounds) are stored once, so a module instantiated N times
+//! with the same arguments is one node reached through N edges. Background parts (`%`) are kept
+//! as separate roots, outside the solid.
+
+use std::collections::HashMap;
+
+use qcsg_diag::{FileId, Span};
+use qcsg_quadric::{DMat4, DVec3, Quadric};
+
+use crate::bounds::Aabb;
+
+/// Handle of a node in a [`Dag`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct NodeId(pub u32);
+
+/// Handle of an interned transform in a [`Dag`]; [`TransformId::IDENTITY`] is always present.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct TransformId(pub u32);
+
+impl TransformId {
+    /// The identity transform.
+    pub const IDENTITY: TransformId = TransformId(0);
+}
+
+/// A child reference: the child node seen through a transform (points of the child map to
+/// the parent's frame as `p_parent = M p_child`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Edge {
+    /// The child node.
+    pub child: NodeId,
+    /// The transform from the child's frame to the parent's.
+    pub transform: TransformId,
+}
+
+impl From<NodeId> for Edge {
+    fn from(child: NodeId) -> Self {
+        Edge {
+            child,
+            transform: TransformId::IDENTITY,
+        }
+    }
+}
+
+/// Where a node came from in the script: the file and byte range of the code that made it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Source {
+    /// The file.
+    pub file: FileId,
+    /// The byte range in that file.
+    pub span: Span,
+}
+
+impl Source {
+    /// A source at `span` in `file`.
+    pub fn new(file: FileId, span: Span) -> Self {
+        Self { file, span }
+    }
+}
+
+/// An RGBA colour with components in `[0, 1]`.
+pub type Rgba = [f64; 4];
+
+/// What a node is.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NodeKind {
+    /// The solid `q(p − origin) ≤ 0` of one quadric, in the node's local frame.
+    Leaf(Quadric),
+    /// The union of the children; no children is the empty solid.
+    Union(Vec<Edge>),
+    /// The intersection of the children (at least one: the builder turns an empty
+    /// intersection into the empty solid, as OpenSCAD does).
+    Intersection(Vec<Edge>),
+    /// The first child minus all the others (at least one child).
+    Difference(Vec<Edge>),
+    /// Everything not in the child.
+    Complement(Edge),
+    /// The child painted with a colour (inherited by the leaves below unless they are
+    /// painted again further down). No effect on geometry.
+    Color(Rgba, Edge),
+    /// The child, marked for highlighting (`#`). No effect on geometry.
+    Highlight(Edge),
+}
+
+impl NodeKind {
+    /// The short lower-case name used in text and JSON output.
+    pub fn name(&self) -> &'static str {
+        match self {
+            NodeKind::Leaf(_) => "leaf",
+            NodeKind::Union(_) => "union",
+            NodeKind::Intersection(_) => "intersection",
+            NodeKind::Difference(_) => "difference",
+            NodeKind::Complement(_) => "complement",
+            NodeKind::Color(..) => "color",
+            NodeKind::Highlight(_) => "highlight",
+        }
+    }
+
+    /// The child edges, in order.
+    pub fn children(&self) -> &[Edge] {
+        match self {
+            NodeKind::Leaf(_) => &[],
+            NodeKind::Union(c) | NodeKind::Intersection(c) | NodeKind::Difference(c) => c,
+            NodeKind::Complement(e) | NodeKind::Color(_, e) | NodeKind::Highlight(e) => {
+                std::slice::from_ref(e)
+            }
+        }
+    }
+}
+
+/// One node of the DAG.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    /// What it is.
+    pub kind: NodeKind,
+    /// The code that made it (for diagnostics and the DNF's quadric sources).
+    pub source: Source,
+    /// A box in the node's local frame known to contain its solid (a cube's `[0, s]³`), if the
+    /// code that built it knew one.
+    pub bounds: Option<Aabb>,
+}
+
+/// Errors of the builder API.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DagError {
+    /// A transform matrix has a NaN or infinite entry.
+    NonFiniteTransform,
+    /// A colour has a NaN or infinite component.
+    NonFiniteColor,
+}
+
+impl std::fmt::Display for DagError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DagError::NonFiniteTransform => f.write_str("transform matrix is not finite"),
+            DagError::NonFiniteColor => f.write_str("colour is not finite"),
+        }
+    }
+}
+
+impl std::error::Error for DagError {}
+
+/// The exact identity of a node, for hash-consing: floats by bit pattern.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct NodeKey {
+    tag: u8,
+    edges: Vec<Edge>,
+    bits: Vec<u64>,
+    source: Source,
+    bounds: Option<[u64; 6]>,
+}
+
+impl NodeKey {
+    fn of(node: &Node) -> Self {
+        let (tag, edges, bits): (u8, Vec<Edge>, Vec<u64>) = match &node.kind {
+            NodeKind::Leaf(q) => {
+                let mut bits: Vec<u64> = q.origin().to_array().map(f64::to_bits).to_vec();
+                bits.extend(q.coefficients().map(f64::to_bits));
+                (0, Vec::new(), bits)
+            }
+            NodeKind::Union(c) => (1, c.clone(), Vec::new()),
+            NodeKind::Intersection(c) => (2, c.clone(), Vec::new()),
+            NodeKind::Difference(c) => (3, c.clone(), Vec::new()),
+            NodeKind::Complement(e) => (4, vec![*e], Vec::new()),
+            NodeKind::Color(rgba, e) => (5, vec![*e], rgba.map(f64::to_bits).to_vec()),
+            NodeKind::Highlight(e) => (6, vec![*e], Vec::new()),
+        };
+        NodeKey {
+            tag,
+            edges,
+            bits,
+            source: node.source,
+            bounds: node.bounds.map(|b| b.bits()),
+        }
+    }
+}
+
+/// The scene DAG: nodes, interned transforms, the root and the background roots.
+///
+/// Build it bottom-up with the builder methods; every method returns a handle into this DAG
+/// and never panics. Handles from another DAG are a logic error that methods report by
+/// returning `None`/`false` where they read nodes.
+#[derive(Clone, Debug)]
+pub struct Dag {
+    nodes: Vec<Node>,
+    node_index: HashMap<NodeKey, NodeId>,
+    transforms: Vec<DMat4>,
+    transform_index: HashMap<[u64; 16], TransformId>,
+    root: Option<Edge>,
+    backgrounds: Vec<Edge>,
+}
+
+impl Default for Dag {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Dag {
+    /// An empty DAG with no root.
+    pub fn new() -> Self {
+        let mut transform_index = HashMap::new();
+        transform_index.insert(matrix_bits(&DMat4::IDENTITY), TransformId::IDENTITY);
+        Self {
+            nodes: Vec::new(),
+            node_index: HashMap::new(),
+            transforms: vec![DMat4::IDENTITY],
+            transform_index,
+            root: None,
+            backgrounds: Vec::new(),
+        }
+    }
+
+    // ----- builder -------------------------------------------------------------------------
+
+    /// A leaf: the solid `quadric ≤ 0` in its own local frame, made by the code at `source`.
+    pub fn leaf(&mut self, quadric: Quadric, source: Source) -> NodeId {
+        self.intern(NodeKind::Leaf(quadric), source, None)
+    }
+
+    /// A leaf that also knows a box containing its solid (e.g. a sphere's).
+    pub fn bounded_leaf(&mut self, quadric: Quadric, source: Source, bounds: Aabb) -> NodeId {
+        self.intern(NodeKind::Leaf(quadric), source, Some(bounds))
+    }
+
+    /// The empty solid.
+    pub fn empty(&mut self, source: Source) -> NodeId {
+        self.intern(NodeKind::Union(Vec::new()), source, None)
+    }
+
+    /// The union of `children` (none: the empty solid).
+    pub fn union(&mut self, children: impl IntoIterator<Item = Edge>, source: Source) -> NodeId {
+        let children: Vec<Edge> = children.into_iter().collect();
+        self.intern(NodeKind::Union(children), source, None)
+    }
+
+    /// The intersection of `children` (none: the empty solid, as in OpenSCAD).
+    pub fn intersection(
+        &mut self,
+        children: impl IntoIterator<Item = Edge>,
+        source: Source,
+    ) -> NodeId {
+        let children: Vec<Edge> = children.into_iter().collect();
+        if children.is_empty() {
+            return self.empty(source);
+        }
+        self.intern(NodeKind::Intersection(children), source, None)
+    }
+
+    /// The first child minus all the others (none: the empty solid).
+    pub fn difference(
+        &mut self,
+        children: impl IntoIterator<Item = Edge>,
+        source: Source,
+    ) -> NodeId {
+        let children: Vec<Edge> = children.into_iter().collect();
+        if children.is_empty() {
+            return self.empty(source);
+        }
+        self.intern(NodeKind::Difference(children), source, None)
+    }
+
+    /// Everything outside `child`.
+    pub fn complement(&mut self, child: Edge, source: Source) -> NodeId {
+        self.intern(NodeKind::Complement(child), source, None)
+    }
+
+    /// `child` painted `rgba` (components clamped to `[0, 1]`); an error if not finite.
+    pub fn color(&mut self, child: Edge, rgba: Rgba, source: Source) -> Result<NodeId, DagError> {
+        if rgba.iter().any(|c| !c.is_finite()) {
+            return Err(DagError::NonFiniteColor);
+        }
+        let rgba = rgba.map(|c| c.clamp(0.0, 1.0));
+        Ok(self.intern(NodeKind::Color(rgba, child), source, None))
+    }
+
+    /// `child` marked for highlighting (`#`); still part of the solid.
+    pub fn highlight(&mut self, child: Edge, source: Source) -> NodeId {
+        self.intern(NodeKind::Highlight(child), source, None)
+    }
+
+    /// The same node with a declared box (in its local frame) that contains its solid, e.g.
+    /// a cube's `[0, s]³` on the intersection of its three slabs. A box already declared is
+    /// intersected with the new one. The caller guarantees the box really contains the solid.
+    pub fn bounded(&mut self, node: NodeId, bounds: Aabb) -> NodeId {
+        let Some(existing) = self.node(node) else {
+            return node;
+        };
+        let bounds = match existing.bounds {
+            Some(b) => b.intersection(&bounds),
+            None => bounds,
+        };
+        let (kind, source) = (existing.kind.clone(), existing.source);
+        self.intern(kind, source, Some(bounds))
+    }
+
+    /// Interns a matrix (points map as `p' = M p`); equal matrices (bitwise, with `-0 == 0`)
+    /// share one id. An error if an entry is not finite. Singular matrices are accepted; the
+    /// DNF reports them.
+    pub fn transform(&mut self, matrix: &DMat4) -> Result<TransformId, DagError> {
+        if !matrix.is_finite() {
+            return Err(DagError::NonFiniteTransform);
+        }
+        let key = matrix_bits(matrix);
+        if let Some(&id) = self.transform_index.get(&key) {
+            return Ok(id);
+        }
+        let id = TransformId(self.transforms.len() as u32);
+        // Store the canonical matrix (negative zeros cleared) so output is stable.
+        self.transforms
+            .push(DMat4::from_cols_array(&key.map(f64::from_bits)));
+        self.transform_index.insert(key, id);
+        Ok(id)
+    }
+
+    /// An edge to `child` through `matrix`.
+    pub fn edge(&mut self, child: NodeId, matrix: &DMat4) -> Result<Edge, DagError> {
+        Ok(Edge {
+            child,
+            transform: self.transform(matrix)?,
+        })
+    }
+
+    /// `edge` seen through one more transform applied after its own: `M · T_edge`. This is
+    /// how `translate(…) rotate(…) child` becomes one edge.
+    pub fn transformed(&mut self, edge: Edge, matrix: &DMat4) -> Result<Edge, DagError> {
+        let inner = self.matrix(edge.transform);
+        let composed = if inner == DMat4::IDENTITY {
+            *matrix
+        } else {
+            *matrix * inner
+        };
+        self.edge(edge.child, &composed)
+    }
+
+    /// `edge` translated by `offset`.
+    pub fn translated(&mut self, edge: Edge, offset: DVec3) -> Result<Edge, DagError> {
+        self.transformed(edge, &DMat4::from_translation(offset))
+    }
+
+    /// Makes `root` the solid of the scene.
+    pub fn set_root(&mut self, root: Edge) {
+        self.root = Some(root);
+    }
+
+    /// Adds a background part (`%`): drawn by the renderer, not part of the solid.
+    pub fn add_background(&mut self, part: Edge) {
+        self.backgrounds.push(part);
+    }
+
+    // ----- queries -------------------------------------------------------------------------
+
+    /// The root solid, if set.
+    pub fn root(&self) -> Option<Edge> {
+        self.root
+    }
+
+    /// The background parts, in the order they were added.
+    pub fn backgrounds(&self) -> &[Edge] {
+        &self.backgrounds
+    }
+
+    /// The node behind a handle (`None` for a handle from another DAG).
+    pub fn node(&self, id: NodeId) -> Option<&Node> {
+        self.nodes.get(id.0 as usize)
+    }
+
+    /// All nodes, indexed by `NodeId.0`; children always come before their parents.
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Whether the DAG has no node.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// The matrix behind a transform id (the identity for an unknown id).
+    pub fn matrix(&self, id: TransformId) -> DMat4 {
+        self.transforms
+            .get(id.0 as usize)
+            .copied()
+            .unwrap_or(DMat4::IDENTITY)
+    }
+
+    /// All interned transforms, indexed by `TransformId.0`.
+    pub fn transforms(&self) -> &[DMat4] {
+        &self.transforms
+    }
+
+    /// Whether the world point `p` lies in the root solid (closed: surface points count as
+    /// inside), by direct evaluation of the DAG. `false` without a root.
+    pub fn contains(&self, p: DVec3) -> bool {
+        self.root.is_some_and(|root| self.edge_contains(root, p))
+    }
+
+    /// Whether the point `p`, given in the parent's frame of `edge`, lies in the solid behind
+    /// `edge`.
+    pub fn edge_contains(&self, edge: Edge, p: DVec3) -> bool {
+        match self.to_child_frame(edge.transform, p) {
+            Some(local) => self.node_contains(edge.child, local),
+            // A point that maps to infinity (projective) or through a singular transform is
+            // outside every bounded part; treat it as outside.
+            None => false,
+        }
+    }
+
+    /// Whether `p` (in the node's local frame) lies in the node's solid.
+    pub fn node_contains(&self, id: NodeId, p: DVec3) -> bool {
+        let Some(node) = self.node(id) else {
+            return false;
+        };
+        match &node.kind {
+            NodeKind::Leaf(q) => q.value(p) <= 0.0,
+            NodeKind::Union(c) => c.iter().any(|&e| self.edge_contains(e, p)),
+            NodeKind::Intersection(c) => c.iter().all(|&e| self.edge_contains(e, p)),
+            NodeKind::Difference(c) => {
+                c.first().is_some_and(|&e| self.edge_contains(e, p))
+                    && !c[1..].iter().any(|&e| self.edge_contains(e, p))
+            }
+            NodeKind::Complement(e) => !self.edge_contains(*e, p),
+            NodeKind::Color(_, e) | NodeKind::Highlight(e) => self.edge_contains(*e, p),
+        }
+    }
+
+    /// `M⁻¹ p` for the transform `id`, dehomogenised; `None` if singular or at infinity.
+    fn to_child_frame(&self, id: TransformId, p: DVec3) -> Option<DVec3> {
+        if id == TransformId::IDENTITY {
+            return Some(p);
+        }
+        let m = self.matrix(id);
+        let det = m.determinant();
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let local = m.inverse() * p.extend(1.0);
+        if local.w == 0.0 {
+            return None;
+        }
+        let local = local.truncate() / local.w;
+        local.is_finite().then_some(local)
+    }
+
+    fn intern(&mut self, kind: NodeKind, source: Source, bounds: Option<Aabb>) -> NodeId {
+        let node = Node {
+            kind,
+            source,
+            bounds,
+        };
+        let key = NodeKey::of(&node);
+        if let Some(&id) = self.node_index.get(&key) {
+            return id;
+        }
+        // u32 ids: four billion nodes of at least 100 bytes each exhaust memory long before
+        // the id space.
+        let id = NodeId(self.nodes.len() as u32);
+        self.nodes.push(node);
+        self.node_index.insert(key, id);
+        id
+    }
+}
+
+/// Bit patterns of a matrix (column-major) with `-0.0` folded into `0.0`.
+fn matrix_bits(m: &DMat4) -> [u64; 16] {
+    m.to_cols_array()
+        .map(|v| if v == 0.0 { 0u64 } else { v.to_bits() })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sphere() -> Quadric {
+        Quadric::sphere(DVec3::ZERO, 1.0).unwrap()
+    }
+
+    #[test]
+    fn equal_nodes_and_transforms_are_shared() {
+        let mut dag = Dag::new();
+        let a = dag.leaf(sphere(), Source::default());
+        let b = dag.leaf(sphere(), Source::default());
+        assert_eq!(a, b);
+        let t1 = dag.translated(a.into(), DVec3::X).unwrap();
+        let t2 = dag.translated(b.into(), DVec3::X).unwrap();
+        assert_eq!(t1, t2);
+        let u1 = dag.union([t1, a.into()], Source::default());
+        let u2 = dag.union([t2, b.into()], Source::default());
+        assert_eq!(u1, u2);
+        assert_eq!(dag.len(), 2);
+        assert_eq!(dag.transforms().len(), 2);
+    }
+
+    #[test]
+    fn membership_through_transforms() {
+        let mut dag = Dag::new();
+        let s = dag.leaf(sphere(), Source::default());
+        let e = dag.translated(s.into(), DVec3::new(5.0, 0.0, 0.0)).unwrap();
+        let d = dag.difference([e, s.into()], Source::default());
+        dag.set_root(d.into());
+        assert!(dag.contains(DVec3::new(5.5, 0.0, 0.0)));
+        assert!(!dag.contains(DVec3::ZERO));
+        assert!(
+            dag.transform(&DMat4::from_cols_array(&[f64::NAN; 16]))
+                .is_err()
+        );
+    }
+}
