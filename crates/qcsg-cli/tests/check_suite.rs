@@ -148,8 +148,9 @@ fn language_suite() {
     }
     let failed: usize = per_directory.values().map(|c| c.1).sum();
     let _ = writeln!(summary, "{} passed, {failed} failed", cases.len() - failed);
-    eprintln!("{summary}");
+    // Shown with `--nocapture`; on failure the counts end the failure message instead.
     assert!(failed == 0, "{failures}{summary}");
+    eprintln!("{summary}");
 }
 
 /// The runner end to end on real `check_file` output: a right annotation passes, a wrong one
