@@ -2,7 +2,8 @@
 //! `lib/` directories) is checked with `qcsg_sema::check_file` and its diagnostics compared with
 //! the inline annotations described in `tests/README.md`.
 //!
-//! Every case runs; all mismatches are reported, per file, before the test fails.
+//! Every case runs; all mismatches are reported, per file, before the test fails. A case that
+//! panics or hangs fails on its own without stopping the others.
 //! `QCSG_SUITE_FILTER=text` runs only the cases whose path contains `text`.
 
 mod annotations;
@@ -11,9 +12,14 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::Duration;
 
 use annotations::{Reported, compare, parse_annotations};
 use qcsg_sema::{CheckOptions, FsLoader};
+
+/// How long one case may take before it counts as hanging (debug builds are slow; cases are small).
+const CASE_TIME_LIMIT: Duration = Duration::from_secs(20);
 
 /// `<workspace>/tests/check`.
 fn suite_root() -> PathBuf {
@@ -50,18 +56,28 @@ fn run_case(root: &Path, path: &Path) -> Option<String> {
         Err(err) => return Some(format!("cannot read: {err}\n")),
     };
     let name = path.to_string_lossy().into_owned();
-    let checked = catch_unwind(AssertUnwindSafe(|| {
-        qcsg_sema::check_file(&name, text, &CheckOptions::default(), &FsLoader)
-    }));
-    let analysis = match checked {
-        Ok(analysis) => analysis,
-        Err(panic) => {
-            let message = panic
+    // A case runs on its own thread so that a hang fails that case (after a generous time)
+    // instead of stalling the whole suite; a panic fails it too, with the panic's message.
+    let (send, receive) = mpsc::channel();
+    std::thread::spawn(move || {
+        let checked = catch_unwind(AssertUnwindSafe(|| {
+            qcsg_sema::check_file(&name, text, &CheckOptions::default(), &FsLoader)
+        }));
+        let _ = send.send(checked.map_err(|panic| {
+            panic
                 .downcast_ref::<String>()
-                .map(String::as_str)
-                .or_else(|| panic.downcast_ref::<&str>().copied())
-                .unwrap_or("(no message)");
-            return Some(format!("  check_file panicked: {message}\n"));
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_owned()))
+                .unwrap_or_else(|| "(no message)".to_owned())
+        }));
+    });
+    let analysis = match receive.recv_timeout(CASE_TIME_LIMIT) {
+        Ok(Ok(analysis)) => analysis,
+        Ok(Err(message)) => return Some(format!("  check_file panicked: {message}\n")),
+        Err(_) => {
+            return Some(format!(
+                "  check_file did not finish within {CASE_TIME_LIMIT:?}\n"
+            ));
         }
     };
 
