@@ -209,7 +209,7 @@ proptest! {
             prop_assert!((frame.to_world(y) - p).length() <= 1e-12 * (p.length() + 1.0));
             let (value, _) = q.value_with_error(p);
             let canonical = frame.canonical_value(y);
-            let terms = common::raw_value(&q.coefficients().map(f64::abs), (p - q.origin()).abs());
+            let terms = raw_value(&q.coefficients().map(f64::abs), (p - q.origin()).abs());
             let gradient = q.gradient(p).length();
             let tolerance = 1e-9 * terms + 1e-12 * gradient * (p - q.origin()).length() + 1e-300;
             prop_assert!((value - canonical).abs() <= tolerance,
