@@ -12,6 +12,22 @@ fn main() {
                 .expect("readable input");
         }
     }
+    if std::env::var_os("PROBE_TIME").is_some() {
+        for _ in 0..5 {
+            let start = std::time::Instant::now();
+            let lexed = qcsg_syntax::lexer::lex(&text, qcsg_syntax::FileId::default());
+            let lexed_at = start.elapsed();
+            let parse = qcsg_syntax::parse(&text, qcsg_syntax::FileId::default());
+            let total = start.elapsed();
+            eprintln!(
+                "lex {lexed_at:?}, lex+parse {:?}, {} tokens, {} diagnostics",
+                total - lexed_at,
+                lexed.tokens.len(),
+                parse.diagnostics.len()
+            );
+        }
+        return;
+    }
     let parse = qcsg_syntax::parse(&text, qcsg_syntax::FileId::default());
     print!("{}", qcsg_syntax::sexpr::file_to_sexpr(&parse.file));
     for d in &parse.diagnostics {

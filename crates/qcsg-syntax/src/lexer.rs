@@ -289,6 +289,9 @@ pub struct Lexed {
 /// reported, which keeps the parser's recursion (and every later tree walk) bounded.
 pub const MAX_NESTING: usize = 256;
 
+/// The estimated depth of the tree (see [`limit_nesting`]) may reach this much.
+pub const MAX_DEPTH: usize = 1024;
+
 /// Splits `text` into tokens and comments. Never fails: problems become diagnostics and
 /// [`Tok::Error`] tokens.
 pub fn lex(text: &str, file: FileId) -> Lexed {
@@ -418,95 +421,160 @@ fn lex_path(lexer: &mut logos::Lexer<'_, Tok>, out: &mut Lexed, file: FileId) {
     }
 }
 
-/// Replaces each region nested more than [`MAX_NESTING`] delimiters deep by a single
-/// [`Tok::TooDeep`] token, so that the recursive descent below stays shallow. Long runs of prefix
-/// operators and modifiers (`- - - … x`, `* * * … cube()`) count as nesting too.
+/// Whether `tok` adds a level to the tree when it appears in a chain: operators and modifiers,
+/// and keywords that take a nested body.
+fn nests(tok: Tok) -> bool {
+    use Tok::*;
+    matches!(
+        tok,
+        Plus | Minus
+            | Star
+            | Slash
+            | Percent
+            | Caret
+            | Bang
+            | Hash
+            | Lt
+            | Le
+            | Gt
+            | Ge
+            | EqEq
+            | Ne
+            | AndAnd
+            | OrOr
+            | Question
+            | Dot
+            | If
+            | For
+            | Let
+            | Each
+            | Function
+            | Module
+            | Assert
+            | Echo
+    )
+}
+
+/// Bounds how deep the tree can get, so that the parser and every recursive walk over the tree
+/// stay within the stack.
+///
+/// The depth of the tree is estimated from the tokens: one level per open delimiter, plus one per
+/// nesting token ([`nests`], a name or call right after `)` / `]`) since the last `,` or `;` (or
+/// closed `{ … }` block) of each open delimiter level. Where the estimate passes
+/// [`MAX_DEPTH`] (or the delimiters alone pass [`MAX_NESTING`]), the rest of that construct is
+/// replaced by one [`Tok::TooDeep`] token and reported once.
 fn limit_nesting(out: &mut Lexed, file: FileId) {
-    let mut depth = 0usize;
-    // Prefix-operator run length at the current position.
-    let mut run = 0usize;
-    let needs_limit = out
-        .tokens
-        .iter()
-        .any(|(t, _)| matches!(t, Tok::LParen | Tok::LBracket | Tok::LBrace))
-        || out.tokens.len() > MAX_NESTING;
-    if !needs_limit {
+    if out.tokens.len() <= MAX_NESTING {
         return;
     }
-    let mut kept = Vec::with_capacity(out.tokens.len());
-    let mut tokens = std::mem::take(&mut out.tokens).into_iter().peekable();
-    while let Some((tok, span)) = tokens.next() {
-        let opens = matches!(tok, Tok::LParen | Tok::LBracket | Tok::LBrace);
-        let closes = matches!(tok, Tok::RParen | Tok::RBracket | Tok::RBrace);
-        let prefix = matches!(
-            tok,
-            Tok::Minus | Tok::Plus | Tok::Bang | Tok::Star | Tok::Hash | Tok::Percent | Tok::Caret
+    let tokens = std::mem::take(&mut out.tokens);
+    let mut kept: Vec<(Tok, Span)> = Vec::with_capacity(tokens.len());
+    // Nesting tokens counted per open delimiter level (index 0: the file itself).
+    let mut counts: Vec<usize> = vec![0];
+    let mut total = 0usize;
+    // Whether the construct being swallowed has been reported (cleared at the next statement).
+    let mut reported = false;
+    let mut i = 0;
+    while i < tokens.len() {
+        let (tok, span) = tokens[i];
+        let prev = i.checked_sub(1).map(|p| tokens[p].0);
+        let next = tokens.get(i + 1).map(|t| t.0);
+        let after_group = matches!(prev, Some(Tok::RParen | Tok::RBracket));
+        let weight = usize::from(
+            nests(tok)
+                || (after_group
+                    && matches!(tok, Tok::Ident | Tok::LParen | Tok::LBracket | Tok::LBrace)),
         );
-        run = if prefix { run + 1 } else { 0 };
-        if closes {
-            depth = depth.saturating_sub(1);
-        }
-        if (opens && depth >= MAX_NESTING) || run > MAX_NESTING {
-            // Swallow the too-deep region: up to the matching closer (or the end of the run).
+        let opens = matches!(tok, Tok::LParen | Tok::LBracket | Tok::LBrace);
+        let too_deep = (opens && (counts.len() > MAX_NESTING || total + weight >= MAX_DEPTH))
+            || (weight > 0 && total + weight > MAX_DEPTH);
+        if too_deep {
+            // Swallow the rest of the construct: to the matching closer of an opening delimiter,
+            // otherwise to the next separator or closer of the current level.
+            let mut inner = 0usize;
+            let mut j = i;
             let mut end = span.end;
-            if opens {
-                let mut inner = 1usize;
-                while let Some((t, s)) = tokens.peek().copied() {
-                    match t {
-                        Tok::LParen | Tok::LBracket | Tok::LBrace => inner += 1,
-                        Tok::RParen | Tok::RBracket | Tok::RBrace => {
-                            inner -= 1;
-                            if inner == 0 {
-                                end = s.end;
-                                tokens.next();
-                                break;
-                            }
+            while j < tokens.len() {
+                let (t, s) = tokens[j];
+                match t {
+                    Tok::LParen | Tok::LBracket | Tok::LBrace => inner += 1,
+                    Tok::RParen | Tok::RBracket | Tok::RBrace => {
+                        if inner == 0 {
+                            break;
                         }
-                        _ => {}
+                        inner -= 1;
                     }
-                    end = s.end;
-                    tokens.next();
+                    Tok::Comma | Tok::Semi if inner == 0 => break,
+                    _ => {}
                 }
-            } else {
-                while let Some((t, s)) = tokens.peek().copied() {
-                    if !matches!(
-                        t,
-                        Tok::Minus
-                            | Tok::Plus
-                            | Tok::Bang
-                            | Tok::Star
-                            | Tok::Hash
-                            | Tok::Percent
-                            | Tok::Caret
-                    ) {
-                        break;
-                    }
-                    end = s.end;
-                    tokens.next();
+                end = s.end;
+                j += 1;
+                if opens && inner == 0 {
+                    break;
                 }
-                run = 0;
             }
-            // The region's first line is enough to point at.
-            let shown = Span {
+            let region = Span {
                 start: span.start,
                 end,
             };
+            // One report per deep construct: later regions of the same construct only extend it.
+            if let Some((Tok::TooDeep, last)) = kept.last_mut() {
+                last.end = end;
+                i = j.max(i + 1);
+                continue;
+            }
+            kept.push((Tok::TooDeep, region));
+            i = j.max(i + 1);
+            if reported {
+                continue;
+            }
+            reported = true;
             out.diagnostics.push(
                 Diagnostic::error(
                     codes::NESTING_TOO_DEEP,
-                    format!("nesting too deep (more than {MAX_NESTING} levels)"),
+                    "nesting too deep",
                     file,
-                    shown,
+                    Span {
+                        start: span.start,
+                        end: span.end,
+                    },
                 )
-                .with_help("split the expression or statement into named parts"),
+                .with_help(format!(
+                    "at most {MAX_NESTING} nested brackets and about {MAX_DEPTH} nested operations \
+                     are supported; split the construct into named parts"
+                )),
             );
-            kept.push((Tok::TooDeep, shown));
             continue;
         }
-        if opens {
-            depth += 1;
-        }
         kept.push((tok, span));
+        i += 1;
+        let level = counts.last_mut().expect("the file level is never popped");
+        *level += weight;
+        total += weight;
+        match tok {
+            Tok::LParen | Tok::LBracket | Tok::LBrace => {
+                counts.push(0);
+                total += 1;
+            }
+            Tok::RParen | Tok::RBracket | Tok::RBrace if counts.len() > 1 => {
+                total -= counts.pop().unwrap_or(0) + 1;
+                // A closed block ends its statement unless an `else` continues it.
+                if tok == Tok::RBrace && next != Some(Tok::Else) {
+                    let level = counts.last_mut().expect("the file level is never popped");
+                    total -= *level;
+                    *level = 0;
+                }
+            }
+            Tok::Comma | Tok::Semi if next != Some(Tok::Else) => {
+                let level = counts.last_mut().expect("the file level is never popped");
+                total -= *level;
+                *level = 0;
+                if counts.len() == 1 {
+                    reported = false;
+                }
+            }
+            _ => {}
+        }
     }
     out.tokens = kept;
 }

@@ -48,8 +48,16 @@ pub fn parse(text: &str, file: FileId) -> Parse {
     let eof_reported = diagnostics.iter().any(|d| {
         d.code == codes::UNTERMINATED_STRING || d.code == codes::UNTERMINATED_BLOCK_COMMENT
     });
+    let eof_reported = eof_reported || tokens.last().is_some_and(|t| t.0 == lexer::Tok::TooDeep);
     let (stmts, syntax) = parser::parse_tokens(text, &lexed.comments, &tokens, file, eof_reported);
-    diagnostics.extend(syntax);
+    // What follows a too-deep region is not worth reporting: the region itself was.
+    let too_deep_at = diagnostics
+        .iter()
+        .filter(|d| d.code == codes::NESTING_TOO_DEEP)
+        .map(|d| d.span.start)
+        .min()
+        .unwrap_or(u32::MAX);
+    diagnostics.extend(syntax.into_iter().filter(|d| d.span.start < too_deep_at));
     qcsg_diag::sort_diagnostics(&mut diagnostics);
     Parse {
         file: SourceFile {

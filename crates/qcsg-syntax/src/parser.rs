@@ -21,8 +21,26 @@ use crate::lexer::{Tok, unescape};
 
 /// The parser's input: a slice of spanned tokens.
 type In<'t> = MappedInput<'t, Tok, SimpleSpan, &'t [(Tok, SimpleSpan)]>;
-/// Errors collected by chumsky.
-type Ex<'t> = extra::Err<Rich<'t, Tok>>;
+/// The error type the parsers are generic over: [`EmptyErr`] for the fast first pass, [`Rich`]
+/// for the pass that explains errors.
+pub(crate) trait SyntaxError<'t>:
+    chumsky::error::Error<'t, In<'t>> + chumsky::label::LabelError<'t, In<'t>, &'static str> + 't
+{
+    /// An error with a message of its own.
+    fn custom(span: SimpleSpan, message: &str) -> Self;
+}
+
+impl<'t> SyntaxError<'t> for EmptyErr {
+    fn custom(_: SimpleSpan, _: &str) -> Self {
+        EmptyErr::default()
+    }
+}
+
+impl<'t> SyntaxError<'t> for Rich<'t, Tok> {
+    fn custom(span: SimpleSpan, message: &str) -> Self {
+        Rich::custom(span, message)
+    }
+}
 
 /// What the parsers need besides the tokens: the text (to read names, numbers and strings) and
 /// the comments (for doc comments).
@@ -90,17 +108,30 @@ pub(crate) fn parse_tokens(
 ) -> (Vec<Stmt>, Vec<Diagnostic>) {
     let ctx = Ctx { text, comments };
     let eoi = SimpleSpan::from(text.len()..text.len());
-    let input = tokens.split_token_span(eoi);
-    let (stmts, errors) = file_parser(ctx).parse(input).into_output_errors();
+    // Fast pass without error details: most files are valid, and building chumsky's rich errors
+    // for every failed alternative costs more than the parse itself.
+    let (stmts, errors) = file_parser::<EmptyErr>(ctx)
+        .parse(tokens.split_token_span(eoi))
+        .into_output_errors();
+    if errors.is_empty()
+        && let Some(stmts) = stmts
+    {
+        return (stmts, Vec::new());
+    }
+    let (stmts, errors) = file_parser::<Rich<'_, Tok>>(ctx)
+        .parse(tokens.split_token_span(eoi))
+        .into_output_errors();
     let mut diagnostics: Vec<Diagnostic> = Vec::with_capacity(errors.len());
     let mut eof_done = eof_reported;
     for error in &errors {
-        match error.found() {
-            // The lexer reported these already.
-            Some(Tok::Error | Tok::TooDeep) => continue,
-            None if eof_done => continue,
-            None => eof_done = true,
-            Some(_) => {}
+        if let chumsky::error::RichReason::ExpectedFound { found, .. } = error.reason() {
+            match found.as_deref() {
+                // The lexer reported these already.
+                Some(Tok::Error | Tok::TooDeep) => continue,
+                None if eof_done => continue,
+                None => eof_done = true,
+                Some(_) => {}
+            }
         }
         let diagnostic = to_diagnostic(error, tokens, text, file);
         if !diagnostics
@@ -135,7 +166,9 @@ fn unclosed_delimiter(tokens: &[(Tok, SimpleSpan)]) -> Option<(Tok, SimpleSpan)>
 }
 
 /// Builds the parser for a whole file.
-fn file_parser<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Vec<Stmt>, Ex<'t>> {
+fn file_parser<'t, E: SyntaxError<'t>>(
+    ctx: Ctx<'t>,
+) -> impl Parser<'t, In<'t>, Vec<Stmt>, extra::Err<E>> {
     let expr = expr_parser(ctx);
     let stmt = stmt_parser(ctx, expr);
     // A closing delimiter with nothing to close: report it and move on.
@@ -146,7 +179,7 @@ fn file_parser<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Vec<Stmt>, Ex<'t>> {
             doc: None,
         })
         .validate(|stmt, e, emitter| {
-            emitter.emit(Rich::custom(e.span(), "unexpected closing delimiter"));
+            emitter.emit(E::custom(e.span(), "unexpected closing delimiter"));
             stmt
         });
     stmt.or(stray)
@@ -155,9 +188,13 @@ fn file_parser<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Vec<Stmt>, Ex<'t>> {
         .then_ignore(end())
 }
 
-/// Balanced `( … )` or `[ … ]` group, skipped whole during recovery.
-fn balanced_groups<'t>() -> impl Parser<'t, In<'t>, (), Ex<'t>> + Clone {
-    let inner = balanced().or(none_of(DELIMITERS).ignored()).repeated();
+/// Balanced `( … )` or `[ … ]` group, skipped whole during recovery. It does not cross a `;`:
+/// a group still open there is left to the next statement (and a failed attempt does not look
+/// ahead to the end of the file, which would misplace later errors).
+fn balanced_groups<'t, E: SyntaxError<'t>>() -> impl Parser<'t, In<'t>, (), extra::Err<E>> + Clone {
+    let mut stops = DELIMITERS.to_vec();
+    stops.push(Tok::Semi);
+    let inner = balanced().or(none_of(stops).ignored()).repeated();
     choice((
         inner
             .clone()
@@ -167,7 +204,7 @@ fn balanced_groups<'t>() -> impl Parser<'t, In<'t>, (), Ex<'t>> + Clone {
 }
 
 /// Balanced `{ … }` group, skipped whole during recovery.
-fn balanced_braces<'t>() -> impl Parser<'t, In<'t>, (), Ex<'t>> + Clone {
+fn balanced_braces<'t, E: SyntaxError<'t>>() -> impl Parser<'t, In<'t>, (), extra::Err<E>> + Clone {
     balanced()
         .or(none_of(DELIMITERS).ignored())
         .repeated()
@@ -184,7 +221,7 @@ const DELIMITERS: [Tok; 6] = [
 ];
 
 /// Balanced `( … )`, `[ … ]` or `{ … }` group, skipped whole during recovery.
-fn balanced<'t>() -> impl Parser<'t, In<'t>, (), Ex<'t>> + Clone {
+fn balanced<'t, E: SyntaxError<'t>>() -> impl Parser<'t, In<'t>, (), extra::Err<E>> + Clone {
     recursive(|group| {
         let inner = group
             .or(none_of([
@@ -211,17 +248,19 @@ fn balanced<'t>() -> impl Parser<'t, In<'t>, (), Ex<'t>> + Clone {
 
 /// Name of a variable, function or module: an identifier or a `$`-variable. `assert` and `echo`
 /// are ordinary names where they are not the special expression forms.
-fn name<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Ident, Ex<'t>> + Clone {
+fn name<'t, E: SyntaxError<'t>>(
+    ctx: Ctx<'t>,
+) -> impl Parser<'t, In<'t>, Ident, extra::Err<E>> + Clone {
     one_of([Tok::Ident, Tok::SpecialIdent, Tok::Assert, Tok::Echo])
         .map_with(move |_, e| ctx.ident(e.span()))
         .labelled("identifier")
 }
 
 /// `name = value` (a `for`/`let` binding).
-fn binding<'t>(
+fn binding<'t, E: SyntaxError<'t>>(
     ctx: Ctx<'t>,
-    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
-) -> impl Parser<'t, In<'t>, Binding, Ex<'t>> + Clone {
+    expr: impl Parser<'t, In<'t>, Expr, extra::Err<E>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Binding, extra::Err<E>> + Clone {
     name(ctx)
         .then_ignore(just(Tok::Assign).labelled("`=`"))
         .then(expr)
@@ -233,10 +272,10 @@ fn binding<'t>(
 }
 
 /// `( binding, … )`.
-fn bindings<'t>(
+fn bindings<'t, E: SyntaxError<'t>>(
     ctx: Ctx<'t>,
-    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
-) -> impl Parser<'t, In<'t>, Vec<Binding>, Ex<'t>> + Clone {
+    expr: impl Parser<'t, In<'t>, Expr, extra::Err<E>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Vec<Binding>, extra::Err<E>> + Clone {
     binding(ctx, expr)
         .separated_by(just(Tok::Comma))
         .allow_trailing()
@@ -245,10 +284,10 @@ fn bindings<'t>(
 }
 
 /// `( param, … )` where a parameter is `name` or `name = default`.
-fn params<'t>(
+fn params<'t, E: SyntaxError<'t>>(
     ctx: Ctx<'t>,
-    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
-) -> impl Parser<'t, In<'t>, Vec<Param>, Ex<'t>> + Clone {
+    expr: impl Parser<'t, In<'t>, Expr, extra::Err<E>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Vec<Param>, extra::Err<E>> + Clone {
     name(ctx)
         .then(just(Tok::Assign).ignore_then(expr).or_not())
         .map_with(|(name, default), e| Param {
@@ -266,10 +305,10 @@ fn params<'t>(
 }
 
 /// `( arg, … )` with its span; an argument is `value` or `name = value`.
-fn args<'t>(
+fn args<'t, E: SyntaxError<'t>>(
     ctx: Ctx<'t>,
-    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
-) -> impl Parser<'t, In<'t>, (Vec<Arg>, Span), Ex<'t>> + Clone {
+    expr: impl Parser<'t, In<'t>, Expr, extra::Err<E>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, (Vec<Arg>, Span), extra::Err<E>> + Clone {
     let named = name(ctx).then_ignore(just(Tok::Assign)).then(expr.clone());
     named
         .map(|(name, value)| (Some(name), value))
@@ -288,7 +327,9 @@ fn args<'t>(
 }
 
 /// The expression parser.
-fn expr_parser<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone {
+fn expr_parser<'t, E: SyntaxError<'t>>(
+    ctx: Ctx<'t>,
+) -> impl Parser<'t, In<'t>, Expr, extra::Err<E>> + Clone {
     recursive(move |expr| {
         let expr = expr.boxed();
         let literal = choice((
@@ -369,53 +410,63 @@ fn expr_parser<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clon
             }
         });
 
-        let binary = |op: BinaryOp| {
-            move |lhs: Expr,
-                  (_, op_span): (Tok, SimpleSpan),
-                  rhs: Expr,
-                  e: &mut chumsky::input::MapExtra<'t, '_, In<'t>, Ex<'t>>| Expr {
-                kind: ExprKind::Binary {
-                    op,
-                    op_span: sp(op_span),
-                    lhs: Box::new(lhs),
-                    rhs: Box::new(rhs),
-                },
-                span: sp(e.span()),
-            }
+        use BinaryOp as B;
+        type Extra<'t, 'b, E> = chumsky::input::MapExtra<'t, 'b, In<'t>, extra::Err<E>>;
+        let binary = |lhs: Expr,
+                      (op, op_span): (BinaryOp, SimpleSpan),
+                      rhs: Expr,
+                      e: &mut Extra<'t, '_, E>| Expr {
+            kind: ExprKind::Binary {
+                op,
+                op_span: sp(op_span),
+                lhs: Box::new(lhs),
+                rhs: Box::new(rhs),
+            },
+            span: sp(e.span()),
         };
-        let unary = |op: UnaryOp| {
-            move |(_, op_span): (Tok, SimpleSpan),
-                  operand: Expr,
-                  e: &mut chumsky::input::MapExtra<'t, '_, In<'t>, Ex<'t>>| Expr {
+        let unary =
+            |(op, op_span): (UnaryOp, SimpleSpan), operand: Expr, e: &mut Extra<'t, '_, E>| Expr {
                 kind: ExprKind::Unary {
                     op,
                     op_span: sp(op_span),
                     operand: Box::new(operand),
                 },
                 span: sp(e.span()),
-            }
-        };
-        let op = |tok: Tok| just(tok).map_with(|t, e| (t, e.span()));
-        use BinaryOp as B;
+            };
+        // One operator parser per precedence level: fewer failed alternatives per token.
         let operators = postfix
             .pratt((
-                infix(right(8), op(Tok::Caret), binary(B::Pow)),
-                prefix(7, op(Tok::Minus), unary(UnaryOp::Neg)),
-                prefix(7, op(Tok::Plus), unary(UnaryOp::Plus)),
-                prefix(7, op(Tok::Bang), unary(UnaryOp::Not)),
-                infix(left(6), op(Tok::Star), binary(B::Mul)),
-                infix(left(6), op(Tok::Slash), binary(B::Div)),
-                infix(left(6), op(Tok::Percent), binary(B::Rem)),
-                infix(left(5), op(Tok::Plus), binary(B::Add)),
-                infix(left(5), op(Tok::Minus), binary(B::Sub)),
-                infix(left(4), op(Tok::Lt), binary(B::Lt)),
-                infix(left(4), op(Tok::Le), binary(B::Le)),
-                infix(left(4), op(Tok::Gt), binary(B::Gt)),
-                infix(left(4), op(Tok::Ge), binary(B::Ge)),
-                infix(left(3), op(Tok::EqEq), binary(B::Eq)),
-                infix(left(3), op(Tok::Ne), binary(B::Ne)),
-                infix(left(2), op(Tok::AndAnd), binary(B::And)),
-                infix(left(1), op(Tok::OrOr), binary(B::Or)),
+                infix(right(8), select! { Tok::Caret => B::Pow }.map_with(|op, e| (op, e.span())), binary),
+                prefix(
+                    7,
+                    select! { Tok::Minus => UnaryOp::Neg, Tok::Plus => UnaryOp::Plus, Tok::Bang => UnaryOp::Not }
+                        .map_with(|op, e| (op, e.span())),
+                    unary,
+                ),
+                infix(
+                    left(6),
+                    select! { Tok::Star => B::Mul, Tok::Slash => B::Div, Tok::Percent => B::Rem }
+                        .map_with(|op, e| (op, e.span())),
+                    binary,
+                ),
+                infix(
+                    left(5),
+                    select! { Tok::Plus => B::Add, Tok::Minus => B::Sub }.map_with(|op, e| (op, e.span())),
+                    binary,
+                ),
+                infix(
+                    left(4),
+                    select! { Tok::Lt => B::Lt, Tok::Le => B::Le, Tok::Gt => B::Gt, Tok::Ge => B::Ge }
+                        .map_with(|op, e| (op, e.span())),
+                    binary,
+                ),
+                infix(
+                    left(3),
+                    select! { Tok::EqEq => B::Eq, Tok::Ne => B::Ne }.map_with(|op, e| (op, e.span())),
+                    binary,
+                ),
+                infix(left(2), select! { Tok::AndAnd => B::And }.map_with(|op, e| (op, e.span())), binary),
+                infix(left(1), select! { Tok::OrOr => B::Or }.map_with(|op, e| (op, e.span())), binary),
             ))
             .boxed();
 
@@ -493,10 +544,10 @@ fn expr_parser<'t>(ctx: Ctx<'t>) -> impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clon
 
 /// `[ … ]`: a vector (with comprehension elements) or a range. The first element is parsed once
 /// and what follows it (`:` or `,`/`]`) decides which.
-fn bracket_parser<'t>(
+fn bracket_parser<'t, E: SyntaxError<'t>>(
     ctx: Ctx<'t>,
-    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
-) -> impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone {
+    expr: impl Parser<'t, In<'t>, Expr, extra::Err<E>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Expr, extra::Err<E>> + Clone {
     let elem = list_elem_parser(ctx, expr.clone());
     enum Tail {
         Range(Expr, Option<Expr>),
@@ -537,7 +588,7 @@ fn bracket_parser<'t>(
                         }
                     }
                     _ => {
-                        emitter.emit(Rich::custom(
+                        emitter.emit(E::custom(
                             SimpleSpan::from(first.span.range()),
                             "a range starts with a plain expression, not a comprehension",
                         ));
@@ -554,10 +605,10 @@ fn bracket_parser<'t>(
 }
 
 /// An element of a vector: an expression or a comprehension (`for`, `if`, `let`, `each`).
-fn list_elem_parser<'t>(
+fn list_elem_parser<'t, E: SyntaxError<'t>>(
     ctx: Ctx<'t>,
-    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
-) -> impl Parser<'t, In<'t>, ListElem, Ex<'t>> + Clone {
+    expr: impl Parser<'t, In<'t>, Expr, extra::Err<E>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, ListElem, extra::Err<E>> + Clone {
     recursive(move |elem| {
         let elem = elem.boxed();
         let each = just(Tok::Each)
@@ -636,10 +687,10 @@ fn list_elem_parser<'t>(
 }
 
 /// The statement parser.
-fn stmt_parser<'t>(
+fn stmt_parser<'t, E: SyntaxError<'t>>(
     ctx: Ctx<'t>,
-    expr: impl Parser<'t, In<'t>, Expr, Ex<'t>> + Clone + 't,
-) -> impl Parser<'t, In<'t>, Stmt, Ex<'t>> + Clone {
+    expr: impl Parser<'t, In<'t>, Expr, extra::Err<E>> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Stmt, extra::Err<E>> + Clone {
     recursive(move |stmt| {
         let stmt = stmt.boxed();
         let semi = |what: &'static str| {
@@ -655,7 +706,7 @@ fn stmt_parser<'t>(
                                 if ctx.newline_before(span.start) {
                                     Ok(())
                                 } else {
-                                    Err(Rich::custom(span, "no line break"))
+                                    Err(E::custom(span, "no line break"))
                                 }
                             })
                             .ignored())
@@ -894,6 +945,10 @@ fn to_diagnostic(
             let mut wanted = if labels.is_empty() { toks } else { labels };
             wanted.sort();
             wanted.dedup();
+            // A named argument starts with an identifier, which is an expression too.
+            if wanted.iter().any(|w| w == "expression") {
+                wanted.retain(|w| w != "identifier");
+            }
             // A specific "`;` after …" beats a plain "`;`".
             let specific: Vec<String> = wanted
                 .iter()
@@ -943,9 +998,10 @@ fn to_diagnostic(
             // "Expected `;`" and friends point just after the previous token, where the missing
             // token belongs, rather than at whatever follows on the next line.
             let only_closers = !wanted.is_empty()
-                && wanted.iter().all(|w| {
-                    w.starts_with("`;`") || w == "`)`" || w == "`]`" || w == "`}`" || w == "`,`"
-                });
+                && (wanted.iter().any(|w| w.starts_with("`;`"))
+                    || wanted
+                        .iter()
+                        .all(|w| w == "`)`" || w == "`]`" || w == "`}`" || w == "`,`"));
             let primary = if only_closers || found.is_none() {
                 let index = tokens.partition_point(|(_, s)| s.start < span.start);
                 match index.checked_sub(1).and_then(|i| tokens.get(i)) {

@@ -75,11 +75,20 @@ fn corpus_parses_cleanly() {
 fn every_prefix_of_every_file() {
     let files = corpus();
     assert!(!files.is_empty());
+    // Debug builds parse slowly: every prefix of this crate's corpus, and about 150 prefixes of
+    // each other file (every byte of its start, then evenly spread cuts).
+    let own = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/all_syntax.scad");
     for path in files {
         let text = std::fs::read_to_string(&path).unwrap_or_default();
-        // Long files: every byte near the start, then a stride, to stay fast in debug builds.
-        let stride = (text.len() / 2000).max(1);
-        for cut in (0..=text.len()).filter(|&i| i < 2000 || i % stride == 0) {
+        let cuts: Vec<usize> = if path == own {
+            (0..=text.len()).collect()
+        } else {
+            let stride = (text.len() / 100).max(1);
+            (0..=text.len())
+                .filter(|&i| i < 50 || i % stride == 0 || i == text.len())
+                .collect()
+        };
+        for cut in cuts {
             if text.is_char_boundary(cut) {
                 check(&text[..cut]);
             }
@@ -112,6 +121,42 @@ fn deep_nesting_is_reported_not_overflowed() {
             "{prefix}"
         );
     }
+    let chains = [
+        format!("x = 2{};", " ^ 2".repeat(1_100)),
+        format!("x = 1{};", " + 1".repeat(1_100)),
+        format!("x = {}c;", "a ? b : ".repeat(1_100)),
+        format!("x = {}c;", "let (a = 1) ".repeat(1_100)),
+        format!("x = {}c;", "function (a) ".repeat(1_100)),
+        format!("x = {}c;", "echo(1) ".repeat(1_100)),
+        format!("x = [{}c];", "for (i = a) ".repeat(1_100)),
+        format!("x = [{}c];", "each ".repeat(1_100)),
+        format!("x = f{};", "(1)".repeat(1_100)),
+        format!("x = v{};", "[0]".repeat(1_100)),
+        format!("x = v{};", ".x".repeat(1_100)),
+        format!("x = {};", "(-".repeat(1_100)),
+        format!("if (a) b();{}", " else if (a) b();".repeat(1_100)),
+        format!("{}cube();", "translate([1, 0, 0]) ".repeat(1_100)),
+        format!("{}cube();", "if (a) ".repeat(1_100)),
+        format!("{}cube();", "for (i = a) ".repeat(1_100)),
+        format!("{}cube();", "module m() ".repeat(1_100)),
+    ];
+    for text in &chains {
+        let parse = check(text);
+        assert!(
+            parse.diagnostics.iter().any(|d| d.code == "E0006"),
+            "{}",
+            &text[..40]
+        );
+        assert!(
+            parse.diagnostics.len() <= 3,
+            "{}: {:#?}",
+            &text[..40],
+            parse.diagnostics
+        );
+    }
+    // Many sibling statements are not nesting.
+    let siblings = "module m() { cube(); }\nif (a) { b(); }\nx = 1;\n".repeat(300);
+    assert!(check(&siblings).diagnostics.is_empty());
     // Nesting within the limit parses without diagnostics.
     let ok = format!("x = {}1{};", "(".repeat(200), ")".repeat(200));
     assert!(check(&ok).diagnostics.is_empty());
@@ -119,13 +164,13 @@ fn deep_nesting_is_reported_not_overflowed() {
 
 #[test]
 fn long_chains_parse() {
-    let sum = format!("x = 1{};", " + 1".repeat(5_000));
+    let sum = format!("x = 1{};", " + 1".repeat(1_000));
     assert!(check(&sum).diagnostics.is_empty());
-    let pow = format!("x = 2{};", " ^ 2".repeat(200));
+    let pow = format!("x = 2{};", " ^ 2".repeat(1_000));
     assert!(check(&pow).diagnostics.is_empty());
-    let chain = format!("{}cube();", "translate([1, 0, 0]) ".repeat(200));
+    let chain = format!("{}cube();", "translate([1, 0, 0]) ".repeat(500));
     assert!(check(&chain).diagnostics.is_empty());
-    let elses = format!("if (a) b();{}", " else if (a) b();".repeat(200));
+    let elses = format!("if (a) b();{}", " else if (a) b();".repeat(400));
     assert!(check(&elses).diagnostics.is_empty());
 }
 
