@@ -6,13 +6,22 @@
 //! hash-consed into one node. Boxes ([`Aabb`]) that may be infinite per axis bound nodes and
 //! are propagated conservatively through transforms.
 //!
+//! [`build_dnf`] turns the DAG into a [`Dnf`] (a union of intersections of world-space
+//! quadrics) with per-term boxes, pruning as it goes and in passes afterwards ([`prune`]);
+//! [`json`] and [`text`] write both forms.
+//!
 //! This crate never depends on the front end: diagnostics point at sources through
 //! [`qcsg_diag::FileId`] and [`qcsg_diag::Span`] only.
 
 pub mod bounds;
 pub mod codes;
 pub mod dag;
+pub mod dnf;
+pub mod prune;
 pub mod quadric_box;
+pub mod stats;
 
 pub use bounds::Aabb;
 pub use dag::{Dag, DagError, Edge, Node, NodeId, NodeKind, Rgba, Source, TransformId};
+pub use dnf::{DEFAULT_TERM_LIMIT, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
+pub use stats::DnfStats;

@@ -1,0 +1,659 @@
+//! DAG → DNF (paper 000 §5): a union of intersections of world-space quadrics.
+//!
+//! Complements are pushed to the leaves by De Morgan and folded into the quadric by negation;
+//! transforms are composed along each path and folded into the quadric (eq. 17,
+//! [`Quadric::transformed`]). Every term carries a box in world space that contains it: the
+//! intersection of its literals' own boxes and of the boxes of the nodes it came through, which
+//! keeps a rotated cube's term bounded although each of its slabs is unbounded.
+//!
+//! The expansion is driven by an accumulator: `and_into(terms, X)` returns the DNF of
+//! `terms ∩ X`. Conjunctions fold their operands into the accumulator one by one; disjunctions
+//! run each operand against a copy and concatenate. Because the accumulator's terms already know
+//! their boxes, a subtracted operand that misses a term's box is skipped for that term, and a
+//! literal that is provably false (or true) over a term's box ends (or skips) that term before
+//! anything multiplies. The term limit is checked before terms are added, so a blow-up becomes a
+//! diagnostic at the node that caused it.
+//!
+//! A region restricts the whole computation: the result then satisfies
+//! `(⋃ terms) ∩ region = solid ∩ region`, which is what a later spatially local DNF needs.
+
+use std::collections::{HashMap, HashSet};
+
+use qcsg_diag::{Diagnostic, Span};
+use qcsg_quadric::{DMat4, Quadric};
+
+use crate::bounds::Aabb;
+use crate::codes;
+use crate::dag::{Dag, Edge, NodeId, NodeKind, Rgba, Source};
+use crate::prune;
+use crate::quadric_box::{BoxClass, classify, solid_bounds};
+use crate::stats::DnfStats;
+
+/// OpenSCAD's default preview limit on CSG terms.
+pub const DEFAULT_TERM_LIMIT: usize = 100_000;
+
+/// Tolerance (relative to the largest coefficient) under which two quadrics count as equal.
+pub const DUPLICATE_TOLERANCE: f64 = 1e-12;
+
+/// How to build a DNF.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DnfOptions {
+    /// Only the part of the solid inside this box is wanted; `None` for all of it.
+    pub region: Option<Aabb>,
+    /// The most terms the DNF (or any intermediate stage of it) may have.
+    pub term_limit: usize,
+    /// Run the pruning passes over the finished DNF (pruning during construction always runs).
+    pub prune: bool,
+}
+
+impl Default for DnfOptions {
+    fn default() -> Self {
+        Self {
+            region: None,
+            term_limit: DEFAULT_TERM_LIMIT,
+            prune: true,
+        }
+    }
+}
+
+/// One quadric of the DNF, in world space, with what the renderer needs to draw it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DnfQuadric {
+    /// The world-space quadric; the literal is `quadric ≤ 0`.
+    pub quadric: Quadric,
+    /// The leaf it came from.
+    pub source: Source,
+    /// The innermost colour above the leaf, if any.
+    pub color: Option<Rgba>,
+    /// Whether the leaf lies below a highlight (`#`).
+    pub highlight: bool,
+}
+
+/// One term: the intersection of its literals, contained in its box.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Term {
+    /// Indices into [`Dnf::quadrics`], ascending and distinct.
+    pub literals: Vec<u32>,
+    /// A world-space box containing the term (within the region, if there is one).
+    pub bounds: Aabb,
+}
+
+/// A solid in disjunctive normal form: `⋃_terms ⋂_literals {p : q(p) ≤ 0}`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dnf {
+    /// The quadric table; terms refer to it by index.
+    pub quadrics: Vec<DnfQuadric>,
+    /// The terms.
+    pub terms: Vec<Term>,
+    /// The union of the term boxes.
+    pub bounds: Aabb,
+    /// The region it was restricted to, if any.
+    pub region: Option<Aabb>,
+    /// What construction and pruning did.
+    pub stats: DnfStats,
+    /// Warnings met on the way (e.g. parts dropped under singular transforms).
+    pub warnings: Vec<Diagnostic>,
+}
+
+impl Dnf {
+    /// Whether the world point `p` lies in the solid (closed). With a region, only points in
+    /// the region are answered faithfully; points outside it are reported outside.
+    pub fn contains(&self, p: qcsg_quadric::DVec3) -> bool {
+        if let Some(region) = &self.region
+            && !region.contains(p)
+        {
+            return false;
+        }
+        self.terms.iter().any(|term| {
+            term.literals.iter().all(|&id| {
+                self.quadrics
+                    .get(id as usize)
+                    .is_some_and(|q| q.quadric.value(p) <= 0.0)
+            })
+        })
+    }
+
+    /// Number of literal occurrences over all terms.
+    pub fn literal_count(&self) -> usize {
+        self.terms.iter().map(|t| t.literals.len()).sum()
+    }
+}
+
+/// Builds the DNF of the DAG's root.
+///
+/// Errors: no root ([`codes::NO_ROOT`]), the term limit crossed ([`codes::TERM_LIMIT`], at the
+/// node whose expansion crossed it), an unbounded result without a region
+/// ([`codes::UNBOUNDED`], at the unbounded part).
+pub fn build_dnf(dag: &Dag, options: &DnfOptions) -> Result<Dnf, Vec<Diagnostic>> {
+    let Some(root) = dag.root() else {
+        return Err(vec![Diagnostic::error(
+            codes::NO_ROOT,
+            "the scene has no root solid",
+            Default::default(),
+            Span::default(),
+        )]);
+    };
+    build_dnf_of(dag, root, options)
+}
+
+/// Builds the DNF of the solid behind `root` (e.g. one of [`Dag::backgrounds`]).
+pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, Vec<Diagnostic>> {
+    let region = options.region.unwrap_or(Aabb::EVERYTHING);
+    let mut builder = Builder::new(dag, options);
+    let start = vec![Term {
+        literals: Vec::new(),
+        bounds: region,
+    }];
+    let ctx = Context {
+        matrix: DMat4::IDENTITY,
+        negated: false,
+        color: None,
+        highlight: false,
+        enclosing: region,
+    };
+    let terms = match builder.and_into(start, root, &ctx) {
+        Ok(terms) => terms,
+        Err(Abort::TermLimit(source)) => {
+            return Err(vec![
+                Diagnostic::error(
+                    codes::TERM_LIMIT,
+                    format!(
+                        "the solid's normal form needs more than {} terms",
+                        options.term_limit
+                    ),
+                    source.file,
+                    source.span,
+                )
+                .with_help(
+                    "raise the term limit, or split the operation so that fewer parts overlap",
+                ),
+            ]);
+        }
+    };
+    let mut stats = DnfStats {
+        dag_nodes: dag.len(),
+        construction: builder.stats.clone(),
+        ..DnfStats::default()
+    };
+    let literals: Vec<DnfQuadric> = builder
+        .literals
+        .iter()
+        .map(|l| DnfQuadric {
+            quadric: l.quadric,
+            source: l.source,
+            color: l.color,
+            highlight: l.highlight,
+        })
+        .collect();
+    let own_boxes: Vec<Aabb> = builder.literals.iter().map(|l| l.own_box).collect();
+    let mut dnf = Dnf {
+        quadrics: literals,
+        terms,
+        bounds: Aabb::EMPTY,
+        region: options.region,
+        stats: DnfStats::default(),
+        warnings: builder.warnings,
+    };
+    prune::finish(&mut dnf, &own_boxes, region, options.prune, &mut stats);
+    if options.region.is_none() {
+        let errors = unbounded_diagnostics(&dnf, &own_boxes_after(&dnf), dag, root);
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+    }
+    dnf.bounds = dnf
+        .terms
+        .iter()
+        .fold(Aabb::EMPTY, |acc, t| acc.union(&t.bounds));
+    stats.terms = dnf.terms.len();
+    stats.literals = dnf.literal_count();
+    stats.quadrics = dnf.quadrics.len();
+    dnf.stats = stats;
+    Ok(dnf)
+}
+
+fn own_boxes_after(dnf: &Dnf) -> Vec<Aabb> {
+    dnf.quadrics
+        .iter()
+        .map(|q| solid_bounds(&q.quadric))
+        .collect()
+}
+
+/// One error per unbounded part (at most a few), pointing at a literal of an unbounded term
+/// that is unbounded on its own.
+fn unbounded_diagnostics(dnf: &Dnf, own_boxes: &[Aabb], dag: &Dag, root: Edge) -> Vec<Diagnostic> {
+    const MAX_REPORTS: usize = 4;
+    let mut seen = HashSet::new();
+    let mut errors = Vec::new();
+    for term in &dnf.terms {
+        if term.bounds.is_bounded() {
+            continue;
+        }
+        let unbounded: Vec<u32> = term
+            .literals
+            .iter()
+            .copied()
+            .filter(|&id| !own_boxes[id as usize].is_bounded())
+            .collect();
+        let primary = unbounded
+            .first()
+            .map(|&id| dnf.quadrics[id as usize].source)
+            .or_else(|| dag.node(root.child).map(|n| n.source))
+            .unwrap_or_default();
+        if !seen.insert(primary) {
+            continue;
+        }
+        let mut diagnostic = Diagnostic::error(
+            codes::UNBOUNDED,
+            if term.literals.is_empty() {
+                "the solid is unbounded: it is all of space".to_string()
+            } else {
+                "the solid is unbounded: this part extends to infinity".to_string()
+            },
+            primary.file,
+            primary.span,
+        )
+        .with_help("intersect it with a bounded solid");
+        for &id in unbounded.iter().skip(1).take(3) {
+            let s = dnf.quadrics[id as usize].source;
+            if s != primary {
+                diagnostic =
+                    diagnostic.with_label(s.file, s.span, "also unbounded in the same part");
+            }
+        }
+        errors.push(diagnostic);
+        if errors.len() == MAX_REPORTS {
+            break;
+        }
+    }
+    errors
+}
+
+/// Why construction stopped.
+enum Abort {
+    /// The term limit was crossed while expanding the node made at this source.
+    TermLimit(Source),
+}
+
+/// What holds on the way down from the root to a node.
+#[derive(Clone)]
+struct Context {
+    /// World from the node's parent frame.
+    matrix: DMat4,
+    /// Whether the node is seen through an odd number of complements.
+    negated: bool,
+    /// The innermost colour above.
+    color: Option<Rgba>,
+    /// Whether a highlight is above.
+    highlight: bool,
+    /// The intersection of the world boxes of the non-negated nodes being expanded above:
+    /// every term formed below ends up inside it (used to prove literals false, never true).
+    enclosing: Aabb,
+}
+
+/// A world-space literal.
+struct Literal {
+    quadric: Quadric,
+    source: Source,
+    color: Option<Rgba>,
+    highlight: bool,
+    /// A box containing the literal's solid.
+    own_box: Aabb,
+}
+
+/// The exact identity of a literal before it is looked up among equal quadrics.
+#[derive(Clone, PartialEq, Eq, Hash)]
+struct LiteralKey {
+    leaf: NodeId,
+    matrix: [u64; 16],
+    negated: bool,
+    color: Option<[u64; 4]>,
+    highlight: bool,
+}
+
+struct Builder<'a> {
+    dag: &'a Dag,
+    term_limit: usize,
+    literals: Vec<Literal>,
+    literal_index: HashMap<LiteralKey, Option<u32>>,
+    /// Literal ids grouped by the exact bits of their quadratic part, to find equal quadrics.
+    shape_groups: HashMap<[u64; 6], Vec<u32>>,
+    /// Each node's box in its own frame.
+    local_boxes: Vec<Aabb>,
+    singular_reported: HashSet<NodeId>,
+    warnings: Vec<Diagnostic>,
+    stats: crate::stats::ConstructionStats,
+}
+
+/// Whether a node combines its operands by intersection or by union (after De Morgan).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Combine {
+    All,
+    Any,
+}
+
+impl<'a> Builder<'a> {
+    fn new(dag: &'a Dag, options: &DnfOptions) -> Self {
+        Self {
+            dag,
+            term_limit: options.term_limit,
+            literals: Vec::new(),
+            literal_index: HashMap::new(),
+            shape_groups: HashMap::new(),
+            local_boxes: local_boxes(dag),
+            singular_reported: HashSet::new(),
+            warnings: Vec::new(),
+            stats: Default::default(),
+        }
+    }
+
+    /// The DNF of `acc ∩ X` where X is the solid behind `edge` (complemented if
+    /// `ctx.negated`), each term of `acc` already inside its box.
+    fn and_into(&mut self, acc: Vec<Term>, edge: Edge, ctx: &Context) -> Result<Vec<Term>, Abort> {
+        stacker_guard(|| self.and_into_inner(acc, edge, ctx))
+    }
+
+    fn and_into_inner(
+        &mut self,
+        mut acc: Vec<Term>,
+        edge: Edge,
+        ctx: &Context,
+    ) -> Result<Vec<Term>, Abort> {
+        if acc.is_empty() {
+            return Ok(acc);
+        }
+        let Some(node) = self.dag.node(edge.child) else {
+            // A handle from another DAG: nothing.
+            return Ok(if ctx.negated { acc } else { Vec::new() });
+        };
+        let edge_matrix = self.dag.matrix(edge.transform);
+        let matrix = if edge_matrix == DMat4::IDENTITY {
+            ctx.matrix
+        } else {
+            ctx.matrix * edge_matrix
+        };
+        let world_box = self.local_boxes[edge.child.0 as usize].transformed(&matrix);
+
+        // Region of interest: X only matters where it meets a term's box.
+        let mut untouched = Vec::new();
+        if ctx.negated {
+            // ¬X holds on every term that misses X's box: those pass through unchanged.
+            let (hit, miss): (Vec<Term>, Vec<Term>) = acc
+                .into_iter()
+                .partition(|t| t.bounds.intersects(&world_box));
+            self.stats.operands_skipped += miss.len();
+            untouched = miss;
+            acc = hit;
+            if acc.is_empty() {
+                return Ok(untouched);
+            }
+        } else {
+            let before = acc.len();
+            acc.retain(|t| t.bounds.intersects(&world_box));
+            self.stats.terms_outside_operand_bounds += before - acc.len();
+            if acc.is_empty() {
+                return Ok(acc);
+            }
+        }
+
+        let mut child_ctx = Context {
+            matrix,
+            ..ctx.clone()
+        };
+        if !ctx.negated {
+            child_ctx.enclosing = ctx.enclosing.intersection(&world_box);
+        }
+        let negated = ctx.negated;
+        let mut result = match &node.kind {
+            NodeKind::Leaf(q) => self.add_leaf(acc, edge.child, q, node.source, &child_ctx),
+            NodeKind::Complement(e) => {
+                child_ctx.negated = !negated;
+                self.and_into(acc, *e, &child_ctx)?
+            }
+            NodeKind::Color(rgba, e) => {
+                child_ctx.color = Some(*rgba);
+                self.and_into(acc, *e, &child_ctx)?
+            }
+            NodeKind::Highlight(e) => {
+                child_ctx.highlight = true;
+                self.and_into(acc, *e, &child_ctx)?
+            }
+            NodeKind::Union(children) => {
+                let combine = if negated { Combine::All } else { Combine::Any };
+                let operands: Vec<(Edge, bool)> = children.iter().map(|&c| (c, negated)).collect();
+                self.combine(acc, &operands, combine, node.source, &child_ctx)?
+            }
+            NodeKind::Intersection(children) => {
+                let combine = if negated { Combine::Any } else { Combine::All };
+                let operands: Vec<(Edge, bool)> = children.iter().map(|&c| (c, negated)).collect();
+                self.combine(acc, &operands, combine, node.source, &child_ctx)?
+            }
+            NodeKind::Difference(children) => {
+                // A − B − C = A ∩ ¬B ∩ ¬C; its complement is ¬A ∪ B ∪ C.
+                let combine = if negated { Combine::Any } else { Combine::All };
+                let operands: Vec<(Edge, bool)> = children
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &c)| (c, if i == 0 { negated } else { !negated }))
+                    .collect();
+                self.combine(acc, &operands, combine, node.source, &child_ctx)?
+            }
+        };
+        if !negated {
+            // Every term formed here lies in X, hence in X's box.
+            let before = result.len();
+            for term in &mut result {
+                term.bounds = term.bounds.intersection(&world_box);
+            }
+            result.retain(|t| !t.bounds.is_empty());
+            self.stats.terms_empty_bounds += before - result.len();
+        }
+        if !untouched.is_empty() {
+            self.check_limit(untouched.len() + result.len(), node.source)?;
+            untouched.append(&mut result);
+            result = untouched;
+        }
+        self.stats.peak_terms = self.stats.peak_terms.max(result.len());
+        Ok(result)
+    }
+
+    /// Intersects (`All`) or unites (`Any`) the operands `(edge, negated)` into `acc`.
+    fn combine(
+        &mut self,
+        mut acc: Vec<Term>,
+        operands: &[(Edge, bool)],
+        combine: Combine,
+        source: Source,
+        ctx: &Context,
+    ) -> Result<Vec<Term>, Abort> {
+        match combine {
+            Combine::All => {
+                for &(edge, negated) in operands {
+                    if acc.is_empty() {
+                        break;
+                    }
+                    let child_ctx = Context {
+                        negated,
+                        ..ctx.clone()
+                    };
+                    acc = self.and_into(acc, edge, &child_ctx)?;
+                }
+                Ok(acc)
+            }
+            Combine::Any => {
+                let mut result: Vec<Term> = Vec::new();
+                for &(edge, negated) in operands {
+                    let child_ctx = Context {
+                        negated,
+                        ..ctx.clone()
+                    };
+                    let part = self.and_into(acc.clone(), edge, &child_ctx)?;
+                    self.check_limit(result.len() + part.len(), source)?;
+                    result.extend(part);
+                }
+                self.stats.peak_terms = self.stats.peak_terms.max(result.len());
+                prune::simplify_terms(
+                    &mut result,
+                    prune::INCREMENTAL_SUBSUMPTION_LIMIT,
+                    &mut self.stats,
+                );
+                Ok(result)
+            }
+        }
+    }
+
+    fn check_limit(&self, count: usize, source: Source) -> Result<(), Abort> {
+        if count > self.term_limit {
+            Err(Abort::TermLimit(source))
+        } else {
+            Ok(())
+        }
+    }
+
+    /// `acc ∩ leaf` (or `acc ∩ ¬leaf`).
+    fn add_leaf(
+        &mut self,
+        mut acc: Vec<Term>,
+        leaf: NodeId,
+        q: &Quadric,
+        source: Source,
+        ctx: &Context,
+    ) -> Vec<Term> {
+        self.stats.leaves_visited += 1;
+        let Some(id) = self.literal(leaf, q, source, ctx) else {
+            // A flattened leaf has no volume; its complement is everything.
+            return if ctx.negated { acc } else { Vec::new() };
+        };
+        let literal = &self.literals[id as usize];
+        let (quadric, own_box) = (literal.quadric, literal.own_box);
+        acc.retain_mut(|term| {
+            let position = match term.literals.binary_search(&id) {
+                Ok(_) => {
+                    self.stats.literals_duplicate += 1;
+                    return true;
+                }
+                Err(position) => position,
+            };
+            let bounds = term.bounds.intersection(&own_box);
+            if bounds.is_empty() {
+                self.stats.terms_empty_bounds += 1;
+                return false;
+            }
+            // The term will lie in `bounds ∩ enclosing`: a literal false there ends it.
+            let outer = bounds.intersection(&ctx.enclosing);
+            if outer.is_empty() {
+                self.stats.terms_empty_bounds += 1;
+                return false;
+            }
+            if classify(&quadric, &outer) == BoxClass::Outside {
+                self.stats.terms_outside_literal += 1;
+                return false;
+            }
+            // The term so far lies in its own box: a literal true there adds nothing.
+            if classify(&quadric, &term.bounds) == BoxClass::Inside {
+                self.stats.literals_inside += 1;
+                return true;
+            }
+            term.literals.insert(position, id);
+            term.bounds = bounds;
+            true
+        });
+        acc
+    }
+
+    /// The literal for `leaf` under the context's transform, sign and colour; `None` when
+    /// the transform is singular (a warning is recorded once per leaf).
+    fn literal(&mut self, leaf: NodeId, q: &Quadric, source: Source, ctx: &Context) -> Option<u32> {
+        let key = LiteralKey {
+            leaf,
+            matrix: ctx.matrix.to_cols_array().map(f64::to_bits),
+            negated: ctx.negated,
+            color: ctx.color.map(|c| c.map(f64::to_bits)),
+            highlight: ctx.highlight,
+        };
+        if let Some(&id) = self.literal_index.get(&key) {
+            return id;
+        }
+        let world = if ctx.matrix == DMat4::IDENTITY {
+            Some(q.normalized())
+        } else {
+            q.transformed(&ctx.matrix)
+        };
+        let Some(world) = world else {
+            if self.singular_reported.insert(leaf) {
+                self.warnings.push(Diagnostic::warning(
+                    codes::SINGULAR_TRANSFORM,
+                    "this part is flattened to zero volume by a singular transform and was left out",
+                    source.file,
+                    source.span,
+                ));
+            }
+            self.literal_index.insert(key, None);
+            return None;
+        };
+        let world = if ctx.negated { world.negated() } else { world };
+        let coefficients = world.coefficients();
+        let shape: [u64; 6] = std::array::from_fn(|i| coefficients[i].to_bits());
+        let group = self.shape_groups.entry(shape).or_default();
+        for &candidate in group.iter() {
+            if self.literals[candidate as usize]
+                .quadric
+                .approx_eq_up_to_scale(&world, DUPLICATE_TOLERANCE)
+            {
+                self.stats.literals_merged += 1;
+                self.literal_index.insert(key, Some(candidate));
+                return Some(candidate);
+            }
+        }
+        let id = self.literals.len() as u32;
+        group.push(id);
+        self.literals.push(Literal {
+            quadric: world,
+            source,
+            color: ctx.color,
+            highlight: ctx.highlight,
+            own_box: solid_bounds(&world),
+        });
+        self.stats.literals_interned += 1;
+        self.literal_index.insert(key, Some(id));
+        Some(id)
+    }
+}
+
+/// Each node's box in its own frame, children before parents (the arena's order).
+fn local_boxes(dag: &Dag) -> Vec<Aabb> {
+    let mut boxes: Vec<Aabb> = Vec::with_capacity(dag.len());
+    for node in dag.nodes() {
+        let child_box = |edge: &Edge, boxes: &[Aabb]| {
+            boxes
+                .get(edge.child.0 as usize)
+                .copied()
+                .unwrap_or(Aabb::EVERYTHING)
+                .transformed(&dag.matrix(edge.transform))
+        };
+        let computed = match &node.kind {
+            NodeKind::Leaf(q) => solid_bounds(q),
+            NodeKind::Union(children) => children
+                .iter()
+                .fold(Aabb::EMPTY, |acc, e| acc.union(&child_box(e, &boxes))),
+            NodeKind::Intersection(children) => children.iter().fold(Aabb::EVERYTHING, |acc, e| {
+                acc.intersection(&child_box(e, &boxes))
+            }),
+            NodeKind::Difference(children) => children
+                .first()
+                .map_or(Aabb::EMPTY, |e| child_box(e, &boxes)),
+            NodeKind::Complement(_) => Aabb::EVERYTHING,
+            NodeKind::Color(_, e) | NodeKind::Highlight(e) => child_box(e, &boxes),
+        };
+        let declared = node.bounds.unwrap_or(Aabb::EVERYTHING);
+        boxes.push(computed.intersection(&declared));
+    }
+    boxes
+}
+
+/// Runs `f` with enough stack for deep DAGs.
+fn stacker_guard<R>(f: impl FnOnce() -> R) -> R {
+    const RED_ZONE: usize = 128 * 1024;
+    const GROWTH: usize = 4 * 1024 * 1024;
+    stacker::maybe_grow(RED_ZONE, GROWTH, f)
+}

@@ -1,0 +1,291 @@
+//! Pruning: removing what a DNF does not need without changing the solid it describes.
+//!
+//! Construction already prunes as it goes (see [`crate::dnf`]); [`finish`] then runs the passes
+//! below over the finished DNF, in order, counting terms, literal occurrences and quadrics
+//! before and after each:
+//!
+//! 1. `empty_bounds`: terms whose box (re-tightened by their literals' own boxes) is empty;
+//! 2. `literal_bounds`: a literal provably false over its term's box removes the term; a literal
+//!    provably true over the box that the *other* literals (and the region) already imply is
+//!    removed from the term;
+//! 3. `duplicate_literals`: literals of one term equal up to a positive factor;
+//! 4. `duplicate_terms`: terms with the same literal set (their boxes are intersected);
+//! 5. `subsumed_terms`: terms whose literal set contains another term's (they lie inside it);
+//! 6. `unused_quadrics`: quadrics no term uses, with the rest renumbered in order.
+
+use crate::bounds::Aabb;
+use crate::dnf::{DUPLICATE_TOLERANCE, Dnf, Term};
+use crate::quadric_box::{BoxClass, classify};
+use crate::stats::{ConstructionStats, DnfStats, PassStats};
+
+/// Most terms on which subsumption is tried during construction (it is quadratic).
+pub const INCREMENTAL_SUBSUMPTION_LIMIT: usize = 2_000;
+
+/// Most terms on which subsumption is tried in the final pass.
+pub const FINAL_SUBSUMPTION_LIMIT: usize = 20_000;
+
+/// Removes exact duplicate terms (intersecting their boxes) and, when there are at most
+/// `subsumption_limit` terms, terms whose literal set contains another's. Keeps the order of
+/// the survivors.
+pub fn simplify_terms(
+    terms: &mut Vec<Term>,
+    subsumption_limit: usize,
+    stats: &mut ConstructionStats,
+) {
+    let (duplicates, subsumed) = remove_duplicates_and_subsumed(terms, true, subsumption_limit);
+    stats.terms_duplicate += duplicates;
+    stats.terms_subsumed += subsumed;
+}
+
+/// Returns (duplicates removed, subsumed removed).
+fn remove_duplicates_and_subsumed(
+    terms: &mut Vec<Term>,
+    subsume: bool,
+    subsumption_limit: usize,
+) -> (usize, usize) {
+    if terms.len() < 2 {
+        return (0, 0);
+    }
+    // Sort indices by (length, literals): duplicates become neighbours, and a term can only be
+    // subsumed by one that comes before it.
+    let mut order: Vec<usize> = (0..terms.len()).collect();
+    order.sort_by(|&a, &b| {
+        (terms[a].literals.len(), &terms[a].literals, a).cmp(&(
+            terms[b].literals.len(),
+            &terms[b].literals,
+            b,
+        ))
+    });
+    let mut keep = vec![true; terms.len()];
+    let mut duplicates = 0;
+    for pair in order.windows(2) {
+        let (first, second) = (pair[0], pair[1]);
+        if terms[first].literals == terms[second].literals {
+            // Keep the earlier term (the sort is stable by index), with both boxes' facts.
+            let (keep_index, drop_index) = if keep[first] {
+                (first, second)
+            } else {
+                (second, first)
+            };
+            if keep[drop_index] {
+                let merged = terms[keep_index]
+                    .bounds
+                    .intersection(&terms[drop_index].bounds);
+                terms[keep_index].bounds = merged;
+                keep[drop_index] = false;
+                duplicates += 1;
+            }
+        }
+    }
+    let mut subsumed = 0;
+    if subsume && terms.len() <= subsumption_limit {
+        let signatures: Vec<u64> = terms.iter().map(|t| signature(&t.literals)).collect();
+        let mut kept: Vec<usize> = Vec::new();
+        for &index in &order {
+            if !keep[index] {
+                continue;
+            }
+            let term = &terms[index];
+            let covered = kept.iter().any(|&k| {
+                signatures[k] & !signatures[index] == 0
+                    && is_subset(&terms[k].literals, &term.literals)
+            });
+            if covered {
+                keep[index] = false;
+                subsumed += 1;
+            } else {
+                kept.push(index);
+            }
+        }
+    }
+    let mut index = 0;
+    terms.retain(|_| {
+        let k = keep[index];
+        index += 1;
+        k
+    });
+    (duplicates, subsumed)
+}
+
+/// A 64-bit Bloom signature of a literal set: `a ⊆ b` implies `sig(a) & !sig(b) == 0`.
+fn signature(literals: &[u32]) -> u64 {
+    literals.iter().fold(0u64, |s, &l| {
+        s | 1u64 << (l.wrapping_mul(2_654_435_761) >> 26)
+    })
+}
+
+/// Whether sorted `a` is a subset of sorted `b`.
+fn is_subset(a: &[u32], b: &[u32]) -> bool {
+    if a.len() > b.len() {
+        return false;
+    }
+    let mut j = 0;
+    for &x in a {
+        while j < b.len() && b[j] < x {
+            j += 1;
+        }
+        if j == b.len() || b[j] != x {
+            return false;
+        }
+        j += 1;
+    }
+    true
+}
+
+/// Runs the final passes (when `run_passes`) and always the renumbering of unused quadrics.
+/// `own_boxes[i]` contains the solid of quadric `i`; `region` is all of space without one.
+pub fn finish(
+    dnf: &mut Dnf,
+    own_boxes: &[Aabb],
+    region: Aabb,
+    run_passes: bool,
+    stats: &mut DnfStats,
+) {
+    if run_passes {
+        run_pass(dnf, stats, "empty_bounds", |dnf| {
+            pass_empty_bounds(dnf, own_boxes)
+        });
+        run_pass(dnf, stats, "literal_bounds", |dnf| {
+            pass_literal_bounds(dnf, own_boxes, region)
+        });
+        run_pass(dnf, stats, "duplicate_literals", pass_duplicate_literals);
+        run_pass(dnf, stats, "duplicate_terms", |dnf| {
+            remove_duplicates_and_subsumed(&mut dnf.terms, false, 0);
+        });
+        run_pass(dnf, stats, "subsumed_terms", |dnf| {
+            remove_duplicates_and_subsumed(&mut dnf.terms, true, FINAL_SUBSUMPTION_LIMIT);
+        });
+    }
+    run_pass(dnf, stats, "unused_quadrics", pass_unused_quadrics);
+}
+
+fn run_pass(dnf: &mut Dnf, stats: &mut DnfStats, name: &'static str, pass: impl FnOnce(&mut Dnf)) {
+    let (terms_before, literals_before, quadrics_before) =
+        (dnf.terms.len(), dnf.literal_count(), dnf.quadrics.len());
+    pass(dnf);
+    stats.passes.push(PassStats {
+        pass: name,
+        terms_before,
+        terms_after: dnf.terms.len(),
+        literals_before,
+        literals_after: dnf.literal_count(),
+        quadrics_before,
+        quadrics_after: dnf.quadrics.len(),
+    });
+}
+
+fn pass_empty_bounds(dnf: &mut Dnf, own_boxes: &[Aabb]) {
+    for term in &mut dnf.terms {
+        for &id in &term.literals {
+            term.bounds = term.bounds.intersection(&own_boxes[id as usize]);
+        }
+    }
+    dnf.terms.retain(|t| !t.bounds.is_empty());
+}
+
+fn pass_literal_bounds(dnf: &mut Dnf, own_boxes: &[Aabb], region: Aabb) {
+    let quadrics = &dnf.quadrics;
+    dnf.terms.retain_mut(|term| {
+        if term
+            .literals
+            .iter()
+            .any(|&id| classify(&quadrics[id as usize].quadric, &term.bounds) == BoxClass::Outside)
+        {
+            return false;
+        }
+        // A literal may go only if the remaining literals alone keep the term inside it: test
+        // it against the box they (and the region) imply, not against the term's box, which
+        // may owe its extent to the literal itself.
+        let mut index = 0;
+        while index < term.literals.len() {
+            let implied = term
+                .literals
+                .iter()
+                .enumerate()
+                .filter(|&(k, _)| k != index)
+                .fold(region, |acc, (_, &id)| {
+                    acc.intersection(&own_boxes[id as usize])
+                });
+            let id = term.literals[index];
+            if classify(&quadrics[id as usize].quadric, &implied) == BoxClass::Inside {
+                term.literals.remove(index);
+            } else {
+                index += 1;
+            }
+        }
+        true
+    });
+}
+
+fn pass_duplicate_literals(dnf: &mut Dnf) {
+    let quadrics = &dnf.quadrics;
+    for term in &mut dnf.terms {
+        let mut kept: Vec<u32> = Vec::with_capacity(term.literals.len());
+        for &id in &term.literals {
+            let q = &quadrics[id as usize].quadric;
+            let duplicate = kept.iter().any(|&k| {
+                quadrics[k as usize]
+                    .quadric
+                    .approx_eq_up_to_scale(q, DUPLICATE_TOLERANCE)
+            });
+            if !duplicate {
+                kept.push(id);
+            }
+        }
+        term.literals = kept;
+    }
+}
+
+fn pass_unused_quadrics(dnf: &mut Dnf) {
+    let mut used = vec![false; dnf.quadrics.len()];
+    for term in &dnf.terms {
+        for &id in &term.literals {
+            used[id as usize] = true;
+        }
+    }
+    let mut renumber = vec![u32::MAX; dnf.quadrics.len()];
+    let mut next = 0u32;
+    for (old, &is_used) in used.iter().enumerate() {
+        if is_used {
+            renumber[old] = next;
+            next += 1;
+        }
+    }
+    let mut index = 0;
+    dnf.quadrics.retain(|_| {
+        let k = used[index];
+        index += 1;
+        k
+    });
+    for term in &mut dnf.terms {
+        for id in &mut term.literals {
+            *id = renumber[*id as usize];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn subset_and_signature() {
+        assert!(is_subset(&[1, 3], &[0, 1, 2, 3]));
+        assert!(!is_subset(&[1, 4], &[0, 1, 2, 3]));
+        assert!(is_subset(&[], &[5]));
+        let (a, b) = (signature(&[1, 3]), signature(&[0, 1, 2, 3]));
+        assert_eq!(a & !b, 0);
+    }
+
+    #[test]
+    fn duplicates_and_subsumed_terms_go() {
+        let term = |l: &[u32]| Term {
+            literals: l.to_vec(),
+            bounds: Aabb::EVERYTHING,
+        };
+        let mut terms = vec![term(&[1, 2, 3]), term(&[1, 2]), term(&[4]), term(&[1, 2])];
+        let (d, s) = remove_duplicates_and_subsumed(&mut terms, true, 100);
+        assert_eq!((d, s), (1, 1));
+        assert_eq!(terms, vec![term(&[1, 2]), term(&[4])]);
+    }
+}

@@ -1,0 +1,208 @@
+//! The DNF means what the DAG means: for random scenes and random points, membership by direct
+//! evaluation of the DAG equals membership by the DNF (points within rounding distance of any
+//! surface are skipped, where the two may legitimately differ).
+
+mod common;
+
+use common::{cube, cylinder, sphere, src};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngSeed};
+use qcsg_csg::{Aabb, Dag, DnfOptions, Edge, NodeId, build_dnf};
+use qcsg_quadric::{DMat4, DVec3, Quadric};
+
+fn config(cases: u32) -> Config {
+    Config {
+        cases,
+        rng_seed: RngSeed::Fixed(0x0c5a_6000),
+        failure_persistence: None,
+        ..Config::default()
+    }
+}
+
+/// splitmix64: a tiny deterministic generator for scene shapes.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+    fn vec(&mut self, lo: f64, hi: f64) -> DVec3 {
+        DVec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
+    }
+}
+
+/// A random placement: translation, rotation (sometimes by exact quarter turns), scale.
+fn placement(rng: &mut Rng) -> DMat4 {
+    let translation = DMat4::from_translation(rng.vec(-3.0, 3.0));
+    let rotation = match rng.below(3) {
+        0 => DMat4::IDENTITY,
+        1 => {
+            let quarter = DMat4::from_cols_array(&[
+                0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+            ]);
+            if rng.below(2) == 0 {
+                quarter
+            } else {
+                quarter * quarter
+            }
+        }
+        _ => {
+            DMat4::from_rotation_z(rng.range(-3.0, 3.0))
+                * DMat4::from_rotation_y(rng.range(-3.0, 3.0))
+                * DMat4::from_rotation_x(rng.range(-3.0, 3.0))
+        }
+    };
+    let scale = if rng.below(3) == 0 {
+        DMat4::from_scale(rng.vec(0.5, 2.0))
+    } else {
+        DMat4::IDENTITY
+    };
+    translation * rotation * scale
+}
+
+/// Builds a random solid; records every leaf's world quadric in `leaves`.
+fn random_solid(
+    dag: &mut Dag,
+    rng: &mut Rng,
+    depth: u32,
+    world: DMat4,
+    leaves: &mut Vec<Quadric>,
+    pool: &mut Vec<(NodeId, Vec<Quadric>)>,
+) -> NodeId {
+    let leaf_choice = depth == 0 || rng.below(4) == 0;
+    if leaf_choice {
+        // Sometimes reuse an earlier node (exercises sharing).
+        if !pool.is_empty() && rng.below(4) == 0 {
+            let (node, local) = pool[rng.below(pool.len() as u64) as usize].clone();
+            leaves.extend(local.iter().filter_map(|q| q.transformed(&world)));
+            return node;
+        }
+        let before = dag.len();
+        let node = match rng.below(4) {
+            0 => sphere(dag, rng.range(0.5, 2.5), 0),
+            1 => cube(dag, rng.vec(0.5, 3.0), 1),
+            2 => cylinder(dag, rng.range(0.3, 1.5), rng.range(0.5, 3.0), 2),
+            _ => {
+                let q = Quadric::half_space(rng.vec(-1.0, 1.0), rng.vec(-1.0, 1.0)).unwrap();
+                dag.leaf(q, src(3))
+            }
+        };
+        let local: Vec<Quadric> = dag.nodes()[before.min(dag.len())..]
+            .iter()
+            .filter_map(|n| match &n.kind {
+                qcsg_csg::NodeKind::Leaf(q) => Some(*q),
+                _ => None,
+            })
+            .collect();
+        leaves.extend(local.iter().filter_map(|q| q.transformed(&world)));
+        pool.push((node, local));
+        return node;
+    }
+    let count = 1 + rng.below(3) as usize;
+    let mut children: Vec<Edge> = Vec::new();
+    for _ in 0..count {
+        let m = placement(rng);
+        let child = random_solid(dag, rng, depth - 1, world * m, leaves, pool);
+        children.push(dag.edge(child, &m).unwrap());
+    }
+    match rng.below(5) {
+        0 | 1 => dag.union(children, src(10)),
+        2 => dag.intersection(children, src(11)),
+        3 => dag.difference(children, src(12)),
+        _ => {
+            let c = dag.union(children, src(13));
+            dag.complement(c.into(), src(14))
+        }
+    }
+}
+
+/// Builds a scene cut to a box (so complements and half-spaces stay bounded) and compares.
+fn check_scene(seed: u64, points: usize, options: &DnfOptions) -> Result<(), TestCaseError> {
+    let mut rng = Rng(seed);
+    let mut dag = Dag::new();
+    let mut leaves = Vec::new();
+    let mut pool = Vec::new();
+    let depth = 1 + rng.below(4) as u32;
+    let body = random_solid(
+        &mut dag,
+        &mut rng,
+        depth,
+        DMat4::IDENTITY,
+        &mut leaves,
+        &mut pool,
+    );
+    let frame = cube(&mut dag, DVec3::splat(16.0), 99);
+    let frame_edge = dag.translated(frame.into(), DVec3::splat(-8.0)).unwrap();
+    let root = dag.intersection([body.into(), frame_edge], src(100));
+    dag.set_root(root.into());
+    for axis in 0..3 {
+        let mut normal = DVec3::ZERO;
+        normal[axis] = 1.0;
+        leaves.push(Quadric::slab(DVec3::ZERO, normal, 8.0).unwrap());
+    }
+    let dnf = match build_dnf(&dag, options) {
+        Ok(dnf) => dnf,
+        Err(errors) => {
+            prop_assert!(false, "seed {seed}: {errors:?}");
+            unreachable!()
+        }
+    };
+    let mut compared = 0;
+    for _ in 0..points {
+        let p = match options.region {
+            Some(r) => r.min + (r.max - r.min) * DVec3::new(rng.unit(), rng.unit(), rng.unit()),
+            None => rng.vec(-9.0, 9.0),
+        };
+        let near = leaves
+            .iter()
+            .any(|q| q.conservative_distance(p).abs() < 1e-6);
+        if near {
+            continue;
+        }
+        compared += 1;
+        prop_assert_eq!(
+            dag.contains(p),
+            dnf.contains(p),
+            "seed {} point {} ({} terms)",
+            seed,
+            p,
+            dnf.terms.len()
+        );
+    }
+    prop_assert!(compared > 0 || points == 0);
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(config(200))]
+
+    #[test]
+    fn dnf_membership_equals_dag_membership(seed in any::<u64>()) {
+        check_scene(seed, 200, &DnfOptions::default())?;
+    }
+
+    #[test]
+    fn unpruned_dnf_has_the_same_meaning(seed in any::<u64>()) {
+        check_scene(seed, 100, &DnfOptions { prune: false, ..DnfOptions::default() })?;
+    }
+
+    #[test]
+    fn region_dnf_is_exact_inside_its_region(seed in any::<u64>(), corner in prop::array::uniform3(-6.0f64..2.0)) {
+        let min = DVec3::from_array(corner);
+        let region = Aabb::new(min, min + DVec3::splat(4.0));
+        check_scene(seed, 200, &DnfOptions { region: Some(region), ..DnfOptions::default() })?;
+    }
+}
