@@ -11,6 +11,20 @@
 //! panics on finite input. Each function documents its error bound; the tests (notably
 //! `tests/stiff.rs`) enforce them on extreme radii, translations, aspect ratios and near-degenerate
 //! quadrics.
+//!
+//! ```
+//! use qcsg_quadric::{DMat4, DVec3, Quadric, QuadricKind};
+//!
+//! // A unit sphere moved far away keeps its coefficients: only the origin moves.
+//! let sphere = Quadric::sphere(DVec3::ZERO, 1.0).unwrap();
+//! let far = sphere.transformed(&DMat4::from_translation(DVec3::splat(1e6))).unwrap();
+//! assert_eq!(far.coefficients(), sphere.coefficients());
+//! assert_eq!(far.kind(), QuadricKind::Sphere);
+//!
+//! // |d| never exceeds the true distance (here 1.0: the point is 2 from the centre).
+//! let d = far.conservative_distance(DVec3::splat(1e6) + DVec3::new(2.0, 0.0, 0.0));
+//! assert!(d > 0.0 && d <= 1.0);
+//! ```
 
 mod classify;
 mod distance;
