@@ -193,6 +193,35 @@ impl PrincipalFrame {
 }
 
 impl Quadric {
+    /// The paper's centre (§3.2): the min-norm solution `q` of `A q = b` relative to the local
+    /// origin (eigenvalues below `tolerances.eigenvalue · max|λ|` are treated as zero), in world
+    /// coordinates. Unlike [`PrincipalFrame::centre`] it is not moved to the vertex of
+    /// paraboloids and planes. Exact to a few `ε κ(A)` relative for non-singular `A`.
+    pub fn min_norm_centre(&self, tolerances: &Tolerances) -> DVec3 {
+        let SymmetricEigen { values, vectors } = self.eigen();
+        let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let l = self.linear();
+        let mut centre = DVec3::ZERO;
+        for k in 0..3 {
+            if values[k].abs() > tolerances.eigenvalue * largest {
+                centre -= (vectors[k].dot(l) / values[k]) * vectors[k];
+            }
+        }
+        self.origin() + centre
+    }
+
+    /// The same quadric about its frame centre (see [`Self::with_origin`]): useful for
+    /// coefficients that arrive about a distant origin. Returns `self` unchanged when the centre
+    /// is not finite.
+    pub fn recentred(&self) -> Self {
+        let centre = self.frame().centre;
+        if centre.is_finite() {
+            self.with_origin(centre)
+        } else {
+            *self
+        }
+    }
+
     /// The principal frame with default [`Tolerances`].
     pub fn frame(&self) -> PrincipalFrame {
         PrincipalFrame::new(self, &Tolerances::default())

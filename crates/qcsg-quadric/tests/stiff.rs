@@ -795,3 +795,24 @@ fn centres_follow_transforms() {
         assert!(error <= bound, "{name}: off by {error:e} (bound {bound:e})");
     }
 }
+
+#[test]
+fn recentring_recovers_well_conditioned_coefficients() {
+    // A sphere of radius 1 at (1e3, 0, 0) written about the world origin: j = 1e6 − 1.
+    let q = raw(
+        DVec3::ZERO,
+        [1.0, 1.0, 1.0, 0.0, 0.0, 0.0, -1e3, 0.0, 0.0, 1e6 - 1.0],
+    );
+    let r = q.recentred();
+    assert!((r.origin() - DVec3::new(1e3, 0.0, 0.0)).length() <= 1e-12 * 1e3);
+    let k = r.coefficients();
+    assert!(k[6..9].iter().all(|c| c.abs() <= 1e-9), "{k:?}");
+    assert!((k[9] + 1.0).abs() <= 1e-9, "{k:?}");
+    assert_eq!(r.kind(), QuadricKind::Sphere);
+    // The min-norm centre of a cylinder written about an off-axis origin is the nearest axis point.
+    let cylinder = Quadric::cylinder(DVec3::new(5.0, 7.0, 0.0), DVec3::Z, 1.0)
+        .unwrap()
+        .with_origin(DVec3::new(0.0, 0.0, 3.0));
+    let c = cylinder.min_norm_centre(&Tolerances::default());
+    assert!((c - DVec3::new(5.0, 7.0, 3.0)).length() <= 1e-12, "{c}");
+}
