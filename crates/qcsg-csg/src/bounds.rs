@@ -119,13 +119,12 @@ impl Aabb {
         self.widened_by(ROUNDING_MARGIN)
     }
 
-    /// The box grown outwards by `relative` times the magnitude of each coordinate (plus the
-    /// smallest normal number, so zero moves too).
+    /// The box grown outwards by `relative` times the magnitude of each coordinate.
     pub fn widened_by(&self, relative: f64) -> Aabb {
         if self.is_empty() {
             return *self;
         }
-        let grow = |v: f64| v.abs() * relative + f64::MIN_POSITIVE;
+        let grow = |v: f64| v.abs() * relative;
         Aabb {
             min: DVec3::from_array(self.min.to_array().map(|v| v - grow(v))),
             max: DVec3::from_array(self.max.to_array().map(|v| v + grow(v))),
@@ -201,11 +200,11 @@ impl Aabb {
         })
     }
 
-    /// The coordinates as plain arrays, for output.
+    /// The coordinates as plain arrays, for output (negative zeros written as zeros).
     pub fn to_arrays(&self) -> BoundsJson {
         BoundsJson {
-            min: self.min.to_array(),
-            max: self.max.to_array(),
+            min: self.min.to_array().map(|v| v + 0.0),
+            max: self.max.to_array().map(|v| v + 0.0),
         }
     }
 

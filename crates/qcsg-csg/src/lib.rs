@@ -17,11 +17,15 @@ pub mod bounds;
 pub mod codes;
 pub mod dag;
 pub mod dnf;
+pub mod json;
 pub mod prune;
 pub mod quadric_box;
 pub mod stats;
+pub mod text;
 
 pub use bounds::Aabb;
 pub use dag::{Dag, DagError, Edge, Node, NodeId, NodeKind, Rgba, Source, TransformId};
 pub use dnf::{DEFAULT_TERM_LIMIT, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
+pub use json::{dag_to_json, dnf_to_json, names_from_list};
 pub use stats::DnfStats;
+pub use text::{byte_locator, dag_to_text, dnf_to_text, line_locator};
