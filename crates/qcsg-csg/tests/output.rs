@@ -104,7 +104,7 @@ fn dnf_json_has_the_documented_shape() {
     }
     let min_x = json["bounds"]["min"][0].as_f64().unwrap();
     let max_x = json["bounds"]["max"][0].as_f64().unwrap();
-    assert!(min_x <= 0.0 && min_x > -1e-9 && max_x >= 5.0 && max_x < 5.0 + 1e-9);
+    assert!((-1e-9..=0.0).contains(&min_x) && (5.0..5.0 + 1e-9).contains(&max_x));
     assert!(json["stats"]["passes"].as_array().unwrap().len() >= 6);
 }
 
