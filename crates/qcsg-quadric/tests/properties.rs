@@ -314,3 +314,78 @@ fn catalogue_kinds() {
         assert_eq!(case.quadric.kind(), case.kind, "{}", case.name);
     }
 }
+
+/// A coefficient: zero a third of the time, else a signed magnitude in `10^[-100, 100]`.
+fn coefficient() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        1 => Just(0.0),
+        2 => (-100.0f64..100.0, any::<bool>()).prop_map(|(e, s)| if s { 10f64.powf(e) } else { -(10f64.powf(e)) }),
+    ]
+}
+
+proptest! {
+    #![proptest_config(config(300))]
+
+    #[test]
+    fn arbitrary_finite_quadrics_never_panic_or_give_nan(
+        k in prop::array::uniform10(coefficient()),
+        origin in prop::array::uniform3(-1e6f64..1e6),
+        point in prop::array::uniform3(-1e3f64..1e3),
+        direction in prop::array::uniform3(-1.0f64..1.0),
+        m in prop::array::uniform16(-3.0f64..3.0),
+    ) {
+        let q = Quadric::new(DVec3::from_array(origin), k).expect("finite");
+        let p = q.origin() + DVec3::from_array(point);
+        let v = DVec3::from_array(direction);
+        let kind = q.kind();
+        prop_assert!(!kind.name().is_empty());
+        let frame = q.frame();
+        prop_assert!(frame.axes.iter().all(|a| a.is_finite()));
+        prop_assert!(!q.value(p).is_nan());
+        prop_assert!(!q.conservative_distance(p).is_nan());
+        prop_assert!(q.normal(p).is_none_or(|n| n.is_finite()));
+        for t in q.intersect_line(p, v).roots() {
+            prop_assert!(t.is_finite());
+        }
+        for hf in frame.heightfields() {
+            prop_assert!(hf.height(0.5, -0.25).is_none_or(|h| !h.is_nan()));
+            prop_assert!(hf.distortion(0.5, -0.25).is_none_or(|d| !d.is_nan()));
+            prop_assert!(hf.distortion_bounds((-1.0, 1.0), (0.5, 2.0)).is_none_or(|(a, b)| !a.is_nan() && !b.is_nan()));
+        }
+        let _ = q.negated().kind();
+        let _ = q.recentred().kind();
+        let _ = q.approx_eq_up_to_scale(&q.negated(), 1e-9);
+        if let Some(t) = q.transformed(&DMat4::from_cols_array(&m)) {
+            prop_assert!(t.coefficients().iter().all(|c| c.is_finite()));
+            let _ = t.kind();
+        }
+    }
+
+    #[test]
+    fn no_crossing_is_missed(index in 0usize..20, seed in any::<u64>()) {
+        // Every sign change of Q along a dense sampling of the line brackets a returned root.
+        let cases = catalogue();
+        let case = &cases[index % cases.len()];
+        let mut rng = Rng::new(seed);
+        let q = case.quadric.transformed(&rng.similarity(10.0, 1e3)).expect("invertible");
+        let p = q.origin() + rng.direction() * rng.range(0.0, 5.0) * case.size;
+        let v = rng.direction();
+        let roots = q.intersect_line(p, v).roots();
+        let span = 20.0 * case.size;
+        let steps = 400;
+        let mut previous = q.value(p - span * v);
+        for i in 1..=steps {
+            let t = -span + 2.0 * span * i as f64 / steps as f64;
+            let t_prev = t - 2.0 * span / steps as f64;
+            let value = q.value(p + t * v);
+            if previous != 0.0 && value != 0.0 && previous.signum() != value.signum() {
+                let slack = 1e-9 * span;
+                prop_assert!(
+                    roots.iter().any(|r| *r >= t_prev - slack && *r <= t + slack),
+                    "{}: crossing in [{t_prev}, {t}] missed; roots {roots:?}", case.name
+                );
+            }
+            previous = value;
+        }
+    }
+}
