@@ -133,6 +133,8 @@ struct Signature {
     any_named: bool,
     min_args: usize,
     defined_at: Option<(FileId, Span)>,
+    /// Built-in functions match arguments by position only: OpenSCAD ignores their names.
+    positional_only: bool,
 }
 
 pub(crate) struct Resolver<'a> {
@@ -157,6 +159,8 @@ pub(crate) struct Resolver<'a> {
     /// Definitions whose body is being resolved (self-references do not count as uses).
     enclosing: Vec<DefId>,
     suggestions_left: u32,
+    /// While resolving parameter defaults: the names of the parameters (for a better message).
+    sibling_params: Vec<String>,
 }
 
 impl<'a> Resolver<'a> {
@@ -190,6 +194,7 @@ impl<'a> Resolver<'a> {
             current_unit: 0,
             enclosing: Vec::new(),
             suggestions_left: SUGGESTION_BUDGET,
+            sibling_params: Vec::new(),
         }
     }
 
@@ -633,8 +638,7 @@ impl<'a> Resolver<'a> {
                     .get(&(file, name.span, DefKind::Module))
                     .copied();
                 self.enclosing.extend(def);
-                self.push_scope();
-                self.params(file, params, def);
+                self.enter_params(file, params, def);
                 self.child_scope(file, chain, body);
                 self.pop_scope();
                 if def.is_some() {
@@ -647,8 +651,7 @@ impl<'a> Resolver<'a> {
                     .get(&(file, name.span, DefKind::Function))
                     .copied();
                 self.enclosing.extend(def);
-                self.push_scope();
-                self.params(file, params, def);
+                self.enter_params(file, params, def);
                 self.expr(file, body);
                 self.pop_scope();
                 if def.is_some() {
@@ -709,13 +712,22 @@ impl<'a> Resolver<'a> {
         }
     }
 
-    /// Binds parameters in the innermost scope, resolving defaults in order (a default may read
-    /// the parameters before it).
-    fn params(&mut self, file: FileId, params: &[Param], owner: Option<DefId>) {
+    /// Resolves parameter defaults, then opens a scope binding the parameters (closed by the
+    /// caller with [`Self::pop_scope`]).
+    fn enter_params(&mut self, file: FileId, params: &[Param], owner: Option<DefId>) {
+        // OpenSCAD evaluates defaults in the defining scope: they cannot read other parameters.
+        let saved = std::mem::replace(
+            &mut self.sibling_params,
+            params.iter().map(|p| p.name.name.clone()).collect(),
+        );
         for param in params {
             if let Some(default) = &param.default {
                 self.expr(file, default);
             }
+        }
+        self.sibling_params = saved;
+        self.push_scope();
+        for param in params {
             let def = match self
                 .def_index
                 .get(&(file, param.name.span, DefKind::Parameter))
@@ -949,6 +961,7 @@ impl<'a> Resolver<'a> {
             any_named: false,
             min_args: 0,
             defined_at: Some((definition.file, definition.name_span)),
+            positional_only: false,
         })
     }
 
@@ -970,7 +983,25 @@ impl<'a> Resolver<'a> {
         let mut positional_count = 0usize;
         let mut extra: Option<Span> = None;
         for (arg, ty) in args.iter().zip(tys) {
-            match &arg.name {
+            let name = match &arg.name {
+                Some(name) if signature.positional_only && !name.is_special() => {
+                    self.diagnostics.push(
+                        Diagnostic::error(
+                            codes::UNKNOWN_ARGUMENT,
+                            format!(
+                                "{} takes positional arguments only: the name `{}` would be ignored",
+                                signature.title, name.name
+                            ),
+                            file,
+                            name.span,
+                        )
+                        .with_help("OpenSCAD matches a built-in function's arguments by position whatever their names; remove the name"),
+                    );
+                    None
+                }
+                other => other.as_ref(),
+            };
+            match name {
                 None => {
                     if let Some(&index) = positional.get(positional_count) {
                         supplied[index] = Some(arg.span);
@@ -1404,9 +1435,8 @@ impl<'a> Resolver<'a> {
             ExprKind::FunctionLit { params, body } => {
                 // The body runs when the function is called, after every assignment of the scope.
                 let saved = self.assign_ctx.take();
-                self.push_scope();
                 let owner = self.enclosing.last().copied();
-                self.params(file, params, owner);
+                self.enter_params(file, params, owner);
                 self.expr(file, body);
                 self.pop_scope();
                 self.assign_ctx = saved;
@@ -1633,7 +1663,12 @@ impl<'a> Resolver<'a> {
                     file,
                     ident.span,
                 );
-                if !matches!(self.lookup_function(&ident.name), FunctionLookup::Missing) {
+                if self.sibling_params.contains(&ident.name) {
+                    diagnostic = diagnostic.with_help(format!(
+                        "defaults are evaluated in the scope of the definition and cannot read other parameters (`{0}` is one); default to `undef` and compute the value in the body",
+                        ident.name
+                    ));
+                } else if !matches!(self.lookup_function(&ident.name), FunctionLookup::Missing) {
                     diagnostic = diagnostic.with_help(format!(
                         "`{0}` is a function, and functions are not values; write `function (x) {0}(x)` for a function value",
                         ident.name
@@ -2044,6 +2079,7 @@ fn builtin_module_signature(module: &BuiltinModule) -> Signature {
         any_named: module.variadic,
         min_args: 0,
         defined_at: None,
+        positional_only: false,
     }
 }
 
@@ -2065,6 +2101,7 @@ fn builtin_function_signature(function: &BuiltinFunction) -> Signature {
         any_named: false,
         min_args: function.min_args,
         defined_at: None,
+        positional_only: true,
     }
 }
 

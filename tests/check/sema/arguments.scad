@@ -43,7 +43,13 @@ echo(sqrt(1, 2));
 //           ^ error[E0202]
 echo(min());
 //   ^^^ error[E0203]: at least 1 argument
+// OpenSCAD ignores the names of a built-in function's arguments and uses their order, so
+// `atan2(x = 1, y = 2)` would compute atan2(1, 2): names are errors.
 echo(norm(v = [3, 4]));
+//        ^ error[E0201]: positional arguments only
+echo(atan2(x = 1, y = 2));
+//         ^ error[E0201]
+//                ^ error[E0201]
 
 // User modules and functions.
 module bolt(length, diameter = 3, head = true) cylinder(h = length, d = head ? diameter : 1);
@@ -59,7 +65,7 @@ bolt(10, 4, false, 1);
 bolt(10, diamter = 2);
 //       ^^^^^^^ error[E0201]: module `bolt` has no parameter `diamter`
 bolt(diameter = 2);
-//@ 61:1 error[E0203]: missing argument `length`
+//@ 67:1 error[E0203]: missing argument `length`
 bolt(10, length = 5);
 //       ^^^^^^ error[E0204]
 echo(hyp(3, 4), hyp(a = 3));

@@ -37,9 +37,10 @@ flat = [for (row = triangle) each row];
 evens = [for (k = 0; k < 10; k = k + 2) if (k % 4 == 0) k else -k];
 echo(triangle, flat, evens);
 
-// A default may read the parameters before it.
-module slab(w, d = w / 2, h = d / 2) cube([w, d, h]);
+// Defaults are evaluated in the scope of the definition: they see its variables, even later ones.
+module slab(w, d = default_depth) cube([w, d, 1]);
 slab(4);
+default_depth = 2;
 
 // A module body and a function literal see the whole enclosing scope.
 module uses_later() cube(later);

@@ -45,3 +45,11 @@ early = late + 1;
 //      ^^^^ error[E0106]: read before it is assigned
 late = 2;
 echo(early);
+
+// Parameter defaults are evaluated where the definition is, so they cannot read other parameters.
+module slab(w, d = w / 2) cube([w, d, 1]);
+//                 ^ error[E0101]: undefined variable `w`
+slab(4);
+function half(x, y = x) = (x + y) / 2;
+//                   ^ error[E0101]
+echo(half(3));
