@@ -17,13 +17,16 @@ use crate::quadric::{EPS, Quadric};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerances {
     /// An eigenvalue is zero when `|λ| ≤ eigenvalue · max|λ|` (default `1e-10`: an ellipsoid with
-    /// aspect ratio up to 10⁵ stays an ellipsoid; an eigenvalue of 10⁻¹² beside 1 is a cylinder).
+    /// an aspect ratio below 10⁵ stays an ellipsoid; an eigenvalue of 10⁻¹² beside 1 makes a
+    /// cylinder). Snapping an eigenvalue to zero is a local approximation: the linear term left
+    /// on that axis is then judged by [`Self::linear`], so a long ellipsoid written about a point
+    /// off its centre may come out as a paraboloid rather than a cylinder.
     pub eigenvalue: f64,
     /// A linear term on the null space is zero when `|m| ≤ linear · (‖A‖‖q‖ + ‖l‖)`, i.e. within
     /// the noise of the terms it is computed from (default `1e-10`).
     pub linear: f64,
     /// The constant `κ` is zero when `|κ| ≤ constant · (|qᵀAq| + 2|lᵀq| + |j|)`, its rounding
-    /// noise (default `64 ε ≈ 7e-15`).
+    /// noise (default `128 u ≈ 1.4e-14`, `u = 2⁻⁵³`).
     pub constant: f64,
     /// Two eigenvalues are equal (sphere, spheroid) when they differ by at most
     /// `equal · max|λ|` (default `1e-9`).
