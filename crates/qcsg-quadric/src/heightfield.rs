@@ -189,14 +189,47 @@ impl Heightfield {
         let (xs, nx) = candidates(x);
         let (ys, ny) = candidates(y);
         // Track the extremes of |∇h|² = num / den and take the two square roots at the end.
+        // Matching on the form once, outside the loop, keeps the loop branch-light.
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-        for &cx in &xs[..nx] {
-            for &cy in &ys[..ny] {
-                let (num, den) = self.slope_parts(cx, cy)?;
-                let ratio = if num == 0.0 { 0.0 } else { num / den };
-                lo = lo.min(ratio);
-                hi = hi.max(ratio);
+        let mut visit = |num: f64, den: f64| {
+            let ratio = if num == 0.0 { 0.0 } else { num / den };
+            lo = lo.min(ratio);
+            hi = hi.max(ratio);
+        };
+        match self.form {
+            HeightfieldForm::Root {
+                alpha_x,
+                alpha_y,
+                alpha_c,
+                beta_x,
+                beta_y,
+            } => {
+                for &cx in &xs[..nx] {
+                    let gx = alpha_x * cx + beta_x;
+                    let sx = (alpha_x * cx + 2.0 * beta_x) * cx + alpha_c;
+                    for &cy in &ys[..ny] {
+                        let gy = alpha_y * cy + beta_y;
+                        let s = sx + (alpha_y * cy + 2.0 * beta_y) * cy;
+                        if s < 0.0 {
+                            return None;
+                        }
+                        visit(gx * gx + gy * gy, s);
+                    }
+                }
             }
+            HeightfieldForm::Polynomial {
+                gamma_x, gamma_y, ..
+            } => {
+                // δ grows with |x| and |y|: the extremes are at the smallest and largest |x|, |y|.
+                let gx = xs[..nx].iter().map(|v| (2.0 * gamma_x * v).powi(2));
+                let gy: [f64; 3] = ys.map(|v| (2.0 * gamma_y * v).powi(2));
+                for g in gx {
+                    for &h in &gy[..ny] {
+                        visit(g + h, 1.0);
+                    }
+                }
+            }
+            HeightfieldForm::Ruled => return None,
         }
         Some(((1.0 + lo).sqrt(), (1.0 + hi).sqrt()))
     }
