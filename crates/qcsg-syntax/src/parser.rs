@@ -814,10 +814,15 @@ fn stmt_parser<'t, E: SyntaxError<'t>>(
             Assign(Expr),
             Instantiate(Vec<Arg>, Span, Option<Stmt>),
         }
+        // `cube(1) }` or `cube(1)` at the end of the file: the `;` is missing, not the child (a
+        // child may well start on the next line, so a line break proves nothing here).
         let child = just(Tok::Semi)
             .labelled("`;`")
             .to(None)
-            .or(stmt.clone().map(Some));
+            .or(stmt.clone().map(Some))
+            .recover_with(via_parser(
+                just(Tok::RBrace).ignored().or(end()).rewind().to(None),
+            ));
         let named = name(ctx)
             .then(choice((
                 just(Tok::Assign)
@@ -874,6 +879,8 @@ fn stmt_parser<'t, E: SyntaxError<'t>>(
         // balanced groups whole.
         // A `{ … }` group ends the skipped statement, as it would end a module definition.
         let brace_group = balanced_braces();
+        // A statement never starts with `)` or `]` (those are reported as stray), but a broken
+        // one may contain unbalanced ones: `for (i = [0:3) a();` is one error, not three.
         let skip = balanced_groups()
             .or(none_of([
                 Tok::Semi,
@@ -883,8 +890,11 @@ fn stmt_parser<'t, E: SyntaxError<'t>>(
                 Tok::RBracket,
             ])
             .ignored())
-            .repeated()
-            .at_least(1)
+            .then(
+                balanced_groups()
+                    .or(none_of([Tok::Semi, Tok::LBrace, Tok::RBrace]).ignored())
+                    .repeated(),
+            )
             .then(just(Tok::Semi).ignored().or(brace_group.clone()).or_not())
             .ignored()
             .or(just(Tok::Semi).ignored())
