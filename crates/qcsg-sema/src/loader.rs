@@ -47,6 +47,8 @@ pub(crate) struct Loaded {
     pub links: HashMap<(FileId, u32), FileLink>,
     /// Links in the order they were found.
     pub link_list: Vec<FileLink>,
+    /// Indices into `link_list` of each file's links.
+    pub links_by_file: HashMap<FileId, Vec<usize>>,
 }
 
 impl Loaded {
@@ -55,6 +57,15 @@ impl Loaded {
         self.links
             .get(&(file, span.start))
             .and_then(|link| link.target)
+    }
+
+    /// The `include` / `use` statements of `file`, in source order.
+    pub fn links_of(&self, file: FileId) -> impl Iterator<Item = &FileLink> {
+        self.links_by_file
+            .get(&file)
+            .into_iter()
+            .flatten()
+            .filter_map(|&i| self.link_list.get(i))
     }
 
     /// The tree of `file`.
@@ -142,6 +153,7 @@ pub(crate) fn load_program(
         trees: Vec::new(),
         links: HashMap::new(),
         link_list: Vec::new(),
+        links_by_file: HashMap::new(),
     };
     let mut by_path: HashMap<PathBuf, FileId> = HashMap::new();
     let main_name = sources.get(main).name.clone();
@@ -149,9 +161,10 @@ pub(crate) fn load_program(
         by_path.insert(normalize(Path::new(&main_name)), main);
     }
     let mut next = main.0 as usize;
+    let mut file_count = next + 1;
     // Files are added to the source map in discovery order, so walking ids is a breadth-first
     // traversal that parses each file exactly once.
-    while next < sources.iter().count() {
+    while next < file_count {
         let file = FileId(next as u32);
         next += 1;
         let parse = qcsg_syntax::parse(&sources.get(file).text, file);
@@ -161,7 +174,10 @@ pub(crate) fn load_program(
         for (kind, path) in link_statements(&tree) {
             let target = resolve_link(sources, &mut by_path, &dir, &path.path, options, loader);
             let target = match target {
-                Ok(target) => Some(target),
+                Ok(target) => {
+                    file_count = file_count.max(target.0 as usize + 1);
+                    Some(target)
+                }
                 Err(searched) => {
                     let keyword = if kind == LinkKind::Include {
                         "include"
@@ -195,6 +211,11 @@ pub(crate) fn load_program(
                 target,
             };
             loaded.links.insert((file, path.span.start), link.clone());
+            loaded
+                .links_by_file
+                .entry(file)
+                .or_default()
+                .push(loaded.link_list.len());
             loaded.link_list.push(link);
         }
         if loaded.trees.len() <= file.0 as usize {

@@ -263,7 +263,7 @@ impl<'a> Resolver<'a> {
         let mut stack = vec![root];
         let mut used = Vec::new();
         while let Some(file) = stack.pop() {
-            for link in self.loaded.link_list.iter().filter(|l| l.file == file) {
+            for link in self.loaded.links_of(file) {
                 let Some(target) = link.target else { continue };
                 match link.kind {
                     LinkKind::Include => {
@@ -1716,7 +1716,13 @@ impl<'a> Resolver<'a> {
         };
         let function = self.lookup_function(&name.name);
         let tys = self.args(file, args);
-        // OpenSCAD reads a variable of that name first and calls it if it holds a function.
+        // OpenSCAD reads a variable of that name first and calls it if it holds a function. When
+        // the variable's type is unknown and a function of the name exists too, either may run:
+        // resolve to the function but check no arguments.
+        let ambiguous = variable.as_ref().is_some_and(|b| b.ty == Ty::Any);
+        if let Some(def) = variable.as_ref().filter(|_| ambiguous).and_then(|b| b.def) {
+            self.mark_used(def);
+        }
         if let Some(binding) = &variable {
             let through_variable = binding.ty == Ty::Function
                 || (binding.ty == Ty::Any && matches!(function, FunctionLookup::Missing));
@@ -1740,7 +1746,9 @@ impl<'a> Resolver<'a> {
                     Target::Definition(def),
                 );
                 self.mark_used(def);
-                if let Some(signature) = self.user_signature(def, "function") {
+                if let Some(signature) = self.user_signature(def, "function")
+                    && !ambiguous
+                {
                     self.check_args(file, name, args_span, args, &tys, &signature);
                 }
                 return Ty::Any;
@@ -1748,7 +1756,9 @@ impl<'a> Resolver<'a> {
             FunctionLookup::Builtin(function) => {
                 self.reference(file, name.span, Namespace::Function, Target::Builtin);
                 let signature = builtin_function_signature(function);
-                self.check_args(file, name, args_span, args, &tys, &signature);
+                if !ambiguous {
+                    self.check_args(file, name, args_span, args, &tys, &signature);
+                }
                 return function.returns.ty();
             }
             FunctionLookup::Missing => {}

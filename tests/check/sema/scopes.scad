@@ -83,3 +83,8 @@ intersection_for (angle = [0 : 60 : 120]) rotate([0, 0, angle]) cube([3, 1, 1], 
 
 // Built-in constants.
 echo(PI * 2);
+
+// A parameter may hold a function literal: a call through it is not checked against the
+// built-in function of the same name, which it may be shadowing.
+module apply(len) echo(len([1, 2], 3));
+apply(function (_v, k) k);
