@@ -189,6 +189,8 @@ pub struct Dag {
     nodes: Vec<Node>,
     node_index: HashMap<NodeKey, NodeId>,
     transforms: Vec<DMat4>,
+    /// Inverses of `transforms` (`None` where singular), for membership queries.
+    inverses: Vec<Option<DMat4>>,
     transform_index: HashMap<[u64; 16], TransformId>,
     root: Option<Edge>,
     backgrounds: Vec<Edge>,
@@ -209,6 +211,7 @@ impl Dag {
             nodes: Vec::new(),
             node_index: HashMap::new(),
             transforms: vec![DMat4::IDENTITY],
+            inverses: vec![Some(DMat4::IDENTITY)],
             transform_index,
             root: None,
             backgrounds: Vec::new(),
@@ -311,8 +314,12 @@ impl Dag {
         }
         let id = TransformId(self.transforms.len() as u32);
         // Store the canonical matrix (negative zeros cleared) so output is stable.
-        self.transforms
-            .push(DMat4::from_cols_array(&key.map(f64::from_bits)));
+        let canonical = DMat4::from_cols_array(&key.map(f64::from_bits));
+        let det = canonical.determinant();
+        let inverse = canonical.inverse();
+        self.inverses
+            .push((det != 0.0 && det.is_finite() && inverse.is_finite()).then_some(inverse));
+        self.transforms.push(canonical);
         self.transform_index.insert(key, id);
         Ok(id)
     }
@@ -437,12 +444,8 @@ impl Dag {
         if id == TransformId::IDENTITY {
             return Some(p);
         }
-        let m = self.matrix(id);
-        let det = m.determinant();
-        if det == 0.0 || !det.is_finite() {
-            return None;
-        }
-        let local = m.inverse() * p.extend(1.0);
+        let inverse = self.inverses.get(id.0 as usize).copied().flatten()?;
+        let local = inverse * p.extend(1.0);
         if local.w == 0.0 {
             return None;
         }

@@ -316,8 +316,8 @@ struct Builder<'a> {
     term_limit: usize,
     literals: Vec<Literal>,
     literal_index: HashMap<LiteralKey, Option<u32>>,
-    /// Literal ids grouped by the exact bits of their quadratic part, to find equal quadrics.
-    shape_groups: HashMap<[u64; 6], Vec<u32>>,
+    /// Literal ids grouped by [`shape_key`], to find equal quadrics.
+    shape_groups: HashMap<[u64; 9], Vec<u32>>,
     /// Each node's box in its own frame.
     local_boxes: Vec<Aabb>,
     singular_reported: HashSet<NodeId>,
@@ -592,9 +592,7 @@ impl<'a> Builder<'a> {
             return None;
         };
         let world = if ctx.negated { world.negated() } else { world };
-        let coefficients = world.coefficients();
-        let shape: [u64; 6] = std::array::from_fn(|i| coefficients[i].to_bits());
-        let group = self.shape_groups.entry(shape).or_default();
+        let group = self.shape_groups.entry(shape_key(&world)).or_default();
         for &candidate in group.iter() {
             if self.literals[candidate as usize]
                 .quadric
@@ -618,6 +616,58 @@ impl<'a> Builder<'a> {
         self.literal_index.insert(key, Some(id));
         Some(id)
     }
+}
+
+/// A key under which quadrics equal up to a positive factor and a change of origin collide:
+/// the quadratic part scaled to unit largest entry (the linear part when there is none) and the
+/// point of the quadric's centre set nearest the world origin, both with the low 32 bits of
+/// their mantissas cleared. Values straddling a rounding boundary only cost a missed merge:
+/// equality is always confirmed by [`Quadric::approx_eq_up_to_scale`].
+fn shape_key(q: &Quadric) -> [u64; 9] {
+    fn coarse(x: f64) -> u64 {
+        if x == 0.0 {
+            0
+        } else {
+            x.to_bits() & !0xffff_ffffu64
+        }
+    }
+    let k = q.coefficients();
+    let origin = q.origin();
+    let l = q.linear();
+    let largest = k[..6].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut key = [0u64; 9];
+    let centre = if largest > 0.0 {
+        for (slot, v) in key.iter_mut().zip(&k[..6]) {
+            *slot = coarse(v / largest);
+        }
+        // Centre set {p : A (p − origin) + l = 0}; its point nearest the world origin is
+        // Σ over non-null eigenvectors v of v (v·origin − v·l / λ).
+        let eigen = q.eigen();
+        let tolerance = 1e-12 * largest;
+        let mut centre = qcsg_quadric::DVec3::ZERO;
+        for (value, vector) in eigen.values.iter().zip(eigen.vectors.iter()) {
+            if value.abs() > tolerance {
+                centre += *vector * (vector.dot(origin) - vector.dot(l) / value);
+            }
+        }
+        centre
+    } else {
+        let largest_linear = l.abs().max_element();
+        if largest_linear == 0.0 {
+            return key;
+        }
+        let direction = l / largest_linear;
+        key[0] = coarse(direction.x);
+        key[1] = coarse(direction.y);
+        key[2] = coarse(direction.z);
+        // The plane 2 l·(p − origin) + j = 0 meets the line t·l at its point nearest 0.
+        let t = (2.0 * l.dot(origin) - q.constant()) / (2.0 * l.length_squared());
+        l * t
+    };
+    key[6] = coarse(centre.x);
+    key[7] = coarse(centre.y);
+    key[8] = coarse(centre.z);
+    key
 }
 
 /// Each node's box in its own frame, children before parents (the arena's order).
