@@ -457,6 +457,38 @@ mod tests {
     }
 
     #[test]
+    fn a_file_included_twice_defines_its_names_once() {
+        let loader =
+            MemoryLoader::default().with("dir/lib.scad", "size = 2;\nmodule part() cube(size);\n");
+        let text = "include <lib.scad>\nsize = 3;\ninclude <lib.scad>\npart();\n";
+        let analysis = check_with(text, &CheckOptions::default(), &loader);
+        // As in OpenSCAD, the second include overwrites the main file's value, which is unused.
+        assert_eq!(
+            codes(&analysis),
+            [codes::UNUSED_VARIABLE, codes::REASSIGNMENT]
+        );
+        let sizes: Vec<&Definition> = analysis
+            .definitions
+            .iter()
+            .filter(|d| d.name == "size")
+            .collect();
+        assert_eq!(sizes.len(), 2);
+        // `redefines` chains end.
+        for definition in &analysis.definitions {
+            let mut steps = 0;
+            let mut next = definition.redefines;
+            while let Some(id) = next {
+                steps += 1;
+                assert!(
+                    steps <= analysis.definitions.len(),
+                    "cyclic redefinition chain"
+                );
+                next = analysis.definition(id).and_then(|d| d.redefines);
+            }
+        }
+    }
+
+    #[test]
     fn garbage_never_panics() {
         for text in [
             "",

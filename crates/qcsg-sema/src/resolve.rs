@@ -467,7 +467,11 @@ impl<'a> Resolver<'a> {
                                 group.push(index);
                             }
                             if let Some(previous) = previous.filter(|&p| p != def) {
-                                self.definitions[def.0 as usize].redefines = Some(previous);
+                                // A file included twice repeats its assignments: link each
+                                // definition once so that `redefines` chains stay acyclic.
+                                if fresh {
+                                    self.definitions[def.0 as usize].redefines = Some(previous);
+                                }
                                 self.report_reassignment(previous, def);
                             }
                         }
