@@ -920,14 +920,14 @@ impl<'a> Resolver<'a> {
             file,
             name.span,
         );
-        if let Some(suggestion) = self.suggest(&name.name, Namespace::Module) {
-            diagnostic = diagnostic.with_help(format!(
-                "a module with a similar name exists: `{suggestion}`"
-            ));
-        } else if let VarLookup::Found(_) = self.lookup_var(&name.name) {
+        if let VarLookup::Found(_) = self.lookup_var(&name.name) {
             diagnostic = diagnostic.with_help(format!(
                 "`{}` is a variable; modules live in a separate namespace",
                 name.name
+            ));
+        } else if let Some(suggestion) = self.suggest(&name.name, Namespace::Module) {
+            diagnostic = diagnostic.with_help(format!(
+                "a module with a similar name exists: `{suggestion}`"
             ));
         }
         self.diagnostics.push(diagnostic);
@@ -1167,9 +1167,28 @@ impl<'a> Resolver<'a> {
         } else {
             format!("`{param}`")
         };
-        match expected.check(ty) {
-            Ok(()) => {}
-            Err(Mismatch::Type(expected)) => {
+        let mismatch = match expected.check(ty) {
+            Ok(()) => return,
+            Err(mismatch) => mismatch,
+        };
+        // When the value comes from a variable, point at where its type comes from.
+        let origin = match &arg.value.kind {
+            ExprKind::Ident(ident) => match self.lookup_var(&ident.name) {
+                VarLookup::Found(binding) => {
+                    binding.def.and_then(|def| self.definition(def)).map(|d| {
+                        (
+                            d.file,
+                            d.name_span,
+                            format!("`{}` is assigned here", d.name),
+                        )
+                    })
+                }
+                _ => None,
+            },
+            _ => None,
+        };
+        let diagnostic = match mismatch {
+            Mismatch::Type(expected) => {
                 let mut diagnostic = Diagnostic::error(
                     codes::ARGUMENT_TYPE,
                     format!(
@@ -1184,21 +1203,26 @@ impl<'a> Resolver<'a> {
                     diagnostic = diagnostic
                         .with_help("OpenSCAD ignores a number here; write `true` or `false`");
                 }
-                self.diagnostics.push(diagnostic);
+                diagnostic
             }
-            Err(Mismatch::Length { given, allowed }) => {
-                self.diagnostics.push(Diagnostic::error(
-                    codes::ARGUMENT_LENGTH,
-                    format!(
-                        "{} expects {what} to have {} elements, found {given}",
-                        signature.title,
-                        format_lengths(allowed)
-                    ),
-                    file,
-                    arg.value.span,
-                ));
+            Mismatch::Length { given, allowed } => Diagnostic::error(
+                codes::ARGUMENT_LENGTH,
+                format!(
+                    "{} expects {what} to have {} elements, found {given}",
+                    signature.title,
+                    format_lengths(allowed)
+                ),
+                file,
+                arg.value.span,
+            ),
+        };
+        let diagnostic = match origin {
+            Some((def_file, def_span, message)) => {
+                diagnostic.with_label(def_file, def_span, message)
             }
-        }
+            None => diagnostic,
+        };
+        self.diagnostics.push(diagnostic);
     }
 
     // ----- expressions ------------------------------------------------------------------------
