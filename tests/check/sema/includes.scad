@@ -14,6 +14,10 @@ echo(tool_volume(2));
 echo(tool_size);
 //   ^^^^^^^^^ error[E0101]: undefined variable `tool_size`
 
+// `use` is not transitive: what tools.scad uses is not visible here.
+inner_tool();
+//@ 18:1 error[E0103]: undefined module `inner_tool`
+
 // Arguments of library modules are checked like any other.
 tool(m = 2);
 //   ^ error[E0201]
