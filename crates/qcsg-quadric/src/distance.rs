@@ -30,11 +30,8 @@ impl Quadric {
         let half_gradient = ax + l;
         let value = x.dot(ax + 2.0 * l) + self.constant();
 
-        let abs_x = x.abs();
-        let abs_ax = self.apply_abs_a(abs_x);
-        let abs_l = l.abs();
-        let value_error = 16.0 * EPS * (abs_x.dot(abs_ax + 2.0 * abs_l) + self.constant().abs());
-        let gradient_error = 8.0 * EPS * (abs_ax + abs_l).length();
+        let value_error = 16.0 * EPS * self.term_bound(x);
+        let gradient_error = 8.0 * EPS * self.half_gradient_term_bound(x);
 
         let magnitude = value.abs() - value_error;
         if magnitude <= 0.0 {
@@ -46,7 +43,7 @@ impl Quadric {
         let curvature = if value < 0.0 { upper } else { -lower };
         let t = first_root(magnitude, slope, curvature);
         // Absorb the rounding of t itself and of p − origin.
-        let t = (t * (1.0 - 8.0 * EPS) - 2.0 * EPS * abs_x.max_element()).max(0.0);
+        let t = (t * (1.0 - 8.0 * EPS) - 2.0 * EPS * x.abs().max_element()).max(0.0);
         t.copysign(value)
     }
 }

@@ -28,6 +28,10 @@ pub struct Quadric {
     eigen_lower: f64,
     /// An upper bound on the largest eigenvalue of `A`.
     eigen_upper: f64,
+    /// `Σ |A_rc|` over all nine entries, for cheap rounding-error bounds.
+    abs_sum_a: f64,
+    /// `Σ |l_k|`.
+    abs_sum_l: f64,
 }
 
 impl Quadric {
@@ -68,13 +72,37 @@ impl Quadric {
             coefficients,
             eigen_lower: 0.0,
             eigen_upper: 0.0,
+            abs_sum_a: 0.0,
+            abs_sum_l: 0.0,
         };
+        q.update_abs_sums();
         let eigen = q.eigen();
         // Jacobi's absolute eigenvalue error is a few ulps of ‖A‖; widen by a safe margin.
         let margin = 32.0 * EPS * q.matrix_norm();
         q.eigen_lower = eigen.values[0] - margin;
         q.eigen_upper = eigen.values[2] + margin;
         q
+    }
+
+    fn update_abs_sums(&mut self) {
+        let k = self.coefficients.map(f64::abs);
+        self.abs_sum_a = k[0] + k[1] + k[2] + 2.0 * (k[3] + k[4] + k[5]);
+        self.abs_sum_l = k[6] + k[7] + k[8];
+    }
+
+    /// A bound on the magnitude of the terms of `Q` at the local vector `x`:
+    /// `‖x‖∞² Σ|A_rc| + 2 ‖x‖∞ Σ|l_k| + |j| ≥ |x|ᵀ|A||x| + 2|l|ᵀ|x| + |j|`.
+    #[inline]
+    pub(crate) fn term_bound(&self, x: DVec3) -> f64 {
+        let m = x.abs().max_element();
+        (m * self.abs_sum_a + 2.0 * self.abs_sum_l) * m + self.coefficients[9].abs()
+    }
+
+    /// A bound on the magnitude of the terms of `A x + l`: `‖x‖∞ Σ|A_rc| + Σ|l_k|`, which bounds
+    /// the 1-norm (hence the 2-norm) of `|A||x| + |l|`.
+    #[inline]
+    pub(crate) fn half_gradient_term_bound(&self, x: DVec3) -> f64 {
+        x.abs().max_element() * self.abs_sum_a + self.abs_sum_l
     }
 
     /// The local origin in world coordinates.
@@ -137,17 +165,6 @@ impl Quadric {
         )
     }
 
-    /// `|A| x` (entrywise absolute matrix) for a non-negative `x`: the magnitude of the terms of `A x`.
-    #[inline]
-    pub(crate) fn apply_abs_a(&self, x: DVec3) -> DVec3 {
-        let [a, b, c, d, e, f, ..] = self.coefficients.map(f64::abs);
-        DVec3::new(
-            a * x.x + d * x.y + e * x.z,
-            d * x.x + b * x.y + f * x.z,
-            e * x.x + f * x.y + c * x.z,
-        )
-    }
-
     /// The value `q(x)` at a local vector `x = p − origin`.
     #[inline]
     pub fn value_local(&self, x: DVec3) -> f64 {
@@ -164,16 +181,12 @@ impl Quadric {
     }
 
     /// The value at a world point together with a rigorous bound on its rounding error,
-    /// `16 ε (|x|ᵀ|A||x| + 2|l|ᵀ|x| + |j|)` with `x = p − origin` and `ε = 2⁻⁵³` (this includes the
-    /// rounding of `p − origin`).
+    /// `16 u (‖x‖∞² Σ|A_rc| + 2 ‖x‖∞ Σ|l_k| + |j|)` with `x = p − origin` and `u = 2⁻⁵³`, which
+    /// dominates `16 u (|x|ᵀ|A||x| + 2|l|ᵀ|x| + |j|)` (this includes the rounding of `p − origin`).
     #[inline]
     pub fn value_with_error(&self, p: DVec3) -> (f64, f64) {
         let x = p - self.origin;
-        let value = self.value_local(x);
-        let ax = x.abs();
-        let magnitude =
-            ax.dot(self.apply_abs_a(ax) + 2.0 * self.linear().abs()) + self.coefficients[9].abs();
-        (value, 16.0 * EPS * magnitude)
+        (self.value_local(x), 16.0 * EPS * self.term_bound(x))
     }
 
     /// The gradient `∇Q(p) = 2 (A x + l)` (eq. 4, with `b = −l`), `x = p − origin`.
@@ -207,6 +220,7 @@ impl Quadric {
             coefficients: self.coefficients.map(|c| -c),
             eigen_lower: -self.eigen_upper,
             eigen_upper: -self.eigen_lower,
+            ..*self
         }
     }
 
@@ -246,11 +260,13 @@ impl Quadric {
         coefficients[7] = l.y;
         coefficients[8] = l.z;
         coefficients[9] = j;
-        Self {
+        let mut moved = Self {
             origin: new_origin,
             coefficients,
             ..*self
-        }
+        };
+        moved.update_abs_sums();
+        moved
     }
 
     /// The image of the quadric under the invertible transform `m` (points map as `p' = M p`):
