@@ -101,6 +101,7 @@ impl PrincipalFrame {
 
 impl Heightfield {
     /// The radicand `S(x, y)` of a [`HeightfieldForm::Root`] heightfield; `None` otherwise.
+    /// Exact to a few `u` of its terms `|α_x| x² + |α_y| y² + 2|β_x x| + 2|β_y y| + |α_c|`.
     pub fn radicand(&self, x: f64, y: f64) -> Option<f64> {
         match self.form {
             HeightfieldForm::Root {
@@ -117,7 +118,10 @@ impl Heightfield {
     }
 
     /// The height `h(x, y)` (the non-negative branch for [`HeightfieldForm::Root`]); `None` where
-    /// the line through `(x, y)` misses the surface or the surface is ruled.
+    /// the line through `(x, y)` misses the surface or the surface is ruled. The tests check that
+    /// `centre + x u_i + y u_j ± h u_k` lies on the surface to `1e-9` of `|∇Q|` times its distance
+    /// from the origin, and to `1e-9` of the radius on a far, small sphere; near the rim (`S → 0`)
+    /// the height inherits the absolute error of `S` through the square root.
     pub fn height(&self, x: f64, y: f64) -> Option<f64> {
         match self.form {
             HeightfieldForm::Root { .. } => {

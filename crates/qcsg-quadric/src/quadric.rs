@@ -174,7 +174,8 @@ impl Quadric {
 
     /// The value `Q(p)` at a world point (eq. 3). Negative inside, positive outside.
     ///
-    /// Error bound: see [`Self::value_with_error`].
+    /// Error bound: see [`Self::value_with_error`] (tested through the sign agreement of values
+    /// across transforms and the canonical form, which agree to `1e-9` of the terms).
     #[inline]
     pub fn value(&self, p: DVec3) -> f64 {
         self.value_local(p - self.origin)
@@ -190,6 +191,9 @@ impl Quadric {
     }
 
     /// The gradient `∇Q(p) = 2 (A x + l)` (eq. 4, with `b = −l`), `x = p − origin`.
+    ///
+    /// Each component is exact to `8 u (‖x‖∞ Σ|A_rc| + Σ|l_k|)` (`u = 2⁻⁵³`); the tests compare it
+    /// with central differences of [`Self::value`] to `1e-6` relative.
     #[inline]
     pub fn gradient(&self, p: DVec3) -> DVec3 {
         let x = p - self.origin;
@@ -197,7 +201,9 @@ impl Quadric {
     }
 
     /// The outward unit normal `N(p)` (eq. 4); `None` where the gradient vanishes (the centre of
-    /// a central quadric, a cone's apex, every point of a degenerate quadric).
+    /// a central quadric, a cone's apex, every point of a degenerate quadric). Unit length to
+    /// `1e-15` (tested), direction as accurate as [`Self::gradient`], without overflow or
+    /// underflow for any finite gradient.
     #[inline]
     pub fn normal(&self, p: DVec3) -> Option<DVec3> {
         let g = self.gradient(p);

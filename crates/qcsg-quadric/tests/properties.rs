@@ -389,3 +389,30 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(config(200))]
+
+    #[test]
+    fn gradient_matches_finite_differences(index in 0usize..20, seed in any::<u64>()) {
+        let cases = catalogue();
+        let case = &cases[index % cases.len()];
+        let mut rng = Rng::new(seed);
+        let q = case.quadric.transformed(&rng.similarity(10.0, 10.0)).expect("invertible");
+        let p = q.origin() + rng.direction() * rng.range(0.1, 3.0) * case.size;
+        let g = q.gradient(p);
+        // Central differences are exact for quadratics up to rounding.
+        let h = 1e-3 * case.size;
+        let fd = DVec3::new(
+            q.value(p + DVec3::X * h) - q.value(p - DVec3::X * h),
+            q.value(p + DVec3::Y * h) - q.value(p - DVec3::Y * h),
+            q.value(p + DVec3::Z * h) - q.value(p - DVec3::Z * h),
+        ) / (2.0 * h);
+        let terms = raw_value(&q.coefficients().map(f64::abs), (p - q.origin()).abs() + h);
+        prop_assert!((g - fd).length() <= 1e-6 * (g.length() + terms / h), "{}: {g} vs {fd}", case.name);
+        if let Some(n) = q.normal(p) {
+            prop_assert!((n.length() - 1.0).abs() <= 1e-15);
+            prop_assert!(n.dot(g) > 0.0);
+        }
+    }
+}
