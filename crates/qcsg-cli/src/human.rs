@@ -115,7 +115,7 @@ impl Report {
                     message: format!("note: {}", label.message),
                     severity: miette::Severity::Advice,
                     help: None,
-                    source: file_source(sources, label.file),
+                    source: file_source(sources, label.file, &[label.span]),
                     labels: vec![LabeledSpan::new_primary_with_span(
                         None,
                         source_span(label.span),
@@ -124,6 +124,15 @@ impl Report {
                 });
             }
         }
+        let local_spans: Vec<Span> = std::iter::once(diagnostic.span)
+            .chain(
+                diagnostic
+                    .labels
+                    .iter()
+                    .filter(|l| l.file == diagnostic.file)
+                    .map(|l| l.span),
+            )
+            .collect();
         Report {
             header: format!("{}[{}]", diagnostic.severity.as_str(), diagnostic.code),
             message: diagnostic.message.clone(),
@@ -133,7 +142,7 @@ impl Report {
                 Severity::Info | Severity::Hint => miette::Severity::Advice,
             },
             help: diagnostic.help.clone(),
-            source: file_source(sources, diagnostic.file),
+            source: file_source(sources, diagnostic.file, &local_spans),
             labels,
             notes,
         }
@@ -143,9 +152,9 @@ impl Report {
 /// A source file as miette reads it.
 ///
 /// Two differences from miette's `NamedSource`: the `file:line:column` header counts the column
-/// in characters (miette counts bytes, which puts `größe` columns off), and a missing final
-/// newline is added, without which miette draws no marker for an empty span at the very end of
-/// the file ("unexpected end of file").
+/// in characters (miette counts bytes, which puts `größe` columns off), and a newline is added
+/// where needed, without which miette draws no marker for an empty span at the very end of the
+/// file ("unexpected end of file").
 #[derive(Debug)]
 struct FileSource {
     name: String,
@@ -184,12 +193,17 @@ impl SourceCode for FileSource {
     }
 }
 
-fn file_source(sources: &SourceMap, file: FileId) -> FileSource {
+fn file_source(sources: &SourceMap, file: FileId, spans: &[Span]) -> FileSource {
     let file = sources.get(file);
-    let text = if file.text.ends_with('\n') {
-        file.text.clone()
-    } else {
+    let at_end = spans
+        .iter()
+        .any(|span| span.start as usize >= file.text.len());
+    // A span at the very end needs a character there to be drawn under: after a final newline
+    // that is an (empty) extra line, otherwise a newline ending the last line.
+    let text = if at_end || !file.text.ends_with('\n') {
         format!("{}\n", file.text)
+    } else {
+        file.text.clone()
     };
     FileSource {
         name: file.name.clone(),
@@ -333,6 +347,20 @@ mod tests {
         insta::assert_snapshot!(
             renderer.render(&sources, &diagnostic) + &renderer.render(&sources, &eof)
         );
+    }
+
+    #[test]
+    fn label_at_the_end_of_a_file_with_a_final_newline() {
+        let mut sources = SourceMap::new();
+        let text = "translate([1, 0, 0)\ncube(1);\n";
+        let file = sources.add("open.qcsg", text);
+        let diagnostic = Diagnostic::error("E0008", "unclosed `[`", file, Span::new(10, 11))
+            .with_label(
+                file,
+                Span::empty(text.len()),
+                "expected `]` before the end of the file",
+            );
+        insta::assert_snapshot!(HumanRenderer::plain().render(&sources, &diagnostic));
     }
 
     #[test]
