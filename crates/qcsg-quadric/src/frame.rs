@@ -104,9 +104,14 @@ impl PrincipalFrame {
         let mut linear = [0.0; 3];
         if has_linear {
             let direction = null_linear.normalize();
-            let nulls: Vec<usize> = (0..3).filter(|&k| is_null[k]).collect();
+            let mut nulls = [0usize; 3];
+            let mut count = 0;
+            for k in (0..3).filter(|&k| is_null[k]) {
+                nulls[count] = k;
+                count += 1;
+            }
             // The axis that carries the linear term, and one that may be flipped for handedness.
-            let (carry, free) = match nulls.as_slice() {
+            let (carry, free) = match &nulls[..count] {
                 [k] => (*k, None),
                 [a, b] => {
                     // Rotate the null plane so that its first axis carries the linear term.
