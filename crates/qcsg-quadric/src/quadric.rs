@@ -309,15 +309,17 @@ impl Quadric {
 
     fn transformed_projective(&self, m: &DMat4) -> Option<Self> {
         let image = *m * self.origin.extend(1.0);
-        let origin =
-            if image.w.abs() > f64::MIN_POSITIVE && (image.truncate() / image.w).is_finite() {
-                image.truncate() / image.w
-            } else {
-                DVec3::ZERO
-            };
+        let mapped = image.truncate() / image.w;
+        // An origin sent to (or near) infinity cannot be the new origin: fall back to zero.
+        let origin_is_mapped = image.w != 0.0 && mapped.is_finite();
+        let origin = if origin_is_mapped {
+            mapped
+        } else {
+            DVec3::ZERO
+        };
         // K maps old local coordinates to new local ones: K = T(−o') M T(o).
         let mut k = DMat4::from_translation(-origin) * *m * DMat4::from_translation(self.origin);
-        if origin != DVec3::ZERO || image.w.abs() > f64::MIN_POSITIVE {
+        if origin_is_mapped {
             // The old origin lands on the new origin: clear the rounding noise there.
             k.w_axis = DVec4::new(0.0, 0.0, 0.0, image.w);
         }

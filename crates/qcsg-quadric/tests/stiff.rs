@@ -816,3 +816,24 @@ fn recentring_recovers_well_conditioned_coefficients() {
     let c = cylinder.min_norm_centre(&Tolerances::default());
     assert!((c - DVec3::new(5.0, 7.0, 3.0)).length() <= 1e-12, "{c}");
 }
+
+#[test]
+fn projective_transforms_keep_inside_and_outside() {
+    // A perspective map (w = 1 + z/10): points keep their side of the sphere where w > 0.
+    let q = Quadric::sphere(DVec3::new(0.5, -0.25, 1.0), 1.0).unwrap();
+    let mut m = DMat4::IDENTITY;
+    m.z_axis.w = 0.1;
+    let t = q.transformed(&m).expect("invertible");
+    let mut rng = Rng::new(77);
+    for _ in 0..500 {
+        let p = DVec3::new(0.5, -0.25, 1.0) + rng.direction() * rng.range(0.0, 2.0);
+        let w = 1.0 + 0.1 * p.z;
+        let image = DVec3::new(p.x, p.y, p.z) / w;
+        let (v, err) = q.value_with_error(p);
+        if v.abs() > 1e-9 {
+            assert_eq!(v.signum(), t.value(image).signum(), "{p} (err {err:e})");
+        }
+    }
+    // The sphere's centre is mapped to the new origin.
+    assert!((t.origin() - DVec3::new(0.5, -0.25, 1.0) / 1.1).length() <= 1e-15);
+}
