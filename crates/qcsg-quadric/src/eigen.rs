@@ -31,13 +31,21 @@ const MAX_SWEEPS: usize = 50;
 /// eigenvalues included; `‖A v_k − λ_k v_k‖ ≤ 1e-14 ‖A‖_F`. Non-finite input gives non-finite
 /// output but never panics.
 pub fn symmetric_eigen(m: &Sym3) -> SymmetricEigen {
+    // Scale by a power of two (exact) so that the largest entry is in [1, 2): no intermediate
+    // can overflow or underflow, whatever the magnitude of the input.
+    let largest = m.iter().flatten().fold(0.0f64, |acc, v| acc.max(v.abs()));
+    let factor = if largest > 0.0 && largest.is_finite() {
+        power_of_two_reciprocal(largest)
+    } else {
+        1.0
+    };
     let mut a = [[0.0; 3]; 3];
     for (r, row) in a.iter_mut().enumerate() {
         for (c, entry) in row.iter_mut().enumerate() {
             *entry = if r == c {
-                m[r][c]
+                m[r][c] * factor
             } else {
-                0.5 * (m[r][c] + m[c][r])
+                0.5 * (m[r][c] * factor + m[c][r] * factor)
             };
         }
     }
@@ -102,9 +110,23 @@ pub fn symmetric_eigen(m: &Sym3) -> SymmetricEigen {
         vectors[2] = -vectors[2];
     }
     SymmetricEigen {
-        values: order.map(|k| a[k][k]),
+        values: order.map(|k| a[k][k] / factor),
         vectors,
     }
+}
+
+/// `2^−e` with `2^e ≤ scale < 2^(e+1)`, so that `scale · 2^−e ∈ [1, 2)`.
+pub(crate) fn power_of_two_reciprocal(scale: f64) -> f64 {
+    let mut exponent = scale.log2().floor() as i32;
+    // log2 may round across a power of two; correct by one step.
+    if 2f64.powi(exponent) > scale {
+        exponent -= 1;
+    } else if 2f64.powi(exponent + 1) <= scale {
+        exponent += 1;
+    }
+    // Split the factor so that neither half overflows for extreme exponents.
+    let half = -exponent / 2;
+    2f64.powi(half) * 2f64.powi(-exponent - half)
 }
 
 /// Flips `v` so that its component of largest magnitude (first on ties) is positive.
@@ -129,6 +151,36 @@ mod tests {
         let e = symmetric_eigen(&[[3.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 2.0]]);
         assert_eq!(e.values, [-1.0, 2.0, 3.0]);
         assert_eq!(e.vectors[0], DVec3::Y);
+    }
+
+    #[test]
+    fn normalisation_is_a_power_of_two() {
+        for s in [
+            1.0,
+            1.5,
+            2.0,
+            3.0,
+            1e-300,
+            1e300,
+            0.75,
+            f64::MIN_POSITIVE,
+            f64::MAX,
+        ] {
+            let f = power_of_two_reciprocal(s);
+            let scaled = s * f;
+            assert!((1.0..2.0).contains(&scaled), "{s} -> {scaled}");
+            assert_eq!(f.log2().fract(), 0.0);
+        }
+    }
+
+    #[test]
+    fn extreme_magnitudes() {
+        for s in [1e-300, 1e300, f64::MAX / 4.0] {
+            let e = symmetric_eigen(&[[s, -s, 0.0], [-s, -s, 0.5 * s], [0.0, 0.5 * s, 0.25 * s]]);
+            let trace = e.values.iter().sum::<f64>();
+            assert!((trace - 0.25 * s).abs() <= 1e-14 * s, "{s}: {:?}", e.values);
+            assert!(e.values.iter().all(|v| v.is_finite()));
+        }
     }
 
     #[test]

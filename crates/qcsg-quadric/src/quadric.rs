@@ -11,7 +11,7 @@
 
 use glam::{DMat3, DMat4, DVec3, DVec4};
 
-use crate::eigen::{Sym3, SymmetricEigen, symmetric_eigen};
+use crate::eigen::{Sym3, SymmetricEigen, power_of_two_reciprocal, symmetric_eigen};
 
 /// Unit roundoff of f64.
 pub(crate) const EPS: f64 = f64::EPSILON * 0.5;
@@ -366,20 +366,6 @@ impl Quadric {
     }
 }
 
-/// `2^−e` with `2^e ≤ scale < 2^(e+1)`, so that `scale · 2^−e ∈ [1, 2)`.
-fn power_of_two_reciprocal(scale: f64) -> f64 {
-    let mut exponent = scale.log2().floor() as i32;
-    // log2 may round across a power of two; correct by one step.
-    if 2f64.powi(exponent) > scale {
-        exponent -= 1;
-    } else if 2f64.powi(exponent + 1) <= scale {
-        exponent += 1;
-    }
-    // Split the factor so that neither half overflows for extreme exponents.
-    let half = -exponent / 2;
-    2f64.powi(half) * 2f64.powi(-exponent - half)
-}
-
 /// `Nᵀ A N` for symmetric `A`, symmetrised.
 fn congruence(a: &Sym3, n: &DMat3) -> Sym3 {
     let a_mat = DMat3::from_cols_array_2d(a);
@@ -391,19 +377,4 @@ fn congruence(a: &Sym3, n: &DMat3) -> Sym3 {
         }
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn normalisation_is_a_power_of_two() {
-        for s in [1.0, 1.5, 2.0, 3.0, 1e-300, 1e300, 0.75, f64::MIN_POSITIVE] {
-            let f = power_of_two_reciprocal(s);
-            let scaled = s * f;
-            assert!((1.0..2.0).contains(&scaled), "{s} -> {scaled}");
-            assert_eq!(f.log2().fract(), 0.0);
-        }
-    }
 }
