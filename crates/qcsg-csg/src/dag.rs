@@ -182,8 +182,9 @@ impl NodeKey {
 /// The scene DAG: nodes, interned transforms, the root and the background roots.
 ///
 /// Build it bottom-up with the builder methods; every method returns a handle into this DAG
-/// and never panics. Handles from another DAG are a logic error that methods report by
-/// returning `None`/`false` where they read nodes.
+/// and never panics. Children always precede their parents, so the DAG is acyclic by
+/// construction: an edge to a handle this DAG does not hold (a logic error) is stored as an edge
+/// to the empty solid, and queries given such a handle answer `None` / `false`.
 #[derive(Clone, Debug)]
 pub struct Dag {
     nodes: Vec<Node>,
@@ -423,6 +424,13 @@ impl Dag {
 
     /// Whether `p` (in the node's local frame) lies in the node's solid.
     pub fn node_contains(&self, id: NodeId, p: DVec3) -> bool {
+        // Deep DAGs (a recursive module) must not overflow the stack.
+        stacker::maybe_grow(128 * 1024, 4 * 1024 * 1024, || {
+            self.node_contains_inner(id, p)
+        })
+    }
+
+    fn node_contains_inner(&self, id: NodeId, p: DVec3) -> bool {
         let Some(node) = self.node(id) else {
             return false;
         };
@@ -453,7 +461,39 @@ impl Dag {
         local.is_finite().then_some(local)
     }
 
+    /// An edge that refers into this DAG: a child handle from elsewhere (which could otherwise
+    /// name a node created later, and so a cycle) becomes the empty solid, an unknown transform
+    /// the identity.
+    fn sanitize(&mut self, edge: Edge) -> Edge {
+        let child = if (edge.child.0 as usize) < self.nodes.len() {
+            edge.child
+        } else {
+            self.intern(NodeKind::Union(Vec::new()), Source::default(), None)
+        };
+        let transform = if (edge.transform.0 as usize) < self.transforms.len() {
+            edge.transform
+        } else {
+            TransformId::IDENTITY
+        };
+        Edge { child, transform }
+    }
+
     fn intern(&mut self, kind: NodeKind, source: Source, bounds: Option<Aabb>) -> NodeId {
+        let kind = match kind {
+            NodeKind::Leaf(_) => kind,
+            NodeKind::Union(c) => {
+                NodeKind::Union(c.into_iter().map(|e| self.sanitize(e)).collect())
+            }
+            NodeKind::Intersection(c) => {
+                NodeKind::Intersection(c.into_iter().map(|e| self.sanitize(e)).collect())
+            }
+            NodeKind::Difference(c) => {
+                NodeKind::Difference(c.into_iter().map(|e| self.sanitize(e)).collect())
+            }
+            NodeKind::Complement(e) => NodeKind::Complement(self.sanitize(e)),
+            NodeKind::Color(rgba, e) => NodeKind::Color(rgba, self.sanitize(e)),
+            NodeKind::Highlight(e) => NodeKind::Highlight(self.sanitize(e)),
+        };
         let node = Node {
             kind,
             source,
@@ -515,5 +555,33 @@ mod tests {
             dag.transform(&DMat4::from_cols_array(&[f64::NAN; 16]))
                 .is_err()
         );
+    }
+
+    #[test]
+    fn foreign_handles_cannot_make_cycles() {
+        let mut dag = Dag::new();
+        let s = dag.leaf(sphere(), Source::default());
+        let bogus = Edge {
+            child: NodeId(7),
+            transform: TransformId(9),
+        };
+        let u = dag.union([s.into(), bogus], Source::default());
+        let children = dag.node(u).unwrap().kind.children().to_vec();
+        assert!(children.iter().all(|e| e.child < u));
+        assert_eq!(children[1].transform, TransformId::IDENTITY);
+        dag.set_root(u.into());
+        assert!(dag.contains(DVec3::ZERO));
+    }
+
+    #[test]
+    fn deep_dags_do_not_overflow_the_stack() {
+        let mut dag = Dag::new();
+        let mut node = dag.leaf(sphere(), Source::default());
+        for i in 0..100_000u32 {
+            let step = Source::new(FileId(0), Span::new(i as usize, i as usize + 1));
+            node = dag.union([node.into()], step);
+        }
+        dag.set_root(node.into());
+        assert!(dag.contains(DVec3::ZERO));
     }
 }

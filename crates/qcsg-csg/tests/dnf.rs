@@ -129,3 +129,23 @@ fn no_root_is_an_error() {
         codes::NO_ROOT
     );
 }
+
+#[test]
+fn deep_dags_build_without_overflowing_the_stack() {
+    let mut dag = Dag::new();
+    let mut node = sphere(&mut dag, 1.0, 0);
+    for i in 0..50_000 {
+        let step = dag
+            .translated(node.into(), DVec3::new(1e-6, 0.0, 0.0))
+            .unwrap();
+        node = if i % 2 == 0 {
+            dag.union([step], src(i))
+        } else {
+            dag.intersection([step], src(i))
+        };
+    }
+    dag.set_root(node.into());
+    let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+    assert_eq!(dnf.terms.len(), 1);
+    assert!(dnf.contains(DVec3::new(0.05, 0.0, 0.0)));
+}
