@@ -349,20 +349,55 @@ impl Quadric {
         )
     }
 
-    /// Whether `other` describes the same solid up to a positive factor: both are expressed
-    /// about `self`'s origin, scaled to unit largest coefficient, and compared entrywise with
-    /// absolute tolerance `tolerance` (so `1e-12` means "equal to 12 digits of the largest
-    /// coefficient"). A complement (negative factor) never compares equal.
+    /// Whether `other` describes the same solid up to a positive factor.
+    ///
+    /// Both are expressed about `self`'s origin and in `self`'s own length unit `s` (which
+    /// balances the quadratic, linear and constant parts: `s = √(|j| / max|A|)` when both are
+    /// non-zero, else `|l| / max|A|` or `|j| / |l|`, else 1), scaled to unit largest coefficient,
+    /// and compared entrywise with absolute tolerance `tolerance`. So `1e-12` means "the same to
+    /// about 12 digits of the feature size", for a sphere of radius `1e-3` at `10⁶` as for a unit
+    /// one. A complement (negative factor) never compares equal.
     pub fn approx_eq_up_to_scale(&self, other: &Self, tolerance: f64) -> bool {
         let other = other.with_origin(self.origin);
-        let (sa, sb) = (self.scale(), other.scale());
-        if sa == 0.0 || sb == 0.0 {
-            return sa == sb;
+        let unit = self.length_unit();
+        let balance = |k: &[f64; 10]| {
+            let mut b = *k;
+            b[..6].iter_mut().for_each(|c| *c *= unit * unit);
+            b[6..9].iter_mut().for_each(|c| *c *= unit);
+            b
+        };
+        let (a, b) = (balance(&self.coefficients), balance(&other.coefficients));
+        let scale = |k: &[f64; 10]| k.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let (sa, sb) = (scale(&a), scale(&b));
+        if sa == 0.0 || sb == 0.0 || !sa.is_finite() || !sb.is_finite() {
+            return sa == sb && self.coefficients == other.coefficients;
         }
-        self.coefficients
-            .iter()
-            .zip(other.coefficients.iter())
+        a.iter()
+            .zip(b.iter())
             .all(|(x, y)| (x / sa - y / sb).abs() <= tolerance)
+    }
+
+    /// The length unit that balances the coefficient groups (see
+    /// [`Self::approx_eq_up_to_scale`]).
+    fn length_unit(&self) -> f64 {
+        let k = &self.coefficients;
+        let a = k[..6].iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let l = k[6..9].iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let j = k[9].abs();
+        let unit = if a > 0.0 && j > 0.0 {
+            (j / a).sqrt()
+        } else if a > 0.0 && l > 0.0 {
+            l / a
+        } else if l > 0.0 && j > 0.0 {
+            j / l
+        } else {
+            1.0
+        };
+        if unit > 0.0 && unit.is_finite() {
+            unit
+        } else {
+            1.0
+        }
     }
 }
 

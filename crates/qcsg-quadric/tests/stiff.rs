@@ -837,3 +837,27 @@ fn projective_transforms_keep_inside_and_outside() {
     // The sphere's centre is mapped to the new origin.
     assert!((t.origin() - DVec3::new(0.5, -0.25, 1.0) / 1.1).length() <= 1e-15);
 }
+
+#[test]
+fn coincident_quadrics_compare_equal_far_away() {
+    // The same sphere reached two ways, at 1e6: equal to 1e-12 of the largest coefficient.
+    let direct = Quadric::sphere(DVec3::new(1e6, 2e6, -3e6), 1e-3).unwrap();
+    let (built, _) = apply(
+        &Quadric::sphere(DVec3::ZERO, 1.0).unwrap(),
+        &[scale(1e-3), rotate(41), translate(1e6, 2e6, -3e6)],
+    );
+    assert!(direct.approx_eq_up_to_scale(&built, 1e-12));
+    assert!(built.approx_eq_up_to_scale(&direct, 1e-12));
+    assert!(!direct.approx_eq_up_to_scale(&built.negated(), 1e-3));
+    // A radius off by one part in 1e6 is a different sphere at this tolerance.
+    let bigger = Quadric::sphere(DVec3::new(1e6, 2e6, -3e6), 1e-3 * (1.0 + 1e-6)).unwrap();
+    assert!(!direct.approx_eq_up_to_scale(&bigger, 1e-9));
+    // Two halves of a slab are distinct half-spaces; the same plane with opposite normals too.
+    let up = Quadric::half_space(DVec3::new(0.0, 0.0, 1e6), DVec3::Z).unwrap();
+    let down = Quadric::half_space(DVec3::new(0.0, 0.0, 1e6), -DVec3::Z).unwrap();
+    assert!(!up.approx_eq_up_to_scale(&down, 1e-3));
+    assert!(up.approx_eq_up_to_scale(&down.negated(), 0.0));
+    // The same plane through a different point of it.
+    let shifted = Quadric::half_space(DVec3::new(5e5, -5e5, 1e6), DVec3::Z * 3.0).unwrap();
+    assert!(up.approx_eq_up_to_scale(&shifted, 1e-15));
+}
