@@ -26,7 +26,9 @@ use crate::bounds::Aabb;
 use crate::codes;
 use crate::dag::{Dag, Edge, NodeId, NodeKind, Rgba, Source};
 use crate::prune;
-use crate::quadric_box::{BoxClass, classify, solid_bounds};
+use crate::quadric_box::{
+    BoxClass, classify, clip_outside_interval, excluded_interval, solid_bounds,
+};
 use crate::stats::DnfStats;
 
 /// OpenSCAD's default preview limit on CSG terms.
@@ -299,6 +301,8 @@ struct Literal {
     highlight: bool,
     /// A box containing the literal's solid.
     own_box: Aabb,
+    /// For the complement of an axis-aligned slab: the axis and the interval it excludes.
+    excluded: Option<(usize, f64, f64)>,
 }
 
 /// The exact identity of a literal before it is looked up among equal quadrics.
@@ -525,7 +529,7 @@ impl<'a> Builder<'a> {
             return if ctx.negated { acc } else { Vec::new() };
         };
         let literal = &self.literals[id as usize];
-        let (quadric, own_box) = (literal.quadric, literal.own_box);
+        let (quadric, own_box, excluded) = (literal.quadric, literal.own_box, literal.excluded);
         acc.retain_mut(|term| {
             let position = match term.literals.binary_search(&id) {
                 Ok(_) => {
@@ -534,7 +538,10 @@ impl<'a> Builder<'a> {
                 }
                 Err(position) => position,
             };
-            let bounds = term.bounds.intersection(&own_box);
+            let mut bounds = term.bounds.intersection(&own_box);
+            if let Some((axis, low, high)) = excluded {
+                bounds = clip_outside_interval(&bounds, axis, low, high);
+            }
             if bounds.is_empty() {
                 self.stats.terms_empty_bounds += 1;
                 return false;
@@ -611,6 +618,7 @@ impl<'a> Builder<'a> {
             color: ctx.color,
             highlight: ctx.highlight,
             own_box: solid_bounds(&world),
+            excluded: excluded_interval(&world),
         });
         self.stats.literals_interned += 1;
         self.literal_index.insert(key, Some(id));

@@ -56,6 +56,55 @@ pub fn solid_bounds(q: &Quadric) -> Aabb {
     result.widened_by(EXTENT_MARGIN)
 }
 
+/// For a quadric of one world coordinate whose solid is the outside of an interval (the
+/// complement of a slab `x² ≥ a²`): that axis and the open interval `(low, high)` it excludes,
+/// in world coordinates, shrunk slightly so that it never excludes a point of the solid.
+pub fn excluded_interval(q: &Quadric) -> Option<(usize, f64, f64)> {
+    let a = q.matrix_a();
+    let l = q.linear();
+    let axis = single_axis(&a, l)?;
+    let (square, half_linear, constant) = (a[axis][axis], l[axis], q.constant());
+    if square >= 0.0 {
+        return None;
+    }
+    // −q ≥ 0 outside the roots of q: q = square·x² + 2·half_linear·x + constant ≤ 0 with
+    // square < 0 holds outside the roots of the upward parabola −q.
+    let (r1, r2) = quadratic_solutions(-square, -half_linear, -constant)?;
+    if r1 >= r2 {
+        return None;
+    }
+    let origin = q.origin()[axis];
+    // The roots come back widened by ~1e-12 relative; shrinking by EXTENT_MARGIN (1e-9
+    // relative) more than undoes that, so the excluded interval errs on the small side.
+    let shrink = EXTENT_MARGIN * (r1.abs().max(r2.abs()) + origin.abs());
+    let (low, high) = (r1 + origin + shrink, r2 + origin - shrink);
+    (low < high).then_some((axis, low, high))
+}
+
+/// The axis a quadric depends on alone, if there is one.
+fn single_axis(a: &[[f64; 3]; 3], l: DVec3) -> Option<usize> {
+    (0..3).find(|&axis| {
+        (0..3).all(|r| {
+            (0..3).all(|c| (r == axis && c == axis) || a[r][c] == 0.0) && (r == axis || l[r] == 0.0)
+        })
+    })
+}
+
+/// `bounds` shrunk to the hull of its points outside the open interval `(low, high)` on `axis`.
+pub fn clip_outside_interval(bounds: &Aabb, axis: usize, low: f64, high: f64) -> Aabb {
+    let (lo, hi) = (bounds.min[axis], bounds.max[axis]);
+    let left = lo <= low;
+    let right = high <= hi;
+    let mut result = *bounds;
+    match (left, right) {
+        (false, false) => return Aabb::EMPTY,
+        (true, false) => result.max[axis] = hi.min(low),
+        (false, true) => result.min[axis] = lo.max(high),
+        (true, true) => {}
+    }
+    result
+}
+
 /// The hull of `{x : a x² + 2 g x + j ≤ 0}` as an interval (possibly infinite); `None` when
 /// empty.
 fn quadratic_solutions(a: f64, g: f64, j: f64) -> Option<(f64, f64)> {
@@ -253,6 +302,20 @@ mod tests {
         assert!(b.is_axis_bounded(1) && !b.is_axis_bounded(0) && !b.is_axis_bounded(2));
         assert!(b.min.y <= 2.0 && b.max.y >= 4.0 && b.min.y > 1.99);
         assert!(!solid_bounds(&slab.negated()).is_axis_bounded(1));
+    }
+
+    #[test]
+    fn complement_of_a_slab_clips_boxes() {
+        let slab = Quadric::slab(DVec3::new(0.0, 3.0, 0.0), DVec3::Y, 1.0).unwrap();
+        let (axis, low, high) = excluded_interval(&slab.negated()).unwrap();
+        assert_eq!(axis, 1);
+        assert!(low > 2.0 && low < 2.0 + 1e-6 && high < 4.0 && high > 4.0 - 1e-6);
+        assert!(excluded_interval(&slab).is_none());
+        let b = Aabb::new(DVec3::ZERO, DVec3::new(1.0, 3.0, 1.0));
+        let clipped = clip_outside_interval(&b, axis, low, high);
+        assert!(clipped.max.y <= 2.0 + 1e-6 && clipped.max.y >= 2.0);
+        let inside = Aabb::new(DVec3::new(0.0, 2.5, 0.0), DVec3::new(1.0, 3.5, 1.0));
+        assert!(clip_outside_interval(&inside, axis, low, high).is_empty());
     }
 
     #[test]

@@ -264,3 +264,34 @@ fn jittered_grid_hits_the_limit_globally_and_works_locally() {
     assert!(local.terms.len() <= 3, "{}", local.stats);
     assert_same_meaning_at(&dag, &local, region, 11);
 }
+
+#[test]
+fn subtracting_a_slab_complement_shrinks_the_term_box() {
+    let mut dag = Dag::new();
+    let block = cube(&mut dag, DVec3::new(10.0, 1.0, 1.0), 0);
+    // Removes x < 5 through the whole block: the term's box shrinks to x ≥ 5 ...
+    let cut = cube(&mut dag, DVec3::new(6.0, 3.0, 3.0), 1);
+    let cut = dag
+        .translated(cut.into(), DVec3::new(-1.0, -1.0, -1.0))
+        .unwrap();
+    let mut children = vec![block.into(), cut];
+    // ... so holes at x < 5 are skipped, the one at x = 7 is kept.
+    for x in [1.0, 2.0, 3.0, 7.0] {
+        let hole = sphere(&mut dag, 0.3, 2);
+        children.push(
+            dag.translated(hole.into(), DVec3::new(x, 0.5, 0.5))
+                .unwrap(),
+        );
+    }
+    let d = dag.difference(children, src(3));
+    dag.set_root(d.into());
+    let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+    assert_eq!(dnf.stats.construction.operands_skipped, 3, "{}", dnf.stats);
+    assert_eq!(dnf.terms.len(), 1);
+    assert!(dnf.bounds.min.x >= 5.0 - 1e-6, "{:?}", dnf.bounds);
+    assert_same_meaning(
+        &dag,
+        &dnf,
+        Aabb::new(DVec3::splat(-1.0), DVec3::new(11.0, 2.0, 2.0)),
+    );
+}
