@@ -17,6 +17,15 @@
 //!   OpenSCAD then reads.
 //! - Overriding a variable of an included file after the `include` is not a reassignment warning
 //!   (the customary way to configure a library), as in OpenSCAD.
+//! - Named arguments to built-in *functions* are errors ([`codes::UNKNOWN_ARGUMENT`]): OpenSCAD
+//!   ignores the names and matches by position, so `atan2(x = 1, y = 2)` is `atan2(1, 2)`.
+//! - Parameter defaults are resolved in the scope of the definition, as OpenSCAD evaluates them:
+//!   `module m(a, b = a)` reads an outer `a`, never the parameter.
+//! - Unused-name warnings cover the main file only (a library offers more than any one file
+//!   uses) and never loop variables (`for (i = [0 : 3]) cube(1);` repeats on purpose), `$`-names
+//!   or names starting with `_`.
+//! - Type errors are reported only where both sides are statically known ([`Ty::Any`] never
+//!   errs); parameters are of unknown type, and so is a variable overridden with `-D`.
 
 pub mod builtins;
 pub mod codes;
