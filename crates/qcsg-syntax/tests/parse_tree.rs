@@ -96,6 +96,8 @@ fn literals() {
     assert_eq!(expr("false"), "false");
     assert_eq!(expr("undef"), "undef");
     assert_eq!(expr("$fn"), "$fn");
+    assert_eq!(expr("1."), "1");
+    assert_eq!(expr("1e999"), "inf");
 }
 
 #[test]
@@ -126,6 +128,9 @@ fn postfix() {
     assert_eq!(expr("p.x + p.y"), "(+ (. p x) (. p y))");
     assert_eq!(expr("f(1)(2)"), "(call (call f 1) 2)");
     assert_eq!(expr("m[0].z"), "(. (index m 0) z)");
+    assert_eq!(expr("a.b.c"), "(. (. a b) c)");
+    assert_eq!(expr("echo"), "echo");
+    assert_eq!(expr("assert"), "assert");
 }
 
 #[test]
