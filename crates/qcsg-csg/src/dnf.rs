@@ -25,6 +25,7 @@ use qcsg_quadric::{DMat4, Quadric};
 use crate::bounds::Aabb;
 use crate::codes;
 use crate::dag::{Dag, Edge, NodeId, NodeKind, Rgba, Source};
+use crate::polyhedron::{HalfSpace, half_spaces, polyhedron_bounds};
 use crate::prune;
 use crate::quadric_box::{
     BoxClass, classify, clip_outside_interval, excluded_interval, solid_bounds,
@@ -153,7 +154,7 @@ pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, 
         highlight: false,
         enclosing: region,
     };
-    let terms = match builder.and_into(start, root, &ctx) {
+    let mut terms = match builder.and_into(start, root, &ctx) {
         Ok(terms) => terms,
         Err(Abort::TermLimit(source)) => {
             return Err(vec![
@@ -172,6 +173,7 @@ pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, 
             ]);
         }
     };
+    bound_by_planes(&mut terms, &builder.literals);
     let mut stats = DnfStats {
         dag_nodes: dag.len(),
         construction: builder.stats.clone(),
@@ -212,6 +214,24 @@ pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, 
     stats.quadrics = dnf.quadrics.len();
     dnf.stats = stats;
     Ok(dnf)
+}
+
+/// Gives terms that their literals' boxes leave unbounded the box of the polyhedron formed by
+/// their planar literals, when that is bounded.
+fn bound_by_planes(terms: &mut [Term], literals: &[Literal]) {
+    let mut planes_of: HashMap<u32, Vec<HalfSpace>> = HashMap::new();
+    for term in terms.iter_mut().filter(|t| !t.bounds.is_bounded()) {
+        let mut planes = Vec::new();
+        for &id in &term.literals {
+            let entry = planes_of
+                .entry(id)
+                .or_insert_with(|| half_spaces(&literals[id as usize].quadric));
+            planes.extend_from_slice(entry);
+        }
+        if let Some(bounds) = polyhedron_bounds(&planes) {
+            term.bounds = term.bounds.intersection(&bounds);
+        }
+    }
 }
 
 fn own_boxes_after(dnf: &Dnf) -> Vec<Aabb> {

@@ -18,6 +18,7 @@ pub mod codes;
 pub mod dag;
 pub mod dnf;
 pub mod json;
+pub mod polyhedron;
 pub mod prune;
 pub mod quadric_box;
 pub mod stats;

@@ -149,3 +149,59 @@ fn deep_dags_build_without_overflowing_the_stack() {
     assert_eq!(dnf.terms.len(), 1);
     assert!(dnf.contains(DVec3::new(0.05, 0.0, 0.0)));
 }
+
+#[test]
+fn tilted_box_of_half_spaces_is_bounded() {
+    let mut dag = Dag::new();
+    let rotation = DMat4::from_rotation_z(0.4) * DMat4::from_rotation_x(0.3);
+    let mut faces = Vec::new();
+    for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+        for sign in [1.0, -1.0] {
+            let normal = rotation.transform_vector3(axis * sign);
+            let q = Quadric::half_space(normal, normal).unwrap();
+            faces.push(dag.leaf(q, src(faces.len())).into());
+        }
+    }
+    let all = dag.intersection(faces.clone(), src(10));
+    dag.set_root(all.into());
+    let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+    assert!(dnf.bounds.is_bounded());
+    assert!((dnf.bounds.max - dnf.bounds.min).max_element() < 4.0);
+    // Five faces leave it open: the error names a face.
+    let open = dag.intersection(faces[..5].to_vec(), src(11));
+    dag.set_root(open.into());
+    let errors = build_dnf(&dag, &DnfOptions::default()).unwrap_err();
+    assert_eq!(errors[0].code, codes::UNBOUNDED);
+    assert!(errors[0].span.start < 5);
+}
+
+#[test]
+fn projective_transforms_keep_membership() {
+    let mut dag = Dag::new();
+    let c = cube(&mut dag, DVec3::splat(2.0), 0);
+    let s = sphere(&mut dag, 1.0, 1);
+    let s = dag.translated(s.into(), DVec3::splat(2.0)).unwrap();
+    let d = dag.difference([c.into(), s], src(2));
+    // A mild perspective: w = 1 + 0.05 x + 0.02 z stays positive over the part.
+    let projective = DMat4::from_cols_array(&[
+        1.0, 0.1, 0.0, 0.05, 0.0, 1.0, 0.0, 0.0, 0.2, 0.0, 1.0, 0.02, 0.5, 0.0, 0.0, 1.0,
+    ]);
+    let e = dag.edge(d, &projective).unwrap();
+    dag.set_root(e);
+    let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+    let probe = Aabb::new(DVec3::splat(-1.0), DVec3::splat(3.5));
+    let mut inside = 0;
+    for p in grid_points(&probe, 19) {
+        let near = dnf
+            .quadrics
+            .iter()
+            .any(|q| q.quadric.conservative_distance(p).abs() < 1e-7);
+        if near {
+            continue;
+        }
+        assert_eq!(dag.contains(p), dnf.contains(p), "{p}");
+        inside += usize::from(dnf.contains(p));
+    }
+    assert!(inside > 100);
+    assert!(dnf.bounds.is_bounded());
+}
