@@ -10,7 +10,9 @@
 //! - Extra positional arguments (to built-ins and to user modules and functions) are errors
 //!   ([`codes::TOO_MANY_ARGUMENTS`]): OpenSCAD ignores them, so they are certainly a mistake.
 //! - A user parameter without a default that a call does not supply is an error
-//!   ([`codes::MISSING_ARGUMENT`]): it would be `undef`. Write `p = undef` to make it optional.
+//!   ([`codes::MISSING_ARGUMENT`]): it would be `undef`. Write `p = undef` to make it optional; a
+//!   parameter the body tests for `undef` (`is_undef(p)`, `p == undef`, `is_num(p)`, …) is
+//!   optional too, as that is how OpenSCAD code spells it.
 //! - `$`-arguments (`$fn = 32`, `$my = 1`) are accepted by every module and function call.
 //! - A variable read by an assignment before its own assignment in the same scope is an error
 //!   ([`codes::USED_BEFORE_ASSIGNMENT`]) unless an enclosing scope defines it, which is what
@@ -33,6 +35,7 @@ mod loader;
 mod resolve;
 mod suggest;
 pub mod ty;
+mod walk;
 
 use std::path::{Path, PathBuf};
 
@@ -100,6 +103,9 @@ pub struct ParamInfo {
     pub span: Span,
     /// Whether it has a default value.
     pub has_default: bool,
+    /// Whether the body tests it for `undef` (`is_undef(p)`, `p == undef`, `is_num(p)`, …), which
+    /// makes it optional even without a default.
+    pub tested_for_undef: bool,
     /// Its own definition (references to the parameter resolve to it).
     pub def: DefId,
 }

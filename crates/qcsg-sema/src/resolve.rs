@@ -27,6 +27,7 @@ use crate::builtins::{self, BuiltinFunction, BuiltinModule};
 use crate::loader::{LinkKind, Loaded};
 use crate::suggest::closest;
 use crate::ty::{Mismatch, ParamTy, Ty, format_lengths};
+use crate::walk::{Node, walk};
 use crate::{DefId, DefKind, Definition, Namespace, ParamInfo, Reference, Target, codes};
 
 /// Stack space kept free before growing it for deeply nested trees.
@@ -421,7 +422,14 @@ impl<'a> Resolver<'a> {
     }
 
     /// Defines the parameters of a module, function or function literal owned by `owner`.
-    fn define_params(&mut self, file: FileId, owner: DefId, params: &[Param]) -> Vec<ParamInfo> {
+    fn define_params(
+        &mut self,
+        file: FileId,
+        owner: DefId,
+        params: &[Param],
+        body: Node<'_>,
+    ) -> Vec<ParamInfo> {
+        let tested = tested_for_undef(body);
         let mut infos = Vec::with_capacity(params.len());
         for param in params {
             let (def, _) = self.define(DefKind::Parameter, file, &param.name, param.span, None);
@@ -433,6 +441,7 @@ impl<'a> Resolver<'a> {
                 name_span: param.name.span,
                 span: param.span,
                 has_default: param.default.is_some(),
+                tested_for_undef: tested.contains(&param.name.name),
                 def,
             });
         }
@@ -454,8 +463,8 @@ impl<'a> Resolver<'a> {
                 StmtKind::Assign { name, value } => {
                     let (def, fresh) =
                         self.define(DefKind::Variable, item.file, name, stmt.span, doc);
-                    if fresh && let ExprKind::FunctionLit { params, .. } = &value.kind {
-                        let infos = self.define_params(item.file, def, params);
+                    if fresh && let ExprKind::FunctionLit { params, body } = &value.kind {
+                        let infos = self.define_params(item.file, def, params, Node::Expr(body));
                         self.definitions[def.0 as usize].params = Some(infos);
                     }
                     match scope.vars.get_mut(&name.name) {
@@ -489,20 +498,20 @@ impl<'a> Resolver<'a> {
                         }
                     }
                 }
-                StmtKind::ModuleDef { name, params, .. } => {
+                StmtKind::ModuleDef { name, params, body } => {
                     let (def, fresh) =
                         self.define(DefKind::Module, item.file, name, stmt.span, doc);
                     if fresh {
-                        let infos = self.define_params(item.file, def, params);
+                        let infos = self.define_params(item.file, def, params, Node::Stmt(body));
                         self.definitions[def.0 as usize].params = Some(infos);
                     }
                     scope.modules.insert(name.name.clone(), def);
                 }
-                StmtKind::FunctionDef { name, params, .. } => {
+                StmtKind::FunctionDef { name, params, body } => {
                     let (def, fresh) =
                         self.define(DefKind::Function, item.file, name, stmt.span, doc);
                     if fresh {
-                        let infos = self.define_params(item.file, def, params);
+                        let infos = self.define_params(item.file, def, params, Node::Expr(body));
                         self.definitions[def.0 as usize].params = Some(infos);
                     }
                     scope.funcs.insert(name.name.clone(), def);
@@ -956,7 +965,7 @@ impl<'a> Resolver<'a> {
                 .map(|p| SigParam {
                     name: p.name.clone(),
                     positional: true,
-                    required: !p.has_default && !p.name.starts_with('$'),
+                    required: !p.has_default && !p.tested_for_undef && !p.name.starts_with('$'),
                     ty: ParamTy::Any,
                     def: Some(p.def),
                 })
@@ -2146,144 +2155,76 @@ fn builtin_function_signature(function: &BuiltinFunction) -> Signature {
 /// Every `$`-variable the program sets anywhere: by assignment, as a parameter, as a binding or
 /// as a named argument. Reading one of these is never reported.
 fn collect_specials(stmts: &[Stmt], out: &mut HashSet<String>) {
-    let mut stmt_stack: Vec<&Stmt> = stmts.iter().collect();
-    let mut expr_stack: Vec<&Expr> = Vec::new();
-    let mut elem_stack: Vec<&ListElem> = Vec::new();
-    let note = |ident: &Ident, out: &mut HashSet<String>| {
+    let mut note = |ident: &Ident| {
         if ident.is_special() && !out.contains(&ident.name) {
             out.insert(ident.name.clone());
         }
     };
-    loop {
-        if let Some(stmt) = stmt_stack.pop() {
-            match &stmt.kind {
-                StmtKind::Assign { name, value } => {
-                    note(name, out);
-                    expr_stack.push(value);
-                }
-                StmtKind::ModuleDef { params, body, .. } => {
-                    for p in params {
-                        note(&p.name, out);
-                        expr_stack.extend(&p.default);
-                    }
-                    stmt_stack.push(body);
-                }
-                StmtKind::FunctionDef { params, body, .. } => {
-                    for p in params {
-                        note(&p.name, out);
-                        expr_stack.extend(&p.default);
-                    }
-                    expr_stack.push(body);
-                }
-                StmtKind::Block(inner) => stmt_stack.extend(inner),
-                StmtKind::If { cond, then, els } => {
-                    expr_stack.push(cond);
-                    stmt_stack.push(then);
-                    stmt_stack.extend(els.as_deref());
-                }
-                StmtKind::For { bindings, body } | StmtKind::Let { bindings, body } => {
-                    for b in bindings {
-                        note(&b.name, out);
-                        expr_stack.push(&b.value);
-                    }
-                    stmt_stack.push(body);
-                }
-                StmtKind::Instantiate { args, child, .. } => {
-                    for a in args {
-                        if let Some(name) = &a.name {
-                            note(name, out);
-                        }
-                        expr_stack.push(&a.value);
-                    }
-                    stmt_stack.extend(child.as_deref());
-                }
-                StmtKind::Modified { body, .. } => stmt_stack.push(body),
-                StmtKind::Empty | StmtKind::Include(_) | StmtKind::Use(_) | StmtKind::Error => {}
+    walk(stmts.iter().map(Node::Stmt), |node| match node {
+        Node::Stmt(stmt) => match &stmt.kind {
+            StmtKind::Assign { name, .. } => note(name),
+            StmtKind::ModuleDef { params, .. } | StmtKind::FunctionDef { params, .. } => {
+                params.iter().for_each(|p| note(&p.name))
             }
-        } else if let Some(expr) = expr_stack.pop() {
-            match &expr.kind {
-                ExprKind::Paren(e) | ExprKind::Unary { operand: e, .. } => expr_stack.push(e),
-                ExprKind::Binary { lhs, rhs, .. } => {
-                    expr_stack.push(lhs);
-                    expr_stack.push(rhs);
-                }
-                ExprKind::Ternary { cond, then, els } => {
-                    expr_stack.extend([&**cond, &**then, &**els])
-                }
-                ExprKind::Call { callee, args, .. } => {
-                    expr_stack.push(callee);
-                    for a in args {
-                        if let Some(name) = &a.name {
-                            note(name, out);
-                        }
-                        expr_stack.push(&a.value);
-                    }
-                }
-                ExprKind::Index { base, index } => expr_stack.extend([&**base, &**index]),
-                ExprKind::Member { base, .. } => expr_stack.push(base),
-                ExprKind::Vector(elems) => elem_stack.extend(elems),
-                ExprKind::Range { start, step, end } => {
-                    expr_stack.push(start);
-                    expr_stack.extend(step.as_deref());
-                    expr_stack.push(end);
-                }
-                ExprKind::Let { bindings, body } => {
-                    for b in bindings {
-                        note(&b.name, out);
-                        expr_stack.push(&b.value);
-                    }
-                    expr_stack.push(body);
-                }
-                ExprKind::Assert { args, body, .. } | ExprKind::Echo { args, body, .. } => {
-                    expr_stack.extend(args.iter().map(|a| &a.value));
-                    expr_stack.extend(body.as_deref());
-                }
-                ExprKind::FunctionLit { params, body } => {
-                    for p in params {
-                        note(&p.name, out);
-                        expr_stack.extend(&p.default);
-                    }
-                    expr_stack.push(body);
-                }
-                ExprKind::Number(_)
-                | ExprKind::String(_)
-                | ExprKind::Bool(_)
-                | ExprKind::Undef
-                | ExprKind::Ident(_)
-                | ExprKind::Error => {}
+            StmtKind::For { bindings, .. } | StmtKind::Let { bindings, .. } => {
+                bindings.iter().for_each(|b| note(&b.name))
             }
-        } else if let Some(elem) = elem_stack.pop() {
-            match &elem.kind {
-                ListElemKind::Expr(e) => expr_stack.push(e),
-                ListElemKind::For { bindings, body } | ListElemKind::Let { bindings, body } => {
-                    for b in bindings {
-                        note(&b.name, out);
-                        expr_stack.push(&b.value);
-                    }
-                    elem_stack.push(body);
-                }
-                ListElemKind::CFor {
-                    init,
-                    cond,
-                    update,
-                    body,
-                } => {
-                    for b in init.iter().chain(update) {
-                        note(&b.name, out);
-                        expr_stack.push(&b.value);
-                    }
-                    expr_stack.push(cond);
-                    elem_stack.push(body);
-                }
-                ListElemKind::If { cond, then, els } => {
-                    expr_stack.push(cond);
-                    elem_stack.push(then);
-                    elem_stack.extend(els.as_deref());
-                }
-                ListElemKind::Each(inner) | ListElemKind::Paren(inner) => elem_stack.push(inner),
+            StmtKind::Instantiate { args, .. } => args
+                .iter()
+                .filter_map(|a| a.name.as_ref())
+                .for_each(&mut note),
+            _ => {}
+        },
+        Node::Expr(expr) => match &expr.kind {
+            ExprKind::Call { args, .. } => args
+                .iter()
+                .filter_map(|a| a.name.as_ref())
+                .for_each(&mut note),
+            ExprKind::Let { bindings, .. } => bindings.iter().for_each(|b| note(&b.name)),
+            ExprKind::FunctionLit { params, .. } => params.iter().for_each(|p| note(&p.name)),
+            _ => {}
+        },
+        Node::Elem(elem) => match &elem.kind {
+            ListElemKind::For { bindings, .. } | ListElemKind::Let { bindings, .. } => {
+                bindings.iter().for_each(|b| note(&b.name))
             }
-        } else {
-            break;
+            ListElemKind::CFor { init, update, .. } => {
+                init.iter().chain(update).for_each(|b| note(&b.name))
+            }
+            _ => {}
+        },
+    });
+}
+
+/// The names a definition's body tests for `undef` (`is_undef(p)`, `p == undef`, `is_num(p)`, …):
+/// parameters it treats as optional even without a default.
+fn tested_for_undef(root: Node<'_>) -> HashSet<String> {
+    let mut names = HashSet::new();
+    walk([root], |node| {
+        let Node::Expr(expr) = node else { return };
+        match &expr.kind {
+            ExprKind::Call { callee, args, .. } => {
+                if let (ExprKind::Ident(function), [arg]) = (&callee.kind, args.as_slice())
+                    && function.name.starts_with("is_")
+                    && let ExprKind::Ident(tested) = &arg.value.kind
+                {
+                    names.insert(tested.name.clone());
+                }
+            }
+            ExprKind::Binary {
+                op: BinaryOp::Eq | BinaryOp::Ne,
+                lhs,
+                rhs,
+                ..
+            } => match (&lhs.kind, &rhs.kind) {
+                (ExprKind::Ident(tested), ExprKind::Undef)
+                | (ExprKind::Undef, ExprKind::Ident(tested)) => {
+                    names.insert(tested.name.clone());
+                }
+                _ => {}
+            },
+            _ => {}
         }
-    }
+    });
+    names
 }

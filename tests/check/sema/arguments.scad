@@ -78,3 +78,8 @@ echo(hyp(c = 1));
 // A parameter that is optional says so with a default, `undef` included.
 module maybe(x = undef) if (is_undef(x)) cube(1); else cube(x);
 maybe();
+// ... and so is one the body tests for `undef`, the way OpenSCAD code usually spells it.
+module optional_size(size) cube(is_undef(size) ? 1 : size);
+optional_size();
+function pick(a, b) = b == undef ? a : b;
+echo(pick(1));
