@@ -118,8 +118,17 @@ fn random_solid(
         let child = random_solid(dag, rng, depth - 1, world * m, leaves, pool);
         children.push(dag.edge(child, &m).unwrap());
     }
-    match rng.below(5) {
+    match rng.below(7) {
         0 | 1 => dag.union(children, src(10)),
+        5 => {
+            let u = dag.union(children, src(15));
+            dag.color(u.into(), [rng.unit(), rng.unit(), rng.unit(), 1.0], src(16))
+                .unwrap()
+        }
+        6 => {
+            let u = dag.intersection(children, src(17));
+            dag.highlight(u.into(), src(18))
+        }
         2 => dag.intersection(children, src(11)),
         3 => dag.difference(children, src(12)),
         _ => {
@@ -173,6 +182,22 @@ fn check_scene(seed: u64, points: usize, options: &DnfOptions) -> Result<(), Tes
             continue;
         }
         compared += 1;
+        // Every term holding at p has p in its box.
+        for term in &dnf.terms {
+            let holds = term
+                .literals
+                .iter()
+                .all(|&id| dnf.quadrics[id as usize].quadric.value(p) <= 0.0);
+            if holds {
+                prop_assert!(
+                    term.bounds.contains(p),
+                    "seed {} point {} outside its term's box {:?}",
+                    seed,
+                    p,
+                    term.bounds
+                );
+            }
+        }
         prop_assert_eq!(
             dag.contains(p),
             dnf.contains(p),
