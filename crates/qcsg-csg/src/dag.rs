@@ -13,6 +13,7 @@ use qcsg_diag::{FileId, Span};
 use qcsg_quadric::{DMat4, DVec3, Quadric};
 
 use crate::bounds::Aabb;
+use crate::quadric_box::solid_bounds;
 
 /// Handle of a node in a [`Dag`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -405,6 +406,57 @@ impl Dag {
         &self.transforms
     }
 
+    /// For every node (indexed by `NodeId.0`), a box in its own frame containing its solid:
+    /// the declared box intersected with what its children give (a leaf: its quadric's own
+    /// box; union: the join; intersection: the meet; difference: the first child's;
+    /// complement: all of space). One pass over the arena, children first.
+    pub fn local_bounds(&self) -> Vec<Aabb> {
+        self.local_bounds_up_to(self.nodes.len())
+    }
+
+    /// A box, in the frame of the edge's parent, containing the solid behind `edge` (all of
+    /// space for a foreign handle). Costs one pass over the nodes up to the edge's child.
+    pub fn edge_bounds(&self, edge: Edge) -> Aabb {
+        let index = edge.child.0 as usize;
+        if index >= self.nodes.len() {
+            return Aabb::EVERYTHING;
+        }
+        let boxes = self.local_bounds_up_to(index + 1);
+        boxes[index].transformed(&self.matrix(edge.transform))
+    }
+
+    fn local_bounds_up_to(&self, count: usize) -> Vec<Aabb> {
+        let mut boxes: Vec<Aabb> = Vec::with_capacity(count);
+        for node in &self.nodes[..count] {
+            let child_box = |edge: &Edge, boxes: &[Aabb]| {
+                boxes
+                    .get(edge.child.0 as usize)
+                    .copied()
+                    .unwrap_or(Aabb::EVERYTHING)
+                    .transformed(&self.matrix(edge.transform))
+            };
+            let computed = match &node.kind {
+                NodeKind::Leaf(q) => solid_bounds(q),
+                NodeKind::Union(children) => children
+                    .iter()
+                    .fold(Aabb::EMPTY, |acc, e| acc.union(&child_box(e, &boxes))),
+                NodeKind::Intersection(children) => {
+                    children.iter().fold(Aabb::EVERYTHING, |acc, e| {
+                        acc.intersection(&child_box(e, &boxes))
+                    })
+                }
+                NodeKind::Difference(children) => children
+                    .first()
+                    .map_or(Aabb::EMPTY, |e| child_box(e, &boxes)),
+                NodeKind::Complement(_) => Aabb::EVERYTHING,
+                NodeKind::Color(_, e) | NodeKind::Highlight(e) => child_box(e, &boxes),
+            };
+            let declared = node.bounds.unwrap_or(Aabb::EVERYTHING);
+            boxes.push(computed.intersection(&declared));
+        }
+        boxes
+    }
+
     /// Whether the world point `p` lies in the root solid (closed: surface points count as
     /// inside), by direct evaluation of the DAG. `false` without a root.
     pub fn contains(&self, p: DVec3) -> bool {
@@ -571,6 +623,19 @@ mod tests {
         assert_eq!(children[1].transform, TransformId::IDENTITY);
         dag.set_root(u.into());
         assert!(dag.contains(DVec3::ZERO));
+    }
+
+    #[test]
+    fn bounds_of_edges() {
+        let mut dag = Dag::new();
+        let s = dag.leaf(sphere(), Source::default());
+        let moved = dag.translated(s.into(), DVec3::new(5.0, 0.0, 0.0)).unwrap();
+        let u = dag.union([s.into(), moved], Source::default());
+        let b = dag.edge_bounds(u.into());
+        assert!(b.contains(DVec3::new(-1.0, 0.0, 0.0)) && b.contains(DVec3::new(6.0, 1.0, 1.0)));
+        assert!(!b.contains(DVec3::new(6.1, 0.0, 0.0)));
+        let c = dag.complement(u.into(), Source::default());
+        assert!(!dag.edge_bounds(c.into()).is_bounded());
     }
 
     #[test]

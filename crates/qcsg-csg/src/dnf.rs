@@ -364,7 +364,7 @@ impl<'a> Builder<'a> {
             literals: Vec::new(),
             literal_index: HashMap::new(),
             shape_groups: HashMap::new(),
-            local_boxes: local_boxes(dag),
+            local_boxes: dag.local_bounds(),
             singular_reported: HashSet::new(),
             warnings: Vec::new(),
             stats: Default::default(),
@@ -696,37 +696,6 @@ fn shape_key(q: &Quadric) -> [u64; 9] {
     key[7] = coarse(centre.y);
     key[8] = coarse(centre.z);
     key
-}
-
-/// Each node's box in its own frame, children before parents (the arena's order).
-fn local_boxes(dag: &Dag) -> Vec<Aabb> {
-    let mut boxes: Vec<Aabb> = Vec::with_capacity(dag.len());
-    for node in dag.nodes() {
-        let child_box = |edge: &Edge, boxes: &[Aabb]| {
-            boxes
-                .get(edge.child.0 as usize)
-                .copied()
-                .unwrap_or(Aabb::EVERYTHING)
-                .transformed(&dag.matrix(edge.transform))
-        };
-        let computed = match &node.kind {
-            NodeKind::Leaf(q) => solid_bounds(q),
-            NodeKind::Union(children) => children
-                .iter()
-                .fold(Aabb::EMPTY, |acc, e| acc.union(&child_box(e, &boxes))),
-            NodeKind::Intersection(children) => children.iter().fold(Aabb::EVERYTHING, |acc, e| {
-                acc.intersection(&child_box(e, &boxes))
-            }),
-            NodeKind::Difference(children) => children
-                .first()
-                .map_or(Aabb::EMPTY, |e| child_box(e, &boxes)),
-            NodeKind::Complement(_) => Aabb::EVERYTHING,
-            NodeKind::Color(_, e) | NodeKind::Highlight(e) => child_box(e, &boxes),
-        };
-        let declared = node.bounds.unwrap_or(Aabb::EVERYTHING);
-        boxes.push(computed.intersection(&declared));
-    }
-    boxes
 }
 
 /// Runs `f` with enough stack for deep DAGs.
