@@ -185,7 +185,9 @@ impl Heightfield {
     /// Within a quadrant the extrema lie at the corners (paper §3.4; for the `β ≠ 0` and
     /// polynomial forms `δ` is monotone in `x` and in `y²` separately); a rectangle crossing an
     /// axis is split there, so the candidates are the corners plus the points where the edges
-    /// cross the axes. `None` if the heightfield is undefined anywhere in the rectangle (its
+    /// cross the axes (valid for the forms that [`PrincipalFrame::heightfield`] produces, where
+    /// `β` is non-zero only beside a zero `α`). `None` if the heightfield is undefined anywhere in
+    /// the rectangle (its
     /// radicand is linear in `(x², y²)` or `(x, y²)`, so the corner candidates decide this too).
     /// Exact up to the rounding of [`Self::distortion`]; the tests check it against dense
     /// sampling.

@@ -142,3 +142,29 @@ fn tight_near_smooth_surfaces() {
         }
     }
 }
+
+#[test]
+fn the_oracle_is_exact_on_spheres_and_cylinders() {
+    // The independent true distance agrees with closed forms, so the lower-bound checks above
+    // compare against the real distance.
+    let mut rng = Rng::new(0x0);
+    let centre = DVec3::new(1.0, -2.0, 0.5);
+    let sphere = Quadric::sphere(centre, 1.5).unwrap();
+    let cylinder = Quadric::cylinder(centre, DVec3::Z, 0.5).unwrap();
+    for _ in 0..100 {
+        let p = centre + rng.direction() * rng.range(0.0, 4.0);
+        let exact = ((p - centre).length() - 1.5).abs();
+        let oracle = true_distance(&sphere, p);
+        assert!(
+            (oracle - exact).abs() <= 1e-9 * (1.0 + exact),
+            "{oracle} vs {exact}"
+        );
+        let radial = (p - centre).truncate().length();
+        let exact = (radial - 0.5).abs();
+        let oracle = true_distance(&cylinder, p);
+        assert!(
+            (oracle - exact).abs() <= 1e-9 * (1.0 + exact),
+            "{oracle} vs {exact}"
+        );
+    }
+}
