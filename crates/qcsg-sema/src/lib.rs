@@ -131,7 +131,8 @@ pub struct Definition {
     pub parent: Option<DefId>,
     /// For a reassignment, the earlier assignment of the same variable in the same scope.
     pub redefines: Option<DefId>,
-    /// The statically inferred type of a variable's value ([`Ty::Any`] when unknown).
+    /// The statically inferred type of a variable's value, or of a function's result
+    /// ([`Ty::Any`] when unknown).
     pub ty: Ty,
 }
 

@@ -587,8 +587,17 @@ impl<'a> Resolver<'a> {
             self.assign_ctx = saved;
         }
         let saved = self.assign_ctx.take();
+        // Function bodies first, so that statements anywhere in the scope see their result types.
         for item in items {
-            if !matches!(unmodified(item.stmt).kind, StmtKind::Assign { .. }) {
+            if matches!(unmodified(item.stmt).kind, StmtKind::FunctionDef { .. }) {
+                self.stmt(*item);
+            }
+        }
+        for item in items {
+            if !matches!(
+                unmodified(item.stmt).kind,
+                StmtKind::Assign { .. } | StmtKind::FunctionDef { .. }
+            ) {
                 self.stmt(*item);
             }
         }
@@ -665,7 +674,10 @@ impl<'a> Resolver<'a> {
                     .copied();
                 self.enclosing.extend(def);
                 self.enter_params(file, params, def);
-                self.expr(file, body);
+                let returns = self.expr(file, body);
+                if let Some(definition) = def.and_then(|d| self.definitions.get_mut(d.0 as usize)) {
+                    definition.ty = returns;
+                }
                 self.pop_scope();
                 if def.is_some() {
                     self.enclosing.pop();
@@ -1788,7 +1800,12 @@ impl<'a> Resolver<'a> {
                 {
                     self.check_args(file, name, args_span, args, &tys, &signature);
                 }
-                return Ty::Any;
+                // Known once the body has been resolved (so never for a recursive call).
+                return if ambiguous {
+                    Ty::Any
+                } else {
+                    self.definition(def).map_or(Ty::Any, |d| d.ty.clone())
+                };
             }
             FunctionLookup::Builtin(function) => {
                 self.reference(file, name.span, Namespace::Function, Target::Builtin);

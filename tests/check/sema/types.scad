@@ -77,3 +77,14 @@ echo(r);
 // Parameters are of unknown type: nothing is reported for them.
 module anything(v) translate(v) cube(v + 1);
 anything([1, 2, 3]);
+
+// A function's result type is inferred from its body where it is certain.
+translate(label_of(2)) cube(1);
+//        ^^^^^^^^^^^ error[E0205]
+function label_of(i) = str("part ", i);
+function corner(s) = [s, s, s];
+translate(corner(2)) cube(1);
+translate(label_of(1)) cube(1);
+//        ^^^^^^^^^^^ error[E0205]: found a string
+function depth(n) = n <= 0 ? 0 : 1 + depth(n - 1);
+cube(depth(3));
