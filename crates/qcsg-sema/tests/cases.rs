@@ -213,3 +213,19 @@ fn sema_and_ok_cases() {
     }
     assert!(failures.is_empty(), "{failures}");
 }
+
+/// The whole suite, other directories included: `cargo test -p qcsg-sema --test cases -- --ignored`.
+#[test]
+#[ignore = "the workspace harness in qcsg-cli owns the whole suite"]
+fn whole_suite() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/check");
+    let mut all = Vec::new();
+    cases(&root, &mut all);
+    let mut failures = String::new();
+    for path in &all {
+        if let Err(report) = check_case(path) {
+            failures.push_str(&format!("FAIL {}\n{report}", path.display()));
+        }
+    }
+    assert!(failures.is_empty(), "{failures}");
+}
