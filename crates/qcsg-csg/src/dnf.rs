@@ -176,6 +176,7 @@ pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, 
     bound_by_planes(&mut terms, &builder.literals);
     let mut stats = DnfStats {
         dag_nodes: dag.len(),
+        background_parts: dag.backgrounds().len(),
         construction: builder.stats.clone(),
         ..DnfStats::default()
     };
@@ -390,12 +391,7 @@ impl<'a> Builder<'a> {
             // A handle from another DAG: nothing.
             return Ok(if ctx.negated { acc } else { Vec::new() });
         };
-        let edge_matrix = self.dag.matrix(edge.transform);
-        let matrix = if edge_matrix == DMat4::IDENTITY {
-            ctx.matrix
-        } else {
-            ctx.matrix * edge_matrix
-        };
+        let matrix = self.world_matrix(edge, &ctx.matrix);
         let world_box = self.local_boxes[edge.child.0 as usize].transformed(&matrix);
 
         // Region of interest: X only matters where it meets a term's box.
@@ -511,7 +507,21 @@ impl<'a> Builder<'a> {
                         negated,
                         ..ctx.clone()
                     };
-                    let part = self.and_into(acc.clone(), edge, &child_ctx)?;
+                    // Copy only the terms a non-negated operand can meet (the rest would be
+                    // dropped on entry anyway): a wide union then costs no quadratic copying.
+                    let input: Vec<Term> = if negated {
+                        acc.clone()
+                    } else {
+                        let reach = self.world_bounds(edge, &ctx.matrix);
+                        let input: Vec<Term> = acc
+                            .iter()
+                            .filter(|t| t.bounds.intersects(&reach))
+                            .cloned()
+                            .collect();
+                        self.stats.terms_outside_operand_bounds += acc.len() - input.len();
+                        input
+                    };
+                    let part = self.and_into(input, edge, &child_ctx)?;
                     self.check_limit(result.len() + part.len(), source)?;
                     result.extend(part);
                 }
@@ -524,6 +534,26 @@ impl<'a> Builder<'a> {
                 Ok(result)
             }
         }
+    }
+
+    /// The world matrix of the frame of `edge`'s child, under the parent's world matrix.
+    fn world_matrix(&self, edge: Edge, parent: &DMat4) -> DMat4 {
+        let edge_matrix = self.dag.matrix(edge.transform);
+        if edge_matrix == DMat4::IDENTITY {
+            *parent
+        } else {
+            *parent * edge_matrix
+        }
+    }
+
+    /// A world box containing the solid behind `edge` (uncomplemented).
+    fn world_bounds(&self, edge: Edge, parent: &DMat4) -> Aabb {
+        let local = self
+            .local_boxes
+            .get(edge.child.0 as usize)
+            .copied()
+            .unwrap_or(Aabb::EVERYTHING);
+        local.transformed(&self.world_matrix(edge, parent))
     }
 
     fn check_limit(&self, count: usize, source: Source) -> Result<(), Abort> {

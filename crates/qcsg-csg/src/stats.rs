@@ -56,6 +56,8 @@ pub struct PassStats {
 pub struct DnfStats {
     /// Nodes in the DAG.
     pub dag_nodes: usize,
+    /// Background parts (`%`) of the DAG: drawn by the renderer, not part of this solid.
+    pub background_parts: usize,
     /// Counters of the construction phase.
     pub construction: ConstructionStats,
     /// The passes over the finished DNF, in order.
