@@ -1,6 +1,8 @@
 //! DNF construction for scenes of many primitive instances built through the builder API:
 //!
 //! - `union_1000`: a union of 1,000 translated (and partly rotated) spheres and cylinders;
+//! - `intersection_of_unions_500`: two offset grids of 500 spheres, intersected (only
+//!   neighbouring pairs of the 250,000 overlap);
 //! - `block_minus_row_50`: a block minus a row of 50 cubes that pass through it;
 //! - `block_minus_pockets_50`: a block minus a row of 50 cubes inside it (cavities);
 //! - `block_minus_jittered_grid_1000_region`: a block minus a jittered 10×10×10 grid of cubes
@@ -72,6 +74,25 @@ fn union_1000() -> Dag {
     dag
 }
 
+/// Two offset grids of 500 spheres each, intersected: the product has 250,000 pairs, of
+/// which only neighbours overlap.
+fn intersection_of_unions_500() -> Dag {
+    let mut dag = Dag::new();
+    let mut unions = Vec::new();
+    for shift in [0.0, 0.9] {
+        let mut parts = Vec::new();
+        for i in 0..500 {
+            let at = DVec3::new((i % 10) as f64, ((i / 10) % 10) as f64, (i / 100) as f64) * 3.0;
+            let s = sphere(&mut dag, 1.0);
+            parts.push(dag.translated(s.into(), at + shift).unwrap());
+        }
+        unions.push(dag.union(parts, Source::default()).into());
+    }
+    let i = dag.intersection(unions, Source::default());
+    dag.set_root(i.into());
+    dag
+}
+
 fn block_minus_row(through: bool) -> Dag {
     let mut dag = Dag::new();
     let block = cube(&mut dag, DVec3::new(101.0, 4.0, 4.0));
@@ -125,6 +146,11 @@ fn benches(c: &mut Criterion) {
     let region = Aabb::new(DVec3::splat(0.25), DVec3::splat(1.75));
     let scenes: Vec<(&str, Dag, DnfOptions)> = vec![
         ("union_1000", union_1000(), DnfOptions::default()),
+        (
+            "intersection_of_unions_500",
+            intersection_of_unions_500(),
+            DnfOptions::default(),
+        ),
         (
             "block_minus_row_50",
             block_minus_row(true),
