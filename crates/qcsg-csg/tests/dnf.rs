@@ -205,3 +205,51 @@ fn projective_transforms_keep_membership() {
     assert!(inside > 100);
     assert!(dnf.bounds.is_bounded());
 }
+
+#[test]
+fn singular_transforms_flatten_parts_away_with_a_warning() {
+    let mut dag = Dag::new();
+    let s = sphere(&mut dag, 1.0, 0);
+    let flat = dag
+        .edge(s, &DMat4::from_scale(DVec3::new(1.0, 1.0, 0.0)))
+        .unwrap();
+    let moved = dag.translated(s.into(), DVec3::new(3.0, 0.0, 0.0)).unwrap();
+    let u = dag.union([moved, flat], src(1));
+    dag.set_root(u.into());
+    let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+    assert_eq!(dnf.terms.len(), 1);
+    assert_eq!(dnf.warnings.len(), 1);
+    assert_eq!(dnf.warnings[0].code, codes::SINGULAR_TRANSFORM);
+    // Subtracting a flattened part subtracts nothing.
+    let d = dag.difference([moved, flat], src(2));
+    dag.set_root(d.into());
+    let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+    assert!(dnf.contains(DVec3::new(3.0, 0.0, 0.0)));
+}
+
+#[test]
+fn complement_alone_is_all_of_space_and_an_error() {
+    let mut dag = Dag::new();
+    let s = sphere(&mut dag, 1.0, 0);
+    let c = dag.complement(s.into(), src(8));
+    dag.set_root(c.into());
+    let errors = build_dnf(&dag, &DnfOptions::default()).unwrap_err();
+    assert_eq!(errors[0].code, codes::UNBOUNDED);
+    // Within a region it is fine: the region's part of it.
+    let region = Aabb::new(DVec3::splat(-2.0), DVec3::splat(2.0));
+    let dnf = build_dnf(
+        &dag,
+        &DnfOptions {
+            region: Some(region),
+            ..DnfOptions::default()
+        },
+    )
+    .unwrap();
+    assert!(dnf.contains(DVec3::splat(1.5)) && !dnf.contains(DVec3::ZERO));
+    // A cube minus the complement of a sphere is their intersection.
+    let cube_node = cube(&mut dag, DVec3::splat(2.0), 9);
+    let d = dag.difference([cube_node.into(), c.into()], src(10));
+    dag.set_root(d.into());
+    let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+    assert!(dnf.contains(DVec3::splat(0.5)) && !dnf.contains(DVec3::splat(1.5)));
+}
