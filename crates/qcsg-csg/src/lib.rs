@@ -10,6 +10,33 @@
 //! quadrics) with per-term boxes, pruning as it goes and in passes afterwards ([`prune`]);
 //! [`json`] and [`text`] write both forms.
 //!
+//! ```
+//! use qcsg_csg::{Aabb, Dag, DnfOptions, Source, build_dnf, dnf_to_json, names_from_list};
+//! use qcsg_quadric::{DVec3, Quadric};
+//!
+//! let mut dag = Dag::new();
+//! let at = Source::default(); // the script's FileId and byte Span in real use
+//! // cube(2): three slabs, and the box the cube knows.
+//! let slabs: Vec<_> = [DVec3::X, DVec3::Y, DVec3::Z]
+//!     .into_iter()
+//!     .map(|n| dag.leaf(Quadric::slab(DVec3::ONE, n, 1.0).unwrap(), at).into())
+//!     .collect();
+//! let cube = dag.intersection(slabs, at);
+//! let cube = dag.bounded(cube, Aabb::new(DVec3::ZERO, DVec3::splat(2.0)));
+//! // translate([2, 2, 2]) sphere(1.2), subtracted.
+//! let ball = dag.leaf(Quadric::sphere(DVec3::ZERO, 1.2).unwrap(), at);
+//! let ball = dag.translated(ball.into(), DVec3::splat(2.0)).unwrap();
+//! let solid = dag.difference([cube.into(), ball], at);
+//! dag.set_root(solid.into());
+//!
+//! let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+//! assert_eq!(dnf.terms.len(), 1); // slabs ∩ ¬sphere
+//! assert!(dnf.contains(DVec3::splat(0.5)) && !dnf.contains(DVec3::splat(1.9)));
+//! let names = vec!["main.qcsg".to_string()];
+//! let json = dnf_to_json(&dnf, &names_from_list(&names));
+//! assert!(json.contains("\"terms\""));
+//! ```
+//!
 //! This crate never depends on the front end: diagnostics point at sources through
 //! [`qcsg_diag::FileId`] and [`qcsg_diag::Span`] only.
 
