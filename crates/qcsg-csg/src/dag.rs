@@ -457,6 +457,48 @@ impl Dag {
         boxes
     }
 
+    /// The highlighted parts (`#`) reachable from the root, each as an edge from the world
+    /// frame to the highlighted node's child, in the order a depth-first walk meets them,
+    /// without repeats. `build_dnf_of` on one gives the solid to draw translucent, as OpenSCAD
+    /// does, also for parts that are subtracted. The walk follows at most `max_visits` edges
+    /// (a DAG can have exponentially many paths); `None` if it needed more.
+    pub fn highlighted_parts(&mut self, max_visits: usize) -> Option<Vec<Edge>> {
+        let Some(root) = self.root else {
+            return Some(Vec::new());
+        };
+        let mut found: Vec<(NodeId, DMat4)> = Vec::new();
+        let mut stack = vec![(root, DMat4::IDENTITY)];
+        let mut visits = 0usize;
+        while let Some((edge, parent)) = stack.pop() {
+            visits += 1;
+            if visits > max_visits {
+                return None;
+            }
+            let world = parent * self.matrix(edge.transform);
+            let Some(node) = self.node(edge.child) else {
+                continue;
+            };
+            if let NodeKind::Highlight(inner) = &node.kind {
+                found.push((inner.child, world * self.matrix(inner.transform)));
+                continue;
+            }
+            // Push in reverse so that children are visited in order.
+            for child in node.kind.children().iter().rev() {
+                stack.push((*child, world));
+            }
+        }
+        let mut parts: Vec<Edge> = Vec::new();
+        for (child, matrix) in found {
+            let Ok(edge) = self.edge(child, &matrix) else {
+                continue;
+            };
+            if !parts.contains(&edge) {
+                parts.push(edge);
+            }
+        }
+        Some(parts)
+    }
+
     /// Whether the world point `p` lies in the root solid (closed: surface points count as
     /// inside), by direct evaluation of the DAG. `false` without a root.
     pub fn contains(&self, p: DVec3) -> bool {
@@ -623,6 +665,24 @@ mod tests {
         assert_eq!(children[1].transform, TransformId::IDENTITY);
         dag.set_root(u.into());
         assert!(dag.contains(DVec3::ZERO));
+    }
+
+    #[test]
+    fn highlighted_parts_in_world_space() {
+        let mut dag = Dag::new();
+        let s = dag.leaf(sphere(), Source::default());
+        let h = dag.highlight(s.into(), Source::default());
+        let moved = dag.translated(h.into(), DVec3::new(5.0, 0.0, 0.0)).unwrap();
+        let d = dag.difference([s.into(), moved], Source::default());
+        dag.set_root(d.into());
+        let parts = dag.highlighted_parts(1000).unwrap();
+        assert_eq!(parts.len(), 1);
+        assert_eq!(parts[0].child, s);
+        assert_eq!(
+            dag.matrix(parts[0].transform),
+            DMat4::from_translation(DVec3::new(5.0, 0.0, 0.0))
+        );
+        assert!(dag.highlighted_parts(1).is_none());
     }
 
     #[test]
