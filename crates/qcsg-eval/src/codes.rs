@@ -1,0 +1,121 @@
+//! Stable codes of the evaluation (runtime) diagnostics.
+//!
+//! Runtime codes live in `E0550`–`E0599` and `W0550`–`W0599` (the lower half of `E05xx` is the
+//! static checker's type codes); the output of `echo` is the information code [`ECHO`]. Tools and
+//! tests match on these codes, never on messages. [`ALL`] lists every code with a one-line
+//! description for the documentation's table.
+
+/// An operator applied at run time to values it is not defined for (OpenSCAD: `undef` and a
+/// warning).
+pub const OPERATOR_TYPE: &str = "E0550";
+/// A built-in function given arguments it cannot use (OpenSCAD: `undef` and a warning).
+pub const FUNCTION_ARGUMENT: &str = "E0551";
+/// A built-in module given an argument it cannot use.
+pub const MODULE_ARGUMENT: &str = "E0552";
+/// A name that is not defined when evaluation reaches it.
+pub const UNDEFINED_NAME: &str = "E0553";
+/// A call of a value that is not a function.
+pub const NOT_CALLABLE: &str = "E0554";
+/// An `assert` whose condition is false.
+pub const ASSERTION_FAILED: &str = "E0555";
+/// Calls nested deeper than the recursion limit.
+pub const RECURSION_LIMIT: &str = "E0556";
+/// More loop iterations and function calls than the iteration limit.
+pub const ITERATION_LIMIT: &str = "E0557";
+/// A vector, range or string longer than the vector-length limit.
+pub const VECTOR_LIMIT: &str = "E0558";
+/// More primitive instances than the instance limit.
+pub const INSTANCE_LIMIT: &str = "E0559";
+/// A construct that qcsg cannot evaluate (an unsupported module reached at run time).
+pub const UNSUPPORTED: &str = "E0560";
+/// A `-D name=value` override whose value is not an expression.
+pub const BAD_DEFINE: &str = "E0561";
+/// A module instantiated as a function or a function as a module, found at run time.
+pub const WRONG_KIND: &str = "E0562";
+
+/// A transform with a singular or non-finite matrix: the object is removed, as in OpenSCAD.
+pub const SINGULAR_TRANSFORM: &str = "W0550";
+/// A range `[begin : end]` with `begin > end`: OpenSCAD swaps the ends (deprecated).
+pub const REVERSED_RANGE: &str = "W0551";
+/// An argument that OpenSCAD ignores (`r` beside `d`, `v` beside a vector angle, …).
+pub const IGNORED_ARGUMENT: &str = "W0552";
+/// A primitive with zero or negative size: it is empty, as in OpenSCAD.
+pub const EMPTY_PRIMITIVE: &str = "W0553";
+/// More than one `!` (root) modifier: the first one is used.
+pub const SEVERAL_ROOTS: &str = "W0554";
+/// A colour that is not recognised (no effect on geometry).
+pub const UNKNOWN_COLOR: &str = "W0555";
+/// `resize` along an axis in which the child is flat, or of an unbounded child.
+pub const RESIZE_IGNORED: &str = "W0556";
+/// A malformed entry in a `search` table: OpenSCAD returns `[]`.
+pub const SEARCH_TABLE: &str = "W0557";
+
+/// The output of `echo`, formatted exactly as OpenSCAD prints it (`ECHO: …`).
+pub const ECHO: &str = "I0550";
+
+/// Every evaluation code with a one-line description, in code order.
+pub const ALL: &[(&str, &str)] = &[
+    (
+        OPERATOR_TYPE,
+        "operator applied to values of the wrong types",
+    ),
+    (
+        FUNCTION_ARGUMENT,
+        "built-in function given an unusable argument",
+    ),
+    (
+        MODULE_ARGUMENT,
+        "built-in module given an unusable argument",
+    ),
+    (UNDEFINED_NAME, "name not defined at run time"),
+    (NOT_CALLABLE, "call of a value that is not a function"),
+    (ASSERTION_FAILED, "assertion failed"),
+    (RECURSION_LIMIT, "recursion limit reached"),
+    (ITERATION_LIMIT, "iteration limit reached"),
+    (VECTOR_LIMIT, "vector length limit reached"),
+    (INSTANCE_LIMIT, "primitive instance limit reached"),
+    (UNSUPPORTED, "construct that cannot be evaluated"),
+    (BAD_DEFINE, "`-D` value that is not an expression"),
+    (
+        WRONG_KIND,
+        "module used as a function or function as a module",
+    ),
+    (
+        SINGULAR_TRANSFORM,
+        "singular transform: the object is removed",
+    ),
+    (
+        REVERSED_RANGE,
+        "range with begin > end: the ends are swapped",
+    ),
+    (IGNORED_ARGUMENT, "argument that has no effect"),
+    (
+        EMPTY_PRIMITIVE,
+        "primitive with zero or negative size is empty",
+    ),
+    (
+        SEVERAL_ROOTS,
+        "more than one `!` modifier: the first is used",
+    ),
+    (UNKNOWN_COLOR, "unrecognised colour"),
+    (RESIZE_IGNORED, "resize not applied"),
+    (SEARCH_TABLE, "malformed `search` table entry"),
+    (ECHO, "output of `echo`"),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::ALL;
+
+    #[test]
+    fn codes_are_unique_and_well_formed() {
+        let mut seen = std::collections::HashSet::new();
+        for (code, description) in ALL {
+            assert!(seen.insert(*code), "duplicate code {code}");
+            assert_eq!(code.len(), 5);
+            assert!(matches!(&code[..1], "E" | "W" | "I"));
+            assert!(code[1..].bytes().all(|b| b.is_ascii_digit()));
+            assert!(!description.is_empty());
+        }
+    }
+}

@@ -1,0 +1,198 @@
+//! The qcsg evaluator: a checked program (`qcsg_sema::Analysis`) to an exact solid, a
+//! transformed CSG [`Dag`] over quadric leaves, with OpenSCAD 2021.01's semantics.
+//!
+//! [`evaluate`] is the entry point. It runs the main file's top-level scope (an implicit union)
+//! with `include`d files spliced in and `use`d files' definitions imported, applies `-D`
+//! overrides ([`EvalOptions::defines`]), and returns the DAG and the diagnostics: `echo` output
+//! (information [`codes::ECHO`], formatted exactly like OpenSCAD's `ECHO: …` lines), warnings,
+//! and at most one runtime error (the first one stops evaluation, as OpenSCAD's errors do).
+//!
+//! Semantics follow OpenSCAD 2021.01, checked against it (see `tests/eval/`):
+//! - Values: numbers (f64), booleans, strings, `undef`, vectors, ranges, functions. Where
+//!   OpenSCAD would yield `undef` *with a warning* (`"a" + 1`, `sin("x")`, `len(5)`), qcsg
+//!   reports an error at the span; where it yields `undef` silently (an index out of range)
+//!   so does qcsg.
+//! - Scoping: assignments of a scope run before its instantiations; a variable assigned twice
+//!   takes the last value at the position of the first; `$`-variables are dynamically scoped
+//!   (assignments and `$x = …` arguments reach callees and `children()`); default parameter
+//!   values are evaluated in the definition's scope; a variable holding a function literal is
+//!   called in preference to a function of the same name.
+//! - Tail calls of user functions (through `?:`, `let` and parentheses) run in a loop, so tail
+//!   recursion is bounded by [`EvalOptions::max_iterations`] only; other recursion by
+//!   [`EvalOptions::max_recursion`], on a stack that grows as needed.
+//! - Modifiers: `*` drops its subtree unevaluated; `%` evaluates it (echo runs) and keeps it
+//!   out of the solid as a background part; `#` highlights; `!` makes its subtree (without the
+//!   transforms above it) the whole solid.
+//! - Primitives and their quadrics: see [`primitives`]; transforms: see [`transforms`].
+//!   A singular transform (`scale(0)`) removes its object with a warning, as OpenSCAD does; a
+//!   primitive of zero or negative size is an empty solid with a warning.
+//! - Without a seed, `rands` uses seed 0, so output is always reproducible.
+
+pub mod builtins_fn;
+pub mod codes;
+pub mod color;
+pub mod env;
+mod eval;
+pub mod math;
+pub mod ops;
+pub mod primitives;
+pub mod printer;
+pub mod transforms;
+pub mod value;
+
+use std::collections::HashMap;
+
+pub use qcsg_csg::Dag;
+use qcsg_diag::{Diagnostic, FileId, Severity, Span};
+use qcsg_sema::Analysis;
+use qcsg_syntax::ast::{Expr, StmtKind};
+
+/// Settings of an evaluation: limits and `-D` overrides.
+#[derive(Clone, Debug)]
+pub struct EvalOptions {
+    /// `-D name=value` overrides of top-level variables of the main file, value as source text
+    /// (an expression). As in OpenSCAD, an override replaces the value of the variable's
+    /// assignment (or adds one at the end of the file).
+    pub defines: Vec<(String, String)>,
+    /// The deepest nesting of module and (non-tail) function calls.
+    pub max_recursion: usize,
+    /// The most loop iterations and function calls in total.
+    pub max_iterations: u64,
+    /// The most elements of one vector (ranges iterated or spliced count too).
+    pub max_vector_len: u64,
+    /// The most primitive instances.
+    pub max_instances: u64,
+}
+
+impl EvalOptions {
+    /// Default recursion limit.
+    pub const DEFAULT_MAX_RECURSION: usize = 10_000;
+    /// Default iteration limit.
+    pub const DEFAULT_MAX_ITERATIONS: u64 = 10_000_000;
+    /// Default vector-length limit.
+    pub const DEFAULT_MAX_VECTOR_LEN: u64 = 10_000_000;
+    /// Default primitive-instance limit.
+    pub const DEFAULT_MAX_INSTANCES: u64 = 1_000_000;
+}
+
+impl Default for EvalOptions {
+    fn default() -> Self {
+        Self {
+            defines: Vec::new(),
+            max_recursion: Self::DEFAULT_MAX_RECURSION,
+            max_iterations: Self::DEFAULT_MAX_ITERATIONS,
+            max_vector_len: Self::DEFAULT_MAX_VECTOR_LEN,
+            max_instances: Self::DEFAULT_MAX_INSTANCES,
+        }
+    }
+}
+
+/// The result of an evaluation.
+#[derive(Debug)]
+pub struct Evaluation {
+    /// The solid: its root is the (possibly empty) union of the top level, or the `!` subtree.
+    pub dag: Dag,
+    /// Echo output, warnings and errors, in the order evaluation produced them.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl Evaluation {
+    /// Whether evaluation reported an error.
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(Diagnostic::is_error)
+    }
+
+    /// The `echo` output, one `ECHO: …` line per echo, in evaluation order.
+    pub fn echo_lines(&self) -> Vec<&str> {
+        self.diagnostics
+            .iter()
+            .filter(|d| d.code == codes::ECHO)
+            .map(|d| d.message.as_str())
+            .collect()
+    }
+}
+
+/// The file id under which `-D` values are parsed; their diagnostics are moved to the main file.
+const DEFINE_FILE: FileId = FileId(u32::MAX);
+
+/// Evaluates the program `analysis` checked. Call it when checking found no errors (names it
+/// reports as undefined are runtime errors here). Never panics.
+pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
+    let mut diagnostics = Vec::new();
+    let mut defines: Vec<(String, Expr)> = Vec::new();
+    for (name, text) in &options.defines {
+        match parse_define(name, text) {
+            Some(expr) => defines.push((name.clone(), expr)),
+            None => diagnostics.push(
+                Diagnostic::error(
+                    codes::BAD_DEFINE,
+                    format!("`-D {name}={text}`: the value is not an expression"),
+                    analysis.main,
+                    Span::default(),
+                )
+                .with_help(
+                    "write the value as an expression, strings in quotes: -D 'name=\"text\"'",
+                ),
+            ),
+        }
+    }
+    if !diagnostics.is_empty() {
+        let mut dag = Dag::new();
+        let root = dag.empty(qcsg_csg::Source::new(analysis.main, Span::default()));
+        dag.set_root(root.into());
+        return Evaluation { dag, diagnostics };
+    }
+    let links: HashMap<(FileId, u32), FileId> = analysis
+        .links
+        .iter()
+        .filter_map(|l| l.target.map(|t| ((l.file, l.span.start), t)))
+        .collect();
+    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let mut evaluator =
+            eval::Evaluator::new(&analysis.trees, links, options, &defines, DEFINE_FILE);
+        let outcome = evaluator.run_main(analysis.main);
+        let mut dag = std::mem::take(&mut evaluator.dag);
+        if outcome.is_err() || dag.root().is_none() {
+            let root = dag.empty(qcsg_csg::Source::new(analysis.main, Span::default()));
+            dag.set_root(root.into());
+        }
+        (dag, std::mem::take(&mut evaluator.diagnostics))
+    }));
+    let (dag, mut found) = match run {
+        Ok(result) => result,
+        Err(_) => {
+            let mut dag = Dag::new();
+            let root = dag.empty(qcsg_csg::Source::new(analysis.main, Span::default()));
+            dag.set_root(root.into());
+            let internal = Diagnostic::new(
+                Severity::Error,
+                codes::UNSUPPORTED,
+                "internal error: the evaluator failed on this input",
+                analysis.main,
+                Span::default(),
+            );
+            (dag, vec![internal])
+        }
+    };
+    for d in &mut found {
+        if d.file == DEFINE_FILE {
+            d.file = analysis.main;
+            d.span = Span::default();
+        }
+    }
+    diagnostics.extend(found);
+    Evaluation { dag, diagnostics }
+}
+
+/// The expression of a `-D name=value` override.
+fn parse_define(name: &str, text: &str) -> Option<Expr> {
+    let source = format!("{name} = {text};");
+    let parsed = qcsg_syntax::parse(&source, DEFINE_FILE);
+    if !parsed.diagnostics.is_empty() || parsed.file.stmts.len() != 1 {
+        return None;
+    }
+    match parsed.file.stmts.into_iter().next()?.kind {
+        StmtKind::Assign { value, .. } => Some(value),
+        _ => None,
+    }
+}
