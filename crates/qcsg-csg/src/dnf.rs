@@ -336,13 +336,23 @@ struct LiteralKey {
     highlight: bool,
 }
 
+/// Literals that may be merged: same shape key, same appearance.
+#[derive(Clone, PartialEq, Eq, Hash)]
+struct ShapeGroup {
+    shape: [u64; 9],
+    color: Option<[u64; 4]>,
+    highlight: bool,
+}
+
 struct Builder<'a> {
     dag: &'a Dag,
     term_limit: usize,
     literals: Vec<Literal>,
     literal_index: HashMap<LiteralKey, Option<u32>>,
     /// Literal ids grouped by [`shape_key`], to find equal quadrics.
-    shape_groups: HashMap<[u64; 9], Vec<u32>>,
+    /// Colour and highlight are part of the key: merging a red face into a blue one would
+    /// repaint it.
+    shape_groups: HashMap<ShapeGroup, Vec<u32>>,
     /// Each node's box in its own frame.
     local_boxes: Vec<Aabb>,
     singular_reported: HashSet<NodeId>,
@@ -649,7 +659,12 @@ impl<'a> Builder<'a> {
             return None;
         };
         let world = if ctx.negated { world.negated() } else { world };
-        let group = self.shape_groups.entry(shape_key(&world)).or_default();
+        let group_key = ShapeGroup {
+            shape: shape_key(&world),
+            color: ctx.color.map(|c| c.map(f64::to_bits)),
+            highlight: ctx.highlight,
+        };
+        let group = self.shape_groups.entry(group_key).or_default();
         for &candidate in group.iter() {
             if self.literals[candidate as usize]
                 .quadric

@@ -152,3 +152,27 @@ fn text_forms_are_readable() {
     let bytes = dnf_to_text(&dnf, &byte_locator(&names));
     assert!(bytes.contains("main.qcsg@4..5"), "{bytes}");
 }
+
+#[test]
+fn faces_shared_by_differently_coloured_parts_keep_their_colours() {
+    let mut dag = Dag::new();
+    let a = cube(&mut dag, DVec3::ONE, 0);
+    let b = cube(&mut dag, DVec3::ONE, 0);
+    let red = dag.color(a.into(), [1.0, 0.0, 0.0, 1.0], src(1)).unwrap();
+    let blue = dag.color(b.into(), [0.0, 0.0, 1.0, 1.0], src(2)).unwrap();
+    let blue = dag
+        .translated(blue.into(), DVec3::new(2.0, 0.0, 0.0))
+        .unwrap();
+    let u = dag.union([red.into(), blue], src(3));
+    dag.set_root(u.into());
+    let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+    for term in &dnf.terms {
+        let colours: Vec<_> = term
+            .literals
+            .iter()
+            .map(|&i| dnf.quadrics[i as usize].color)
+            .collect();
+        assert!(colours.iter().all(|c| *c == colours[0]), "{colours:?}");
+    }
+    assert_eq!(dnf.quadrics.len(), 6);
+}
