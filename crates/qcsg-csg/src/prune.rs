@@ -13,16 +13,18 @@
 //! 5. `subsumed_terms`: terms whose literal set contains another term's (they lie inside it);
 //! 6. `unused_quadrics`: quadrics no term uses, with the rest renumbered in order.
 
+use std::collections::HashMap;
+
 use crate::bounds::Aabb;
 use crate::dnf::{DUPLICATE_TOLERANCE, Dnf, Term};
 use crate::quadric_box::{BoxClass, classify};
 use crate::stats::{ConstructionStats, DnfStats, PassStats};
 
-/// Most terms on which subsumption is tried during construction (it is quadratic).
-pub const INCREMENTAL_SUBSUMPTION_LIMIT: usize = 2_000;
+/// Most terms on which subsumption is tried during construction (quadratic in the worst case).
+pub const INCREMENTAL_SUBSUMPTION_LIMIT: usize = 20_000;
 
 /// Most terms on which subsumption is tried in the final pass.
-pub const FINAL_SUBSUMPTION_LIMIT: usize = 20_000;
+pub const FINAL_SUBSUMPTION_LIMIT: usize = 200_000;
 
 /// Removes exact duplicate terms (intersecting their boxes) and, when there are at most
 /// `subsumption_limit` terms, terms whose literal set contains another's. Keeps the order of
@@ -79,24 +81,7 @@ fn remove_duplicates_and_subsumed(
     }
     let mut subsumed = 0;
     if subsume && terms.len() <= subsumption_limit {
-        let signatures: Vec<u64> = terms.iter().map(|t| signature(&t.literals)).collect();
-        let mut kept: Vec<usize> = Vec::new();
-        for &index in &order {
-            if !keep[index] {
-                continue;
-            }
-            let term = &terms[index];
-            let covered = kept.iter().any(|&k| {
-                signatures[k] & !signatures[index] == 0
-                    && is_subset(&terms[k].literals, &term.literals)
-            });
-            if covered {
-                keep[index] = false;
-                subsumed += 1;
-            } else {
-                kept.push(index);
-            }
-        }
+        subsumed = remove_subsumed(terms, &order, &mut keep);
     }
     let mut index = 0;
     terms.retain(|_| {
@@ -105,6 +90,53 @@ fn remove_duplicates_and_subsumed(
         k
     });
     (duplicates, subsumed)
+}
+
+/// Marks terms whose literal set contains a kept term's, visiting terms in `order` (by
+/// length), and returns how many. Each kept term is filed under its rarest literal, so a term
+/// only meets the candidates filed under its own literals: near-linear when terms share few
+/// literals, never worse than comparing all pairs.
+fn remove_subsumed(terms: &[Term], order: &[usize], keep: &mut [bool]) -> usize {
+    let mut frequency: HashMap<u32, usize> = HashMap::new();
+    for term in terms {
+        for &l in &term.literals {
+            *frequency.entry(l).or_default() += 1;
+        }
+    }
+    let signatures: Vec<u64> = terms.iter().map(|t| signature(&t.literals)).collect();
+    let mut filed: HashMap<u32, Vec<usize>> = HashMap::new();
+    let mut universal = false;
+    let mut subsumed = 0;
+    for &index in order {
+        if !keep[index] {
+            continue;
+        }
+        let term = &terms[index];
+        let covered = universal
+            || term.literals.iter().any(|l| {
+                filed.get(l).is_some_and(|candidates| {
+                    candidates.iter().any(|&k| {
+                        signatures[k] & !signatures[index] == 0
+                            && is_subset(&terms[k].literals, &term.literals)
+                    })
+                })
+            });
+        if covered {
+            keep[index] = false;
+            subsumed += 1;
+            continue;
+        }
+        // Ties go to the smallest id, so the filing does not depend on hash order.
+        match term
+            .literals
+            .iter()
+            .min_by_key(|&&l| (frequency.get(&l).copied().unwrap_or(0), l))
+        {
+            Some(&rarest) => filed.entry(rarest).or_default().push(index),
+            None => universal = true,
+        }
+    }
+    subsumed
 }
 
 /// A 64-bit Bloom signature of a literal set: `a ⊆ b` implies `sig(a) & !sig(b) == 0`.
