@@ -251,9 +251,10 @@ fn balanced<'t, E: SyntaxError<'t>>() -> impl Parser<'t, In<'t>, (), extra::Err<
 fn name<'t, E: SyntaxError<'t>>(
     ctx: Ctx<'t>,
 ) -> impl Parser<'t, In<'t>, Ident, extra::Err<E>> + Clone {
-    one_of([Tok::Ident, Tok::SpecialIdent, Tok::Assert, Tok::Echo])
-        .map_with(move |_, e| ctx.ident(e.span()))
-        .labelled("identifier")
+    select! {
+        Tok::Ident | Tok::SpecialIdent | Tok::Assert | Tok::Echo = e => ctx.ident(e.span()),
+    }
+    .labelled("identifier")
 }
 
 /// `name = value` (a `for`/`let` binding).
@@ -332,16 +333,18 @@ fn expr_parser<'t, E: SyntaxError<'t>>(
 ) -> impl Parser<'t, In<'t>, Expr, extra::Err<E>> + Clone {
     recursive(move |expr| {
         let expr = expr.boxed();
-        let literal = choice((
-            just(Tok::Number).map_with(move |_, e| ExprKind::Number(ctx.number(e.span()))),
-            one_of([Tok::Str(true), Tok::Str(false)])
-                .map_with(move |_, e| ExprKind::String(ctx.string(e.span()))),
-            just(Tok::True).to(ExprKind::Bool(true)),
-            just(Tok::False).to(ExprKind::Bool(false)),
-            just(Tok::Undef).to(ExprKind::Undef),
-            just(Tok::TooDeep).to(ExprKind::Error),
-            name(ctx).map(ExprKind::Ident),
-        ))
+        // One token decides a literal or a name: a single `select` instead of a `choice`.
+        let literal = select! {
+            Tok::Number = e => ExprKind::Number(ctx.number(e.span())),
+            Tok::Str(_) = e => ExprKind::String(ctx.string(e.span())),
+            Tok::True => ExprKind::Bool(true),
+            Tok::False => ExprKind::Bool(false),
+            Tok::Undef => ExprKind::Undef,
+            Tok::TooDeep => ExprKind::Error,
+            Tok::Ident | Tok::SpecialIdent | Tok::Assert | Tok::Echo = e => {
+                ExprKind::Ident(ctx.ident(e.span()))
+            },
+        }
         .map_with(|kind, e| Expr {
             kind,
             span: sp(e.span()),
