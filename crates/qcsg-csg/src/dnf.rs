@@ -696,7 +696,7 @@ impl<'a> Builder<'a> {
 /// point of the quadric's centre set nearest the world origin, both with the low 32 bits of
 /// their mantissas cleared. Values straddling a rounding boundary only cost a missed merge:
 /// equality is always confirmed by [`Quadric::approx_eq_up_to_scale`].
-fn shape_key(q: &Quadric) -> [u64; 9] {
+pub(crate) fn shape_key(q: &Quadric) -> [u64; 9] {
     fn coarse(x: f64) -> u64 {
         if x == 0.0 {
             0

@@ -16,7 +16,7 @@
 use std::collections::HashMap;
 
 use crate::bounds::Aabb;
-use crate::dnf::{DUPLICATE_TOLERANCE, Dnf, Term};
+use crate::dnf::{DUPLICATE_TOLERANCE, Dnf, Term, shape_key};
 use crate::quadric_box::{BoxClass, classify};
 use crate::stats::{ConstructionStats, DnfStats, PassStats};
 
@@ -227,22 +227,20 @@ fn pass_literal_bounds(dnf: &mut Dnf, own_boxes: &[Aabb], region: Aabb) {
         }
         // A literal may go only if the remaining literals alone keep the term inside it: test
         // it against the box they (and the region) imply, not against the term's box, which
-        // may owe its extent to the literal itself.
-        let mut index = 0;
-        while index < term.literals.len() {
-            let implied = term
-                .literals
-                .iter()
-                .enumerate()
-                .filter(|&(k, _)| k != index)
-                .fold(region, |acc, (_, &id)| {
-                    acc.intersection(&own_boxes[id as usize])
-                });
-            let id = term.literals[index];
-            if classify(&quadrics[id as usize].quadric, &implied) == BoxClass::Inside {
-                term.literals.remove(index);
-            } else {
-                index += 1;
+        // may owe its extent to the literal itself. Deciding in order, with the kept literals
+        // before and all literals after, keeps every decision about the current set, in
+        // linear time.
+        let literals = std::mem::take(&mut term.literals);
+        let mut suffix = vec![Aabb::EVERYTHING; literals.len() + 1];
+        for (k, &id) in literals.iter().enumerate().rev() {
+            suffix[k] = suffix[k + 1].intersection(&own_boxes[id as usize]);
+        }
+        let mut prefix = region;
+        for (k, &id) in literals.iter().enumerate() {
+            let implied = prefix.intersection(&suffix[k + 1]);
+            if classify(&quadrics[id as usize].quadric, &implied) != BoxClass::Inside {
+                term.literals.push(id);
+                prefix = prefix.intersection(&own_boxes[id as usize]);
             }
         }
         true
@@ -250,17 +248,22 @@ fn pass_literal_bounds(dnf: &mut Dnf, own_boxes: &[Aabb], region: Aabb) {
 }
 
 fn pass_duplicate_literals(dnf: &mut Dnf) {
+    // Equal quadrics share a shape key, so only literals with equal keys are compared.
+    let keys: Vec<[u64; 9]> = dnf.quadrics.iter().map(|q| shape_key(&q.quadric)).collect();
     let quadrics = &dnf.quadrics;
     for term in &mut dnf.terms {
+        let mut groups: HashMap<[u64; 9], Vec<u32>> = HashMap::new();
         let mut kept: Vec<u32> = Vec::with_capacity(term.literals.len());
         for &id in &term.literals {
             let q = &quadrics[id as usize].quadric;
-            let duplicate = kept.iter().any(|&k| {
+            let group = groups.entry(keys[id as usize]).or_default();
+            let duplicate = group.iter().any(|&k| {
                 quadrics[k as usize]
                     .quadric
                     .approx_eq_up_to_scale(q, DUPLICATE_TOLERANCE)
             });
             if !duplicate {
+                group.push(id);
                 kept.push(id);
             }
         }

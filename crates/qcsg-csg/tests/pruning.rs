@@ -295,3 +295,40 @@ fn subtracting_a_slab_complement_shrinks_the_term_box() {
         Aabb::new(DVec3::splat(-1.0), DVec3::new(11.0, 2.0, 2.0)),
     );
 }
+
+#[test]
+fn duplicate_literal_pass_merges_one_surface_met_in_two_colours() {
+    let mut dag = Dag::new();
+    let a = sphere(&mut dag, 1.0, 0);
+    let red = dag.color(a.into(), [1.0, 0.0, 0.0, 1.0], src(1)).unwrap();
+    let blue = dag.color(a.into(), [0.0, 0.0, 1.0, 1.0], src(2)).unwrap();
+    let i = dag.intersection([red.into(), blue.into()], src(3));
+    dag.set_root(i.into());
+    let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+    let p = pass(&dnf, "duplicate_literals");
+    assert_eq!((p.literals_before, p.literals_after), (2, 1));
+    let unused = pass(&dnf, "unused_quadrics");
+    assert_eq!((unused.quadrics_before, unused.quadrics_after), (2, 1));
+    assert_same_meaning(&dag, &dnf, probe());
+}
+
+#[test]
+fn long_terms_stay_fast() {
+    // A block minus 3,000 through-holes: one term of about 3,000 literals.
+    let mut dag = Dag::new();
+    let block = cube(&mut dag, DVec3::new(6001.0, 4.0, 4.0), 0);
+    let mut children = vec![block.into()];
+    for i in 0..3000 {
+        let hole = cube(&mut dag, DVec3::new(1.0, 6.0, 6.0), 1);
+        let at = DVec3::new(1.0 + 2.0 * i as f64, -1.0, -1.0);
+        children.push(dag.translated(hole.into(), at).unwrap());
+    }
+    let d = dag.difference(children, src(2));
+    dag.set_root(d.into());
+    let start = std::time::Instant::now();
+    let dnf = build_dnf(&dag, &DnfOptions::default()).unwrap();
+    assert!(start.elapsed().as_secs_f64() < 5.0);
+    assert_eq!(dnf.terms.len(), 1);
+    assert_eq!(dnf.terms[0].literals.len(), 3 + 3000);
+    assert!(dnf.contains(DVec3::new(0.5, 2.0, 2.0)) && !dnf.contains(DVec3::new(1.5, 2.0, 2.0)));
+}
