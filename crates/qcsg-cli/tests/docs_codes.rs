@@ -1,6 +1,6 @@
 //! `docs/language.md` stays true: its table of diagnostic codes lists exactly the codes the checker
-//! can report (those of `qcsg_syntax::codes::ALL` and `qcsg_sema::codes::ALL`), and its examples
-//! parse.
+//! can report (those of `qcsg_syntax::codes::ALL`, `qcsg_sema::codes::ALL` and the evaluator's
+//! `qcsg_eval::codes::ALL`), and its examples parse.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -42,6 +42,7 @@ fn manual_documents_every_code_exactly_once() {
     let known: BTreeSet<&str> = qcsg_syntax::codes::ALL
         .iter()
         .chain(qcsg_sema::codes::ALL)
+        .chain(qcsg_eval::codes::ALL)
         .map(|(code, _)| *code)
         .collect();
     let undocumented: Vec<_> = known.difference(&unique).collect();
