@@ -505,6 +505,33 @@ mod tests {
     }
 
     #[test]
+    fn long_include_and_use_chains_do_not_overflow_the_stack() {
+        let mut loader = MemoryLoader::default();
+        let files = 3000;
+        for i in 0..files {
+            let used = format!("use <u{}.scad>\nmodule u{i}() cube(1);\n", i + 1);
+            let included = format!("include <i{}.scad>\nmodule i{i}() cube(1);\n", i + 1);
+            loader = loader
+                .with(&format!("dir/u{i}.scad"), &used)
+                .with(&format!("dir/i{i}.scad"), &included);
+        }
+        let analysis = check_with(
+            "use <u0.scad>\ninclude <i0.scad>\nu0();\ni0();\n",
+            &CheckOptions::default(),
+            &loader,
+        );
+        // Only the two ends of the chains are missing.
+        assert!(
+            analysis
+                .diagnostics
+                .iter()
+                .all(|d| d.code == codes::FILE_NOT_FOUND),
+            "{:?}",
+            analysis.diagnostics.first()
+        );
+    }
+
+    #[test]
     fn garbage_never_panics() {
         for text in [
             "",

@@ -138,6 +138,8 @@ struct Signature {
     positional_only: bool,
 }
 
+/// Resolves every unit of a program over its loaded trees, collecting definitions, references and
+/// diagnostics.
 pub(crate) struct Resolver<'a> {
     loaded: &'a Loaded,
     sources: &'a SourceMap,
@@ -227,6 +229,11 @@ impl<'a> Resolver<'a> {
         if let Some(&unit) = self.unit_of_file.get(&root) {
             return unit;
         }
+        // A chain of libraries each using the next recurses once per library.
+        stacker::maybe_grow(STACK_RED_ZONE, STACK_GROWTH, || self.new_unit(root))
+    }
+
+    fn new_unit(&mut self, root: FileId) -> usize {
         let index = self.units.len();
         self.unit_of_file.insert(root, index);
         self.units.push(Unit {
