@@ -9,9 +9,12 @@
 //! to the next `;` or `}` (balanced groups skipped whole) and becomes [`StmtKind::Error`]; a
 //! parenthesised or bracketed expression that cannot be parsed becomes [`ExprKind::Error`].
 
+use chumsky::DefaultExpected;
 use chumsky::input::{Input as _, MappedInput};
+use chumsky::label::LabelError;
 use chumsky::pratt::{infix, left, prefix, right};
 use chumsky::prelude::*;
+use chumsky::util::MaybeRef;
 use qcsg_diag::{Diagnostic, FileId, Span};
 
 use crate::ast::*;
@@ -21,10 +24,10 @@ use crate::lexer::{Tok, unescape};
 
 /// The parser's input: a slice of spanned tokens.
 type In<'t> = MappedInput<'t, Tok, SimpleSpan, &'t [(Tok, SimpleSpan)]>;
-/// The error type the parsers are generic over: [`EmptyErr`] for the fast first pass, [`Rich`]
+/// The error type the parsers are generic over: [`EmptyErr`] for the fast first pass, [`SynErr`]
 /// for the pass that explains errors.
 pub(crate) trait SyntaxError<'t>:
-    chumsky::error::Error<'t, In<'t>> + chumsky::label::LabelError<'t, In<'t>, &'static str> + 't
+    chumsky::error::Error<'t, In<'t>> + LabelError<'t, In<'t>, &'static str> + 't
 {
     /// An error with a message of its own.
     fn custom(span: SimpleSpan, message: &str) -> Self;
@@ -36,9 +39,157 @@ impl<'t> SyntaxError<'t> for EmptyErr {
     }
 }
 
-impl<'t> SyntaxError<'t> for Rich<'t, Tok> {
+/// A syntax error as the explaining pass collects it: what was found, and which tokens and
+/// labelled constructs were expected there. Lighter than chumsky's `Rich` (no per-pattern
+/// allocation, cheap merging), which matters because editors parse broken text all the time.
+#[derive(Clone, Debug)]
+pub(crate) struct SynErr {
+    span: SimpleSpan,
+    /// The token found; `None` at the end of the file (or for a custom error).
+    found: Option<Tok>,
+    /// Tokens that would have been accepted.
+    tokens: Vec<Tok>,
+    /// Labelled constructs that would have been accepted ("expression", "`;` after assignment").
+    labels: Vec<&'static str>,
+    /// A message of its own instead of "expected …, found …".
+    custom: Option<String>,
+}
+
+impl SynErr {
+    fn add_tokens<'t>(&mut self, expected: impl IntoIterator<Item = DefaultExpected<'t, Tok>>) {
+        for pattern in expected {
+            if let DefaultExpected::Token(tok) = pattern
+                && !self.tokens.contains(&*tok)
+            {
+                self.tokens.push(*tok);
+            }
+        }
+    }
+    fn add_labels(&mut self, expected: impl IntoIterator<Item = &'static str>) {
+        for label in expected {
+            if !self.labels.contains(&label) {
+                self.labels.push(label);
+            }
+        }
+    }
+    fn reset(&mut self, found: Option<MaybeRef<'_, Tok>>, span: SimpleSpan) {
+        self.span = span;
+        self.found = found.map(|t| *t);
+        self.tokens.clear();
+        self.labels.clear();
+        self.custom = None;
+    }
+    fn new(found: Option<MaybeRef<'_, Tok>>, span: SimpleSpan) -> Self {
+        Self {
+            span,
+            found: found.map(|t| *t),
+            tokens: Vec::new(),
+            labels: Vec::new(),
+            custom: None,
+        }
+    }
+}
+
+impl<'t> chumsky::error::Error<'t, In<'t>> for SynErr {
+    fn merge(mut self, other: Self) -> Self {
+        if self.custom.is_none() {
+            if other.custom.is_some() {
+                return other;
+            }
+            for tok in other.tokens {
+                if !self.tokens.contains(&tok) {
+                    self.tokens.push(tok);
+                }
+            }
+            self.add_labels(other.labels);
+        }
+        self
+    }
+}
+
+impl<'t> LabelError<'t, In<'t>, DefaultExpected<'t, Tok>> for SynErr {
+    fn expected_found<E: IntoIterator<Item = DefaultExpected<'t, Tok>>>(
+        expected: E,
+        found: Option<MaybeRef<'t, Tok>>,
+        span: SimpleSpan,
+    ) -> Self {
+        let mut error = SynErr::new(found, span);
+        error.add_tokens(expected);
+        error
+    }
+    fn merge_expected_found<E: IntoIterator<Item = DefaultExpected<'t, Tok>>>(
+        mut self,
+        expected: E,
+        _found: Option<MaybeRef<'t, Tok>>,
+        _span: SimpleSpan,
+    ) -> Self {
+        if self.custom.is_none() {
+            self.add_tokens(expected);
+        }
+        self
+    }
+    fn replace_expected_found<E: IntoIterator<Item = DefaultExpected<'t, Tok>>>(
+        mut self,
+        expected: E,
+        found: Option<MaybeRef<'t, Tok>>,
+        span: SimpleSpan,
+    ) -> Self {
+        self.reset(found, span);
+        self.add_tokens(expected);
+        self
+    }
+}
+
+impl<'t> LabelError<'t, In<'t>, &'static str> for SynErr {
+    fn expected_found<E: IntoIterator<Item = &'static str>>(
+        expected: E,
+        found: Option<MaybeRef<'t, Tok>>,
+        span: SimpleSpan,
+    ) -> Self {
+        let mut error = SynErr::new(found, span);
+        error.add_labels(expected);
+        error
+    }
+    fn merge_expected_found<E: IntoIterator<Item = &'static str>>(
+        mut self,
+        expected: E,
+        _found: Option<MaybeRef<'t, Tok>>,
+        _span: SimpleSpan,
+    ) -> Self {
+        if self.custom.is_none() {
+            self.add_labels(expected);
+        }
+        self
+    }
+    fn replace_expected_found<E: IntoIterator<Item = &'static str>>(
+        mut self,
+        expected: E,
+        found: Option<MaybeRef<'t, Tok>>,
+        span: SimpleSpan,
+    ) -> Self {
+        self.reset(found, span);
+        self.add_labels(expected);
+        self
+    }
+    fn label_with(&mut self, label: &'static str) {
+        // As chumsky's `Rich`: a label stands for everything expected inside it.
+        if self.custom.is_none() {
+            self.tokens.clear();
+            self.labels.clear();
+            self.labels.push(label);
+        }
+    }
+}
+
+impl<'t> SyntaxError<'t> for SynErr {
     fn custom(span: SimpleSpan, message: &str) -> Self {
-        Rich::custom(span, message)
+        SynErr {
+            span,
+            found: None,
+            tokens: Vec::new(),
+            labels: Vec::new(),
+            custom: Some(message.to_owned()),
+        }
     }
 }
 
@@ -118,14 +269,14 @@ pub(crate) fn parse_tokens(
     {
         return (stmts, Vec::new());
     }
-    let (stmts, errors) = file_parser::<Rich<'_, Tok>>(ctx)
+    let (stmts, errors) = file_parser::<SynErr>(ctx)
         .parse(tokens.split_token_span(eoi))
         .into_output_errors();
     let mut diagnostics: Vec<Diagnostic> = Vec::with_capacity(errors.len());
     let mut eof_done = eof_reported;
     for error in &errors {
-        if let chumsky::error::RichReason::ExpectedFound { found, .. } = error.reason() {
-            match found.as_deref() {
+        if error.custom.is_none() {
+            match error.found {
                 // The lexer reported these already.
                 Some(Tok::Error | Tok::TooDeep) => continue,
                 None if eof_done => continue,
@@ -926,14 +1077,15 @@ fn stmt_parser<'t, E: SyntaxError<'t>>(
 
 /// Turns a chumsky error into a diagnostic with a readable message and a precise span.
 fn to_diagnostic(
-    error: &Rich<'_, Tok>,
+    error: &SynErr,
     tokens: &[(Tok, SimpleSpan)],
     text: &str,
     file: FileId,
 ) -> Diagnostic {
-    let span = *error.span();
-    match error.reason() {
-        chumsky::error::RichReason::Custom(message) => {
+    let span = error.span;
+    let found = error.found;
+    match &error.custom {
+        Some(message) => {
             let code = if message.starts_with("unexpected closing") {
                 codes::UNEXPECTED_CLOSING_DELIMITER
             } else {
@@ -941,19 +1093,13 @@ fn to_diagnostic(
             };
             Diagnostic::error(code, message.clone(), file, sp(span))
         }
-        chumsky::error::RichReason::ExpectedFound { expected, found } => {
-            use chumsky::error::RichPattern;
-            let mut labels: Vec<String> = Vec::new();
-            let mut toks: Vec<String> = Vec::new();
-            for pattern in expected {
-                match pattern {
-                    RichPattern::Label(l) => labels.push(l.to_string()),
-                    RichPattern::Token(t) => toks.push(t.describe().to_owned()),
-                    RichPattern::Identifier(i) => toks.push(format!("`{i}`")),
-                    RichPattern::EndOfInput => toks.push("end of file".to_owned()),
-                    _ => {}
-                }
-            }
+        None => {
+            let labels: Vec<String> = error.labels.iter().map(|l| (*l).to_owned()).collect();
+            let toks: Vec<String> = error
+                .tokens
+                .iter()
+                .map(|t| t.describe().to_owned())
+                .collect();
             // Labels say what was wanted in words; fall back to tokens only without them.
             let mut wanted = if labels.is_empty() { toks } else { labels };
             wanted.sort();
