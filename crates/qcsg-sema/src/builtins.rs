@@ -88,6 +88,8 @@ pub enum Returns {
     Vector,
     /// A vector of three numbers.
     Vector3,
+    /// Depends on the arguments (`cross` of 2-vectors is a number, of 3-vectors a vector).
+    Any,
 }
 
 impl Returns {
@@ -99,6 +101,7 @@ impl Returns {
             Returns::String => Ty::String,
             Returns::Vector => Ty::any_vector(),
             Returns::Vector3 => Ty::number_vector(Some(3)),
+            Returns::Any => Ty::Any,
         }
     }
 }
@@ -441,8 +444,8 @@ pub const FUNCTIONS: &[BuiltinFunction] = &[
         ],
         rest: None,
         min_args: 2,
-        returns: Returns::Vector3,
-        doc: "cross(a, b): cross product of two 3-vectors",
+        returns: Returns::Any,
+        doc: "cross(a, b): cross product of two 3-vectors (a number for two 2-vectors)",
     },
     BuiltinFunction {
         name: "len",
