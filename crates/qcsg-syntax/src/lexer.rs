@@ -16,7 +16,8 @@ use crate::codes;
 /// A token kind. Tokens carry no text: the parser slices the source with the token's span, which
 /// keeps tokens `Copy` and the token vector compact.
 #[derive(Logos, Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[logos(skip r"[ \t\r\n\x0C]+")]
+// A byte-order mark (U+FEFF) counts as whitespace: editors on Windows write one.
+#[logos(skip r"[ \t\r\n\x0C\u{FEFF}]+")]
 pub enum Tok {
     /// A plain identifier `[A-Za-z_][A-Za-z0-9_]*`.
     #[regex(r"[A-Za-z_][A-Za-z0-9_]*")]
@@ -696,6 +697,13 @@ mod tests {
         use CommentKind::*;
         assert_eq!(kinds, vec![DocLine, Line, DocBlock, Block, Block]);
         assert_eq!(lexed.tokens.len(), 1);
+    }
+
+    #[test]
+    fn byte_order_mark_is_whitespace() {
+        let lexed = lex("\u{FEFF}x = 1;", FileId::default());
+        assert!(lexed.diagnostics.is_empty());
+        assert_eq!(lexed.tokens.len(), 4);
     }
 
     #[test]

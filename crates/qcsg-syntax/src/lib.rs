@@ -2,6 +2,11 @@
 //!
 //! [`parse`] never fails: it returns a tree for everything it could read plus a diagnostic for
 //! every error it recovered from. This crate knows nothing of evaluation or of editors.
+//!
+//! Stages: [`lexer::lex`] (logos) turns the text into tokens, keeps comments aside and bounds the
+//! nesting depth; the parser (chumsky, grammar in `grammar/qcsg.ebnf`) builds the [`ast`]. A
+//! valid file is parsed once with a zero-cost error type; only a file with errors is parsed a
+//! second time to explain them. Diagnostic codes are in [`codes`]; [`sexpr`] prints trees.
 
 pub mod ast;
 pub mod codes;
