@@ -1,0 +1,2 @@
+; Indentation for qcsg: the queries of Helix's OpenSCAD grammar.
+; inherits: openscad
