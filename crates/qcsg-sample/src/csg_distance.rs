@@ -1,0 +1,128 @@
+//! The quadric-relative conservative CSG distance `d_Q(S, p)` of paper eq. 22.
+//!
+//! For a point `p` on quadric `Q_ab` (literal `b` of term `a`):
+//! `d = max(−min_{i≠a} max_j d(Q_ij, p), max_{j≠b} d(Q_aj, p))`, with `d(Q, p)` the conservative
+//! distance of eqs. 10-12. Negative: `p` is on the CSG surface, and so is every point of `Q_ab`
+//! within `|d|`; positive: neither `p` nor any point of `Q_ab` within `d` is.
+//!
+//! Decisions beyond the paper, each keeping the two properties above:
+//! - **Term boxes as literals.** Each term lies in its box (and the box within the DNF's region),
+//!   so the exact signed distance to the box joins the literals of its term: this makes the
+//!   region clip of [`qcsg_csg::Dnf::contains`] part of the surface and discards far-away parts
+//!   of unbounded quadrics at once.
+//! - **Shared surfaces.** A term `i ≠ a` that has `Q_ab` itself among its literals (the same
+//!   index, or an equal quadric up to a positive factor) is a subset of `Q_ab`'s solid, so a
+//!   point on `Q_ab` is never in its interior: the term is left out. Without this the distance
+//!   would be 0 on all of `Q_ab` inside that term and subdivision could never classify it.
+//! - **Complementary literals.** A literal of term `i` that is `Q_ab`'s complement is zero on
+//!   `Q_ab`; the term's interior then touches `Q_ab` from the other side, and `p` is interior to
+//!   the union exactly when it also lies inside the term's remaining literals. That literal is
+//!   left out of term `i` (and an own literal equal to `Q_ab` is left out of term `a`: it holds
+//!   on all of `Q_ab`).
+
+use qcsg_csg::{Aabb, Dnf};
+use qcsg_quadric::{DVec3, Quadric};
+
+/// Relative tolerance for "the same quadric" when comparing literals.
+const SAME_QUADRIC: f64 = 1e-12;
+
+/// A term of the DNF as seen from one quadric: the literals that matter and the box.
+#[derive(Clone, Debug)]
+struct TermView {
+    literals: Vec<Quadric>,
+    bounds: Aabb,
+}
+
+impl TermView {
+    /// `max_j d(Q_j, p)` together with the box: positive outside the term, negative inside.
+    fn distance(&self, p: DVec3) -> f64 {
+        let mut d = box_distance(&self.bounds, p);
+        for q in &self.literals {
+            d = d.max(q.conservative_distance(p));
+        }
+        d
+    }
+}
+
+/// `d_{Q_ab}(S, ·)` for one literal of one term, with the DNF's quadrics copied in.
+#[derive(Clone, Debug)]
+pub struct CsgDistance {
+    own: TermView,
+    others: Vec<TermView>,
+}
+
+impl CsgDistance {
+    /// The distance for quadric `quadric` sampled as a literal of term `term` of `dnf`.
+    /// `None` if the indices are out of range.
+    pub fn new(dnf: &Dnf, quadric: u32, term: u32) -> Option<Self> {
+        let q = dnf.quadrics.get(quadric as usize)?.quadric;
+        let own_term = dnf.terms.get(term as usize)?;
+        let complement = q.negated();
+        let is_same =
+            |i: u32, other: &Quadric| i == quadric || q.approx_eq_up_to_scale(other, SAME_QUADRIC);
+        let is_complement = |other: &Quadric| complement.approx_eq_up_to_scale(other, SAME_QUADRIC);
+        let region = dnf.region.unwrap_or(Aabb::new(
+            DVec3::splat(f64::NEG_INFINITY),
+            DVec3::splat(f64::INFINITY),
+        ));
+        let literal = |i: u32| dnf.quadrics.get(i as usize).map(|d| d.quadric);
+        let own = TermView {
+            literals: own_term
+                .literals
+                .iter()
+                .filter_map(|&i| literal(i).filter(|o| !is_same(i, o)))
+                .collect(),
+            bounds: own_term.bounds.intersection(&region),
+        };
+        let mut others = Vec::new();
+        for (index, other) in dnf.terms.iter().enumerate() {
+            if index == term as usize {
+                continue;
+            }
+            let literals: Vec<(u32, Quadric)> = other
+                .literals
+                .iter()
+                .filter_map(|&i| literal(i).map(|o| (i, o)))
+                .collect();
+            if literals.iter().any(|(i, o)| is_same(*i, o)) {
+                continue;
+            }
+            others.push(TermView {
+                literals: literals
+                    .into_iter()
+                    .filter(|(_, o)| !is_complement(o))
+                    .map(|(_, o)| o)
+                    .collect(),
+                bounds: other.bounds.intersection(&region),
+            });
+        }
+        Some(Self { own, others })
+    }
+
+    /// `d_{Q_ab}(S, p)` (eq. 22) for a point `p` on the quadric: negative on the CSG surface.
+    /// NaN for non-finite `p`.
+    pub fn distance(&self, p: DVec3) -> f64 {
+        let own = self.own.distance(p);
+        let mut nearest_other = f64::INFINITY;
+        for term in &self.others {
+            nearest_other = nearest_other.min(term.distance(p));
+        }
+        own.max(-nearest_other)
+    }
+}
+
+/// Exact signed Euclidean distance to a closed box: positive outside, negative inside (the
+/// distance to the nearest face); infinite sides are fine, an empty box is infinitely far.
+pub fn box_distance(bounds: &Aabb, p: DVec3) -> f64 {
+    if bounds.is_empty() {
+        return f64::INFINITY;
+    }
+    let below = bounds.min - p;
+    let above = p - bounds.max;
+    let outside = below.max(above);
+    if outside.max_element() > 0.0 {
+        outside.max(DVec3::ZERO).length()
+    } else {
+        outside.max_element()
+    }
+}

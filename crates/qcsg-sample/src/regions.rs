@@ -1,0 +1,303 @@
+//! Low-distortion regions of the sampling-plane heightfields (paper §4.1), as basic regions.
+//!
+//! Every quadric has three sampling planes through its centre (paper §3.2; [`Heightfield`] in
+//! `qcsg-quadric`). Over a plane the surface is one sheet (`Polynomial`: planes, paraboloids seen
+//! along their axis), two sheets `t = ±√S` (`Root`), or nothing (`Ruled`: lines along the plane
+//! normal lie in the surface, as for cylinders along their axis; the two planes that contain the
+//! ruling direction cover that surface). The domain of each plane is the cross-section of the
+//! term's box, split into quadrants at the plane's axes.
+//!
+//! **Decision (deviation from the analytic construction).** The paper bounds the low-distortion
+//! region of each quadrant analytically by lines and axis-aligned conics and cuts it into
+//! triangles, rectangles, elliptic and hyperbolic triangles. Here the same region is found by a
+//! conservative refinement into axis-aligned rectangles (the paper's second basic kind) using the
+//! rectangle distortion bound of §3.4:
+//! - a rectangle whose minimum distortion exceeds `√3` lies wholly outside the region where "up"
+//!   is the largest normal component (there `δ ≤ √3`) and is dropped;
+//! - a rectangle over which the heightfield is defined everywhere and whose maximum distortion is
+//!   at most [`KEEP_DISTORTION`] becomes a basic region;
+//! - a rectangle with no surface over it (`max S < 0`) is dropped;
+//! - anything else is split at its longer edge.
+//!
+//! Only rectangles that provably contain no point with `δ ≤ √3` are dropped, so the kept regions
+//! of the three planes cover every surface point whose best plane has a heightfield (every
+//! point: the three normal components cannot all be below `1/√3`, and a ruled plane's normal
+//! component is zero). The price is a slightly larger overlap (distortion up to
+//! [`KEEP_DISTORTION`] instead of `√3`) and a staircase boundary; the subdivision of §4.2 works
+//! unchanged on rectangles. Rectangles still undecided after [`MAX_REGION_DEPTH`] splits (only
+//! around points where the distortion is undefined, like a cone's apex seen from the side, at
+//! `2⁻⁴⁰` of the domain) are counted in [`RegionStats::unresolved`] and dropped.
+
+use qcsg_csg::Aabb;
+use qcsg_quadric::{DVec3, Heightfield, HeightfieldForm, PrincipalFrame};
+
+/// A rectangle whose maximum distortion is at most this becomes a basic region.
+pub const KEEP_DISTORTION: f64 = 2.0;
+
+/// Splits after which an undecided rectangle is given up (see the module doc).
+pub const MAX_REGION_DEPTH: u32 = 80;
+
+/// Rectangles examined per sampling plane before the rest is given up (never reached on the
+/// kinds the tests cover; a guard against pathological inputs).
+pub const MAX_REGION_RECTANGLES: u64 = 1 << 22;
+
+const SQRT3: f64 = 1.732_050_807_568_877_2;
+
+/// An axis-aligned rectangle `[x.0, x.1] × [y.0, y.1]` of a sampling plane's domain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rect {
+    /// The `x` interval (along the plane's first axis).
+    pub x: (f64, f64),
+    /// The `y` interval (along the plane's second axis).
+    pub y: (f64, f64),
+}
+
+impl Rect {
+    /// Width along `x`.
+    pub fn width(&self) -> f64 {
+        self.x.1 - self.x.0
+    }
+
+    /// Height along `y`.
+    pub fn height(&self) -> f64 {
+        self.y.1 - self.y.0
+    }
+
+    /// Length of the diagonal.
+    pub fn diagonal(&self) -> f64 {
+        self.width().hypot(self.height())
+    }
+
+    /// Whether `(x, y)` lies in the closed rectangle.
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        self.x.0 <= x && x <= self.x.1 && self.y.0 <= y && y <= self.y.1
+    }
+
+    /// The two halves across the longer edge, and whether the split was along `x`.
+    pub fn split_longest(&self) -> (Rect, Rect, bool) {
+        if self.width() >= self.height() {
+            let m = 0.5 * (self.x.0 + self.x.1);
+            (
+                Rect {
+                    x: (self.x.0, m),
+                    y: self.y,
+                },
+                Rect {
+                    x: (m, self.x.1),
+                    y: self.y,
+                },
+                true,
+            )
+        } else {
+            let m = 0.5 * (self.y.0 + self.y.1);
+            (
+                Rect {
+                    x: self.x,
+                    y: (self.y.0, m),
+                },
+                Rect {
+                    x: self.x,
+                    y: (m, self.y.1),
+                },
+                false,
+            )
+        }
+    }
+}
+
+/// One basic region: a rectangle of one sheet of one heightfield of one literal of one term.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BasicRegion {
+    /// Index of the quadric in the DNF's quadric table.
+    pub quadric: u32,
+    /// Index of the term the quadric is sampled for.
+    pub term: u32,
+    /// The heightfield (its `normal_axis` names the sampling plane).
+    pub heightfield: Heightfield,
+    /// `+1` or `−1`: which sheet `t = ±h` of a `Root` heightfield; `+1` for `Polynomial`.
+    pub sheet: f64,
+    /// The rectangle in plane coordinates.
+    pub rect: Rect,
+    /// An upper bound of the distortion over the rectangle (§3.4).
+    pub max_distortion: f64,
+}
+
+/// Counters of the region decomposition.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RegionStats {
+    /// Rectangles examined.
+    pub examined: u64,
+    /// Rectangles given up after [`MAX_REGION_DEPTH`] splits.
+    pub unresolved: u64,
+}
+
+enum RectClass {
+    Keep(f64),
+    Drop,
+    Split,
+}
+
+/// The sampling planes' domains over a world box: the box's 8 corners in plane coordinates.
+pub fn plane_domain(frame: &PrincipalFrame, heightfield: &Heightfield, bounds: &Aabb) -> Rect {
+    let (i, j) = heightfield.plane_axes;
+    let mut x = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut y = (f64::INFINITY, f64::NEG_INFINITY);
+    for corner in bounds.corners() {
+        let f = frame.to_frame(corner).to_array();
+        x = (x.0.min(f[i]), x.1.max(f[i]));
+        y = (y.0.min(f[j]), y.1.max(f[j]));
+    }
+    Rect { x, y }
+}
+
+/// The basic regions of `heightfield` over the world box `bounds`, appended to `out` in a
+/// deterministic order (quadrants, then depth-first, lower half first).
+pub fn basic_regions(
+    frame: &PrincipalFrame,
+    heightfield: &Heightfield,
+    bounds: &Aabb,
+    (quadric, term): (u32, u32),
+    out: &mut Vec<BasicRegion>,
+    stats: &mut RegionStats,
+) {
+    let sheets: &[f64] = match heightfield.form {
+        HeightfieldForm::Root { .. } => &[1.0, -1.0],
+        HeightfieldForm::Polynomial { .. } => &[1.0],
+        HeightfieldForm::Ruled => return,
+    };
+    let domain = plane_domain(frame, heightfield, bounds);
+    let finite = [domain.x.0, domain.x.1, domain.y.0, domain.y.1]
+        .iter()
+        .all(|v| v.is_finite());
+    if !finite || domain.width() <= 0.0 || domain.height() <= 0.0 {
+        return;
+    }
+    let mut kept = Vec::new();
+    let mut budget = MAX_REGION_RECTANGLES;
+    for quadrant in quadrants(domain) {
+        let mut stack = vec![(quadrant, 0u32)];
+        while let Some((rect, depth)) = stack.pop() {
+            stats.examined += 1;
+            budget = budget.saturating_sub(1);
+            match classify_rect(heightfield, &rect) {
+                RectClass::Keep(max_distortion) => kept.push((rect, max_distortion)),
+                RectClass::Drop => {}
+                RectClass::Split if depth >= MAX_REGION_DEPTH || budget == 0 => {
+                    stats.unresolved += 1
+                }
+                RectClass::Split => {
+                    let (low, high, _) = rect.split_longest();
+                    stack.push((high, depth + 1));
+                    stack.push((low, depth + 1));
+                }
+            }
+        }
+    }
+    for &sheet in sheets {
+        out.extend(kept.iter().map(|&(rect, max_distortion)| BasicRegion {
+            quadric,
+            term,
+            heightfield: *heightfield,
+            sheet,
+            rect,
+            max_distortion,
+        }));
+    }
+}
+
+/// The domain cut at the plane's axes (the paper describes one quadrant; the rest is symmetry).
+fn quadrants(domain: Rect) -> Vec<Rect> {
+    let cut = |(a, b): (f64, f64)| {
+        if a < 0.0 && b > 0.0 {
+            vec![(a, 0.0), (0.0, b)]
+        } else {
+            vec![(a, b)]
+        }
+    };
+    let mut out = Vec::new();
+    for y in cut(domain.y) {
+        for x in cut(domain.x) {
+            out.push(Rect { x, y });
+        }
+    }
+    out
+}
+
+fn classify_rect(heightfield: &Heightfield, rect: &Rect) -> RectClass {
+    if rect.width() <= 0.0 || rect.height() <= 0.0 {
+        return RectClass::Drop;
+    }
+    match heightfield.distortion_bounds(rect.x, rect.y) {
+        Some((low, _)) if low > SQRT3 => RectClass::Drop,
+        Some((_, high)) if high <= KEEP_DISTORTION => RectClass::Keep(high),
+        Some(_) => RectClass::Split,
+        None => partially_defined(heightfield, rect),
+    }
+}
+
+/// A `Root` rectangle over which the radicand is negative somewhere: drop it if there is no
+/// surface over it or if a lower bound of `δ² = 1 + |g|² / S` on its defined part exceeds 3.
+fn partially_defined(heightfield: &Heightfield, rect: &Rect) -> RectClass {
+    let HeightfieldForm::Root {
+        alpha_x,
+        alpha_y,
+        alpha_c,
+        beta_x,
+        beta_y,
+    } = heightfield.form
+    else {
+        return RectClass::Drop;
+    };
+    let s_max =
+        quadratic_max(alpha_x, beta_x, rect.x) + quadratic_max(alpha_y, beta_y, rect.y) + alpha_c;
+    if !s_max.is_finite() {
+        return RectClass::Split;
+    }
+    if s_max < 0.0 {
+        return RectClass::Drop;
+    }
+    let gx = linear_min_abs(alpha_x, beta_x, rect.x);
+    let gy = linear_min_abs(alpha_y, beta_y, rect.y);
+    let slope = gx * gx + gy * gy;
+    // With `S_max = 0` only rim points are defined, where the distortion is infinite.
+    if slope > 2.0 * s_max {
+        RectClass::Drop
+    } else {
+        RectClass::Split
+    }
+}
+
+/// `max (α v² + 2β v)` over `[a, b]`.
+fn quadratic_max(alpha: f64, beta: f64, (a, b): (f64, f64)) -> f64 {
+    let f = |v: f64| (alpha * v + 2.0 * beta) * v;
+    let mut best = f(a).max(f(b));
+    if alpha < 0.0 {
+        let vertex = -beta / alpha;
+        if a < vertex && vertex < b {
+            best = best.max(f(vertex));
+        }
+    }
+    best
+}
+
+/// `min |α v + β|` over `[a, b]`.
+fn linear_min_abs(alpha: f64, beta: f64, (a, b): (f64, f64)) -> f64 {
+    let (fa, fb) = (alpha * a + beta, alpha * b + beta);
+    if fa.signum() != fb.signum() || fa == 0.0 || fb == 0.0 {
+        0.0
+    } else {
+        fa.abs().min(fb.abs())
+    }
+}
+
+/// The world point of plane coordinates `(x, y)` on `sheet`; `None` where there is no surface.
+pub fn region_point(
+    frame: &PrincipalFrame,
+    heightfield: &Heightfield,
+    sheet: f64,
+    x: f64,
+    y: f64,
+) -> Option<DVec3> {
+    let h = heightfield.height(x, y)?;
+    Some(frame.heightfield_point(heightfield, x, y, sheet * h))
+}

@@ -1,0 +1,320 @@
+//! Shared test scenes (built through the DAG builder) and independent reference checks.
+#![allow(dead_code)]
+
+use std::collections::HashMap;
+
+use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, Edge, Source, build_dnf};
+use qcsg_quadric::{DMat4, DVec3, Quadric};
+use qcsg_sample::Sample;
+
+/// A small deterministic generator (SplitMix64).
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[0, 1)`.
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    pub fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.unit()
+    }
+
+    /// Uniform on the unit sphere.
+    pub fn direction(&mut self) -> DVec3 {
+        loop {
+            let v = DVec3::new(
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+            );
+            let l = v.length();
+            if l > 1e-3 && l <= 1.0 {
+                return v / l;
+            }
+        }
+    }
+
+    pub fn point_in(&mut self, b: &Aabb) -> DVec3 {
+        DVec3::new(
+            self.range(b.min.x, b.max.x),
+            self.range(b.min.y, b.max.y),
+            self.range(b.min.z, b.max.z),
+        )
+    }
+}
+
+pub fn at() -> Source {
+    Source::default()
+}
+
+fn leaf(dag: &mut Dag, q: Option<Quadric>) -> Edge {
+    dag.leaf(q.expect("valid quadric"), at()).into()
+}
+
+fn finish(mut dag: Dag, root: Edge) -> Dnf {
+    dag.set_root(root);
+    build_dnf(&dag, &DnfOptions::default()).expect("dnf")
+}
+
+pub fn sphere_scene() -> Dnf {
+    let mut dag = Dag::new();
+    let s = leaf(&mut dag, Quadric::sphere(DVec3::ZERO, 1.0));
+    finish(dag, s)
+}
+
+/// (A ∩ B) ∪ C, placed with `transform`.
+pub fn three_spheres_with(transform: &DMat4) -> Dnf {
+    let mut dag = Dag::new();
+    let a = leaf(&mut dag, Quadric::sphere(DVec3::new(-0.4, 0.0, 0.0), 1.0));
+    let b = leaf(&mut dag, Quadric::sphere(DVec3::new(0.4, 0.0, 0.0), 1.0));
+    let c = leaf(&mut dag, Quadric::sphere(DVec3::new(0.0, 0.9, 0.3), 0.6));
+    let ab = dag.intersection([a, b], at());
+    let u = dag.union([ab.into(), c], at());
+    let root = dag.transformed(u.into(), transform).expect("transform");
+    finish(dag, root)
+}
+
+pub fn three_spheres() -> Dnf {
+    three_spheres_with(&DMat4::IDENTITY)
+}
+
+/// cube(2) centred at the origin minus a cylinder of radius 0.5 along a tilted axis.
+pub fn cube_minus_cylinder() -> Dnf {
+    let mut dag = Dag::new();
+    let slabs: Vec<Edge> = [DVec3::X, DVec3::Y, DVec3::Z]
+        .into_iter()
+        .map(|n| leaf(&mut dag, Quadric::slab(DVec3::ZERO, n, 1.0)))
+        .collect();
+    let cube = dag.intersection(slabs, at());
+    let cube = dag.bounded(cube, Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0)));
+    let cylinder = leaf(
+        &mut dag,
+        Quadric::cylinder(DVec3::ZERO, DVec3::new(0.2, 0.1, 1.0), 0.5),
+    );
+    let solid = dag.difference([cube.into(), cylinder], at());
+    finish(dag, solid.into())
+}
+
+/// A cone (apex at the origin, axis z, slope 0.6) cut by the slab 0.3 ≤ z ≤ 1.3.
+pub fn cone_slab() -> Dnf {
+    let mut dag = Dag::new();
+    let cone = leaf(&mut dag, Quadric::cone(DVec3::ZERO, DVec3::Z, 0.6));
+    let slab = leaf(
+        &mut dag,
+        Quadric::slab(DVec3::new(0.0, 0.0, 0.8), DVec3::Z, 0.5),
+    );
+    let both = dag.intersection([cone, slab], at());
+    let both = dag.bounded(
+        both,
+        Aabb::new(DVec3::new(-0.8, -0.8, 0.3), DVec3::new(0.8, 0.8, 1.3)),
+    );
+    finish(dag, both.into())
+}
+
+/// Two unit spheres touching at the origin, united.
+pub fn tangent_spheres() -> Dnf {
+    let mut dag = Dag::new();
+    let a = leaf(&mut dag, Quadric::sphere(DVec3::new(-1.0, 0.0, 0.0), 1.0));
+    let b = leaf(&mut dag, Quadric::sphere(DVec3::new(1.0, 0.0, 0.0), 1.0));
+    let u = dag.union([a, b], at());
+    finish(dag, u.into())
+}
+
+pub fn far_scene() -> Dnf {
+    three_spheres_with(&DMat4::from_translation(DVec3::splat(1e6)))
+}
+
+pub fn tiny_scene() -> Dnf {
+    three_spheres_with(&DMat4::from_scale(DVec3::splat(1e-3)))
+}
+
+pub fn diagonal(dnf: &Dnf) -> f64 {
+    (dnf.bounds.max - dnf.bounds.min).length()
+}
+
+/// `|Q(p)| / ‖∇Q(p)‖`: first-order distance to the surface.
+pub fn surface_residual(q: &Quadric, p: DVec3) -> f64 {
+    let g = q.gradient(p).length();
+    if g == 0.0 {
+        return if q.value(p) == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        };
+    }
+    q.value(p).abs() / g
+}
+
+/// First-order signed distance `Q(p) / ‖∇Q(p)‖`.
+pub fn signed_residual(q: &Quadric, p: DVec3) -> f64 {
+    let g = q.gradient(p).length();
+    if g == 0.0 {
+        return q.value(p);
+    }
+    q.value(p) / g
+}
+
+/// Independent classification of a point `p` on quadric `quadric` as a surface point of term
+/// `term`: inside the closure of the term's other literals and box, and the solid is not on the
+/// outer side (`p + ε n ∉ S`). `None` when a margin is below `tol` (undecidable by brute force).
+pub fn brute_on_surface(dnf: &Dnf, quadric: u32, term: u32, p: DVec3, tol: f64) -> Option<bool> {
+    let q = dnf.quadrics[quadric as usize].quadric;
+    let t = &dnf.terms[term as usize];
+    let b = t.bounds;
+    let box_margin = (p - b.min).min(b.max - p).min_element();
+    if box_margin.abs() <= tol {
+        return None;
+    }
+    let mut inside_own = box_margin > 0.0;
+    for &j in &t.literals {
+        if j == quadric {
+            continue;
+        }
+        let s = signed_residual(&dnf.quadrics[j as usize].quadric, p);
+        if s.abs() <= tol {
+            return None;
+        }
+        inside_own &= s < 0.0;
+    }
+    if !inside_own {
+        return Some(false);
+    }
+    let n = q.normal(p)?;
+    let near = dnf.contains(p + tol * 2.0 * n);
+    let far = dnf.contains(p + tol * 50.0 * n);
+    if near != far {
+        return None;
+    }
+    Some(!near)
+}
+
+/// Sample checks (a): on its quadric and on the CSG surface. Returns the worst residual relative
+/// to the diagonal and the number of samples that fail the CSG check.
+pub fn check_samples(dnf: &Dnf, samples: &[Sample], tol: f64) -> (f64, usize) {
+    let diag = diagonal(dnf);
+    let mut worst = 0.0f64;
+    let mut off_surface = 0;
+    for s in samples {
+        let q = dnf.quadrics[s.quadric as usize].quadric;
+        worst = worst.max(surface_residual(&q, s.position) / diag);
+        let t = &dnf.terms[s.term as usize];
+        let b = t.bounds;
+        let outside_box = (b.min - s.position).max(s.position - b.max).max_element() > tol;
+        let outside_own = t.literals.iter().any(|&j| {
+            j != s.quadric && signed_residual(&dnf.quadrics[j as usize].quadric, s.position) > tol
+        });
+        let inside_other = dnf.terms.iter().enumerate().any(|(i, other)| {
+            i != s.term as usize
+                && other
+                    .literals
+                    .iter()
+                    .all(|&j| signed_residual(&dnf.quadrics[j as usize].quadric, s.position) < -tol)
+                && (s.position - other.bounds.min)
+                    .min(other.bounds.max - s.position)
+                    .min_element()
+                    > tol
+        });
+        if outside_box || outside_own || inside_other {
+            off_surface += 1;
+        }
+    }
+    (worst, off_surface)
+}
+
+/// Reference points on the CSG surface by ray casting the DNF: every root of every quadric on
+/// random lines where the solid changes across the hit (`±eps` along the ray).
+pub fn reference_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> {
+    let diag = diagonal(dnf);
+    let eps = 1e-9 * diag;
+    let mut rng = Rng::new(seed);
+    let mut out = Vec::new();
+    let widened = dnf.bounds.widened_by(0.05);
+    for _ in 0..rays {
+        let origin = rng.point_in(&widened);
+        let v = rng.direction();
+        for (qi, entry) in dnf.quadrics.iter().enumerate() {
+            for t in entry.quadric.intersect_line(origin, v).roots() {
+                let x = origin + t * v;
+                if !dnf.bounds.contains(x) {
+                    continue;
+                }
+                if dnf.contains(x - eps * v) != dnf.contains(x + eps * v) {
+                    out.push((qi as u32, x));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Reference points without a sample of the same quadric within `r · (1 + 1e-9) + slack`.
+pub fn uncovered(
+    samples: &[Sample],
+    refs: &[(u32, DVec3)],
+    r: f64,
+    slack: f64,
+) -> Vec<(u32, DVec3, f64)> {
+    let reach = r * (1.0 + 1e-9) + slack;
+    let anchor = samples.first().map_or(DVec3::ZERO, |s| s.position);
+    let key = |p: DVec3| {
+        let c = ((p - anchor) / reach).floor();
+        (c.x as i64, c.y as i64, c.z as i64)
+    };
+    let mut grid: HashMap<(i64, i64, i64), Vec<usize>> = HashMap::new();
+    for (i, s) in samples.iter().enumerate() {
+        grid.entry(key(s.position)).or_default().push(i);
+    }
+    let mut missing = Vec::new();
+    for &(q, p) in refs {
+        let (cx, cy, cz) = key(p);
+        let mut best = f64::INFINITY;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    if let Some(list) = grid.get(&(cx + dx, cy + dy, cz + dz)) {
+                        for &i in list {
+                            if samples[i].quadric == q {
+                                best = best.min((samples[i].position - p).length());
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        if best > reach {
+            missing.push((q, p, best));
+        }
+    }
+    missing
+}
+
+/// Random points on quadric `q` inside `bounds`: roots of random lines.
+pub fn points_on(q: &Quadric, bounds: &Aabb, count: usize, rng: &mut Rng) -> Vec<DVec3> {
+    let mut out = Vec::new();
+    let mut attempts = 0;
+    while out.len() < count && attempts < count * 200 {
+        attempts += 1;
+        let o = rng.point_in(bounds);
+        let v = rng.direction();
+        for t in q.intersect_line(o, v).roots() {
+            let p = o + t * v;
+            if bounds.contains(p) && out.len() < count {
+                out.push(p);
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,146 @@
+//! Layer 1: the basic regions of the three sampling planes cover every quadric kind inside a box,
+//! and each covered point is reached by a region where its distortion is at most √3.
+
+mod common;
+
+use common::{Rng, points_on};
+use qcsg_csg::Aabb;
+use qcsg_quadric::{DMat4, DVec3, HeightfieldForm, Quadric, QuadricKind};
+use qcsg_sample::regions::{BasicRegion, RegionStats, basic_regions};
+
+fn kinds() -> Vec<(&'static str, Quadric)> {
+    let rotation = DMat4::from_axis_angle(DVec3::new(0.3, -0.7, 0.5).normalize(), 0.9)
+        * DMat4::from_translation(DVec3::new(0.1, -0.2, 0.15));
+    let base = [
+        ("sphere", Quadric::sphere(DVec3::ZERO, 1.2)),
+        (
+            "ellipsoid",
+            Quadric::ellipsoid(DVec3::ZERO, DVec3::new(1.5, 0.7, 0.3)),
+        ),
+        ("cylinder", Quadric::cylinder(DVec3::ZERO, DVec3::Z, 0.8)),
+        (
+            "elliptic cylinder",
+            Quadric::elliptic_cylinder(DVec3::ZERO, 1, (0.9, 0.3)),
+        ),
+        ("cone", Quadric::cone(DVec3::ZERO, DVec3::Z, 0.7)),
+        ("narrow cone", Quadric::cone(DVec3::ZERO, DVec3::Z, 0.2)),
+        (
+            "paraboloid",
+            Quadric::paraboloid(DVec3::new(0.0, 0.0, -1.0), DVec3::Z, 0.3),
+        ),
+        (
+            "hyperboloid 1",
+            Quadric::hyperboloid_one_sheet(DVec3::ZERO, DVec3::Z, 0.6, 0.8),
+        ),
+        (
+            "hyperboloid 2",
+            Quadric::hyperboloid_two_sheets(DVec3::ZERO, DVec3::Z, 0.6, 0.4),
+        ),
+        (
+            "plane",
+            Quadric::half_space(DVec3::new(0.1, 0.2, 0.3), DVec3::new(1.0, 2.0, 0.5)),
+        ),
+        (
+            "slab",
+            Quadric::slab(DVec3::ZERO, DVec3::new(0.2, 1.0, 0.1), 0.7),
+        ),
+    ];
+    let mut out = Vec::new();
+    for (name, q) in base {
+        let q = q.expect("quadric");
+        out.push((name, q));
+        out.push((name, q.transformed(&rotation).expect("transform")));
+    }
+    out
+}
+
+/// Whether some region maps to `p` with distortion at most √3 there.
+fn reached(
+    frame: &qcsg_quadric::PrincipalFrame,
+    regions: &[BasicRegion],
+    p: DVec3,
+    scale: f64,
+) -> bool {
+    let f = frame.to_frame(p).to_array();
+    regions.iter().any(|r| {
+        let hf = &r.heightfield;
+        let (i, j) = hf.plane_axes;
+        let (x, y, t) = (f[i], f[j], f[hf.normal_axis]);
+        if !r.rect.contains(x, y) {
+            return false;
+        }
+        let Some(h) = hf.height(x, y) else {
+            return false;
+        };
+        let mapped = frame.heightfield_point(hf, x, y, r.sheet * h);
+        let on_it = (mapped - p).length() <= 1e-7 * scale
+            || (matches!(hf.form, HeightfieldForm::Root { .. })
+                && (r.sheet * h - t).abs() <= 1e-7 * scale);
+        let low = hf
+            .distortion(x, y)
+            .is_some_and(|d| d <= 3f64.sqrt() * (1.0 + 1e-9));
+        on_it
+            && low
+            && r.max_distortion >= hf.distortion(x, y).unwrap_or(f64::INFINITY) * (1.0 - 1e-9)
+    })
+}
+
+#[test]
+fn regions_cover_every_kind_inside_the_box() {
+    let bounds = Aabb::new(DVec3::new(-1.6, -1.3, -1.1), DVec3::new(1.4, 1.5, 1.2));
+    let mut rng = Rng::new(7);
+    for (name, q) in kinds() {
+        assert!(
+            !matches!(q.kind(), QuadricKind::Empty | QuadricKind::AllSpace),
+            "{name}"
+        );
+        let frame = q.frame();
+        let mut regions = Vec::new();
+        let mut stats = RegionStats::default();
+        for hf in frame.heightfields() {
+            basic_regions(&frame, &hf, &bounds, (0, 0), &mut regions, &mut stats);
+        }
+        assert!(!regions.is_empty(), "{name}: no regions");
+        let points = points_on(&q, &bounds, 400, &mut rng);
+        assert!(points.len() >= 100, "{name}: too few test points");
+        let missed: Vec<_> = points
+            .iter()
+            .filter(|&&p| !reached(&frame, &regions, p, 3.0))
+            .collect();
+        assert!(
+            missed.is_empty(),
+            "{name} ({:?}): {} of {} points not covered, e.g. {:?}; {} regions, {:?}",
+            q.kind(),
+            missed.len(),
+            points.len(),
+            missed.first(),
+            regions.len(),
+            stats
+        );
+    }
+}
+
+#[test]
+fn degenerate_kinds_use_the_expected_planes() {
+    let bounds = Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0));
+    let count = |q: Quadric| {
+        let frame = q.frame();
+        let mut planes = [0usize; 3];
+        let mut stats = RegionStats::default();
+        for hf in frame.heightfields() {
+            let mut regions = Vec::new();
+            basic_regions(&frame, &hf, &bounds, (0, 0), &mut regions, &mut stats);
+            planes[hf.normal_axis] = regions.len();
+        }
+        planes.iter().filter(|&&n| n > 0).count()
+    };
+    // A plane: one sampling plane (its own), a polygon of rectangles.
+    let plane = Quadric::half_space(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.3)).unwrap();
+    assert_eq!(count(plane), 1);
+    // A slab: one plane, both sheets.
+    let slab = Quadric::slab(DVec3::ZERO, DVec3::Z, 0.5).unwrap();
+    assert_eq!(count(slab), 1);
+    // A cylinder: the two planes containing the axis.
+    let cylinder = Quadric::cylinder(DVec3::ZERO, DVec3::new(1.0, 0.2, 0.0), 0.5).unwrap();
+    assert_eq!(count(cylinder), 2);
+}
