@@ -31,6 +31,7 @@
 
 pub mod builtins;
 pub mod codes;
+mod fxhash;
 mod loader;
 mod resolve;
 mod suggest;

@@ -15,7 +15,7 @@
 //!   functions visible (after the file's own) and nothing else;
 //! - `$`-variables are dynamically scoped and never undefined.
 
-use std::collections::{HashMap, HashSet};
+use crate::fxhash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use qcsg_diag::{Diagnostic, FileId, Severity, SourceMap, Span};
 use qcsg_syntax::ast::{
@@ -173,7 +173,7 @@ impl<'a> Resolver<'a> {
         main: FileId,
         defines: impl IntoIterator<Item = String>,
     ) -> Self {
-        let mut specials_set = HashSet::new();
+        let mut specials_set = HashSet::default();
         for tree in &loaded.trees {
             collect_specials(&tree.stmts, &mut specials_set);
         }
@@ -184,16 +184,16 @@ impl<'a> Resolver<'a> {
             defines: defines.into_iter().collect(),
             specials_set,
             definitions: Vec::new(),
-            def_index: HashMap::new(),
+            def_index: HashMap::default(),
             used: Vec::new(),
             references: Vec::new(),
-            reference_index: HashSet::new(),
+            reference_index: HashSet::default(),
             diagnostics: Vec::new(),
             scopes: Vec::new(),
             assign_ctx: None,
             chains: Vec::new(),
             units: Vec::new(),
-            unit_of_file: HashMap::new(),
+            unit_of_file: HashMap::default(),
             current_unit: 0,
             enclosing: Vec::new(),
             suggestions_left: SUGGESTION_BUDGET,
@@ -267,7 +267,7 @@ impl<'a> Resolver<'a> {
 
     /// The files `use`d by `root` or by any file it includes, in source order.
     fn used_files(&self, root: FileId) -> Vec<FileId> {
-        let mut seen_files = HashSet::from([root]);
+        let mut seen_files: HashSet<FileId> = std::iter::once(root).collect();
         let mut stack = vec![root];
         let mut used = Vec::new();
         while let Some(file) = stack.pop() {
@@ -2223,7 +2223,7 @@ fn collect_specials(stmts: &[Stmt], out: &mut HashSet<String>) {
 /// The names a definition's body tests for `undef` (`is_undef(p)`, `p == undef`, `is_num(p)`, …):
 /// parameters it treats as optional even without a default.
 fn tested_for_undef(root: Node<'_>) -> HashSet<String> {
-    let mut names = HashSet::new();
+    let mut names = HashSet::default();
     walk([root], |node| {
         let Node::Expr(expr) = node else { return };
         match &expr.kind {
