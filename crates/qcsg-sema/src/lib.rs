@@ -26,8 +26,9 @@
 //! - Unused-name warnings cover the main file only (a library offers more than any one file
 //!   uses) and never loop variables (`for (i = [0 : 3]) cube(1);` repeats on purpose), `$`-names
 //!   or names starting with `_`.
-//! - Type errors are reported only where both sides are statically known ([`Ty::Any`] never
-//!   errs); parameters are of unknown type, and so is a variable overridden with `-D`.
+//! - Type errors are reported only where the known types make the operation fail whatever the
+//!   unknown parts turn out to be ([`Ty::Any`] alone never errs); parameters are of unknown type,
+//!   and so is a variable overridden with `-D`.
 
 pub mod builtins;
 pub mod codes;
