@@ -11,6 +11,21 @@ local function check(cond, msg)
   end
 end
 
+-- The ids of the clients attached to `buf` (or of all clients); Neovim 0.7 to 0.11+.
+local function client_ids(buf)
+  local ids = {}
+  if vim.lsp.get_clients then
+    for _, client in ipairs(vim.lsp.get_clients(buf and { bufnr = buf } or nil)) do
+      table.insert(ids, client.id)
+    end
+  else
+    for id, _ in pairs(buf and vim.lsp.buf_get_clients(buf) or vim.lsp.get_active_clients()) do
+      table.insert(ids, id)
+    end
+  end
+  return ids
+end
+
 local function run()
   local lines = {
     "/// Width of the plate.",
@@ -39,8 +54,8 @@ local function run()
     end
     return false
   end, 50)
-  local clients = vim.lsp.buf_get_clients(buf)
-  check(next(clients) ~= nil, "no language server attached to the buffer")
+  local clients = client_ids(buf)
+  check(#clients > 0, "no language server attached to the buffer")
   if not found then
     local got = {}
     for _, d in ipairs(vim.diagnostic.get(buf)) do
@@ -73,19 +88,19 @@ local function run()
   check(text:find("Width of the plate.", 1, true), "hover lacks the doc comment: " .. text)
 
   -- Shut the server down cleanly.
-  for id, _ in pairs(clients) do
+  for _, id in ipairs(clients) do
     vim.lsp.stop_client(id)
   end
   vim.wait(5000, function()
-    return next(vim.lsp.get_active_clients()) == nil
+    return #client_ids(nil) == 0
   end, 50)
 end
 
 local ok, err = xpcall(run, debug.traceback)
 if ok then
-  io.stdout:write("neovim lsp test: ok\n")
+  io.stdout:write("\nneovim lsp test: ok\n")
   vim.cmd("qall!")
 else
-  io.stderr:write("neovim lsp test: FAIL: " .. tostring(err) .. "\n")
+  io.stderr:write("\nneovim lsp test: FAIL: " .. tostring(err) .. "\n")
   vim.cmd("cquit 1")
 end
