@@ -6,10 +6,11 @@
 //! within `|d|`; positive: neither `p` nor any point of `Q_ab` within `d` is.
 //!
 //! Decisions beyond the paper, each keeping the two properties above:
-//! - **Term boxes as literals.** Each term lies in its box (and the box within the DNF's region),
-//!   so the exact signed distance to the box joins the literals of its term: this makes the
-//!   region clip of [`qcsg_csg::Dnf::contains`] part of the surface and discards far-away parts
-//!   of unbounded quadrics at once.
+//! - **The region as a literal.** With a region ([`qcsg_csg::Dnf::region`]) the solid is clipped
+//!   to it ([`qcsg_csg::Dnf::contains`]), so the exact signed distance to the region's box joins
+//!   the literals of every term. The per-term boxes are *not* used: they only bound their term
+//!   (nothing is lost without them), and a box face often coincides with a sampled surface (a
+//!   cube's box with its slabs), where the distance 0 would leave the face unclassifiable.
 //! - **Shared surfaces.** A term `i ≠ a` that has `Q_ab` itself among its literals (the same
 //!   index, or an equal quadric up to a positive factor) is a subset of `Q_ab`'s solid, so a
 //!   point on `Q_ab` is never in its interior: the term is left out. Without this the distance
@@ -34,7 +35,8 @@ struct TermView {
 }
 
 impl TermView {
-    /// `max_j d(Q_j, p)` together with the box: positive outside the term, negative inside.
+    /// `max_j d(Q_j, p)` together with the region box: positive outside the term, negative
+    /// inside.
     fn distance(&self, p: DVec3) -> f64 {
         let mut d = box_distance(&self.bounds, p);
         for q in &self.literals {
@@ -72,7 +74,7 @@ impl CsgDistance {
                 .iter()
                 .filter_map(|&i| literal(i).filter(|o| !is_same(i, o)))
                 .collect(),
-            bounds: own_term.bounds.intersection(&region),
+            bounds: region,
         };
         let mut others = Vec::new();
         for (index, other) in dnf.terms.iter().enumerate() {
@@ -93,7 +95,7 @@ impl CsgDistance {
                     .filter(|(_, o)| !is_complement(o))
                     .map(|(_, o)| o)
                     .collect(),
-                bounds: other.bounds.intersection(&region),
+                bounds: region,
             });
         }
         Some(Self { own, others })

@@ -173,12 +173,14 @@ pub fn signed_residual(q: &Quadric, p: DVec3) -> f64 {
 pub fn brute_on_surface(dnf: &Dnf, quadric: u32, term: u32, p: DVec3, tol: f64) -> Option<bool> {
     let q = dnf.quadrics[quadric as usize].quadric;
     let t = &dnf.terms[term as usize];
-    let b = t.bounds;
-    let box_margin = (p - b.min).min(b.max - p).min_element();
-    if box_margin.abs() <= tol {
-        return None;
+    let mut inside_own = true;
+    if let Some(b) = dnf.region {
+        let box_margin = (p - b.min).min(b.max - p).min_element();
+        if box_margin.abs() <= tol {
+            return None;
+        }
+        inside_own = box_margin > 0.0;
     }
-    let mut inside_own = box_margin > 0.0;
     for &j in &t.literals {
         if j == quadric {
             continue;
@@ -241,7 +243,8 @@ pub fn reference_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> 
     let eps = 1e-9 * diag;
     let mut rng = Rng::new(seed);
     let mut out = Vec::new();
-    let widened = dnf.bounds.widened_by(0.05);
+    let half = 0.5 * (dnf.bounds.max - dnf.bounds.min) * 1.05;
+    let widened = Aabb::from_centre_half(dnf.bounds.centre(), half);
     for _ in 0..rays {
         let origin = rng.point_in(&widened);
         let v = rng.direction();

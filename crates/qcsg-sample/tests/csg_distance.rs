@@ -1,0 +1,101 @@
+//! Layer 2: eq. 22 against brute-force classification. The sign must be right, and within
+//! `|d|` of a point along its quadric the classification must not change.
+
+mod common;
+
+use common::{Rng, brute_on_surface, diagonal, points_on};
+use qcsg_csg::Dnf;
+use qcsg_quadric::DVec3;
+use qcsg_sample::csg_distance::CsgDistance;
+
+/// Checks every literal of every term on random points; returns how many decisive checks ran.
+fn check(dnf: &Dnf, seed: u64) -> (usize, usize) {
+    let tol = 1e-9 * diagonal(dnf);
+    let mut rng = Rng::new(seed);
+    let (mut decisive, mut neighbours) = (0, 0);
+    for (term_index, term) in dnf.terms.iter().enumerate() {
+        let half = 0.5 * (term.bounds.max - term.bounds.min) * 1.1;
+        let bounds = qcsg_csg::Aabb::from_centre_half(term.bounds.centre(), half);
+        for &quadric in &term.literals {
+            let distance = CsgDistance::new(dnf, quadric, term_index as u32).expect("indices");
+            let q = dnf.quadrics[quadric as usize].quadric;
+            for p in points_on(&q, &bounds, 150, &mut rng) {
+                let d = distance.distance(p);
+                let Some(truth) = brute_on_surface(dnf, quadric, term_index as u32, p, tol) else {
+                    continue;
+                };
+                decisive += 1;
+                if d != 0.0 {
+                    assert_eq!(
+                        d < 0.0,
+                        truth,
+                        "sign at {p:?}: d = {d}, term {term_index}, quadric {quadric}"
+                    );
+                }
+                // Points of the same quadric within |d| share the classification.
+                for _ in 0..8 {
+                    let offset = rng.direction() * rng.range(0.0, 0.95 * d.abs());
+                    let moved = p + offset;
+                    let Some(n) = q.normal(moved) else { continue };
+                    let Some(t) = q
+                        .intersect_line(moved, n)
+                        .roots()
+                        .into_iter()
+                        .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+                    else {
+                        continue;
+                    };
+                    let nearby = moved + t * n;
+                    if (nearby - p).length() >= d.abs() {
+                        continue;
+                    }
+                    if let Some(near_truth) =
+                        brute_on_surface(dnf, quadric, term_index as u32, nearby, tol)
+                    {
+                        neighbours += 1;
+                        assert_eq!(
+                            near_truth, truth,
+                            "classification changed within |d| = {d}: {p:?} -> {nearby:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    (decisive, neighbours)
+}
+
+#[test]
+fn three_spheres_classification() {
+    let (decisive, neighbours) = check(&common::three_spheres(), 1);
+    assert!(
+        decisive > 200 && neighbours > 200,
+        "{decisive} {neighbours}"
+    );
+}
+
+#[test]
+fn cube_minus_cylinder_classification() {
+    let (decisive, neighbours) = check(&common::cube_minus_cylinder(), 2);
+    assert!(
+        decisive > 200 && neighbours > 200,
+        "{decisive} {neighbours}"
+    );
+}
+
+#[test]
+fn cone_slab_and_tangent_spheres_classification() {
+    let (decisive, _) = check(&common::cone_slab(), 3);
+    assert!(decisive > 100);
+    let (decisive, _) = check(&common::tangent_spheres(), 4);
+    assert!(decisive > 100);
+}
+
+#[test]
+fn box_distance_is_exact() {
+    let b = qcsg_csg::Aabb::new(DVec3::ZERO, DVec3::ONE);
+    let d = qcsg_sample::csg_distance::box_distance;
+    assert_eq!(d(&b, DVec3::splat(0.5)), -0.5);
+    assert_eq!(d(&b, DVec3::new(2.0, 0.5, 0.5)), 1.0);
+    assert!((d(&b, DVec3::new(2.0, 2.0, 0.5)) - 2f64.sqrt()).abs() < 1e-15);
+}

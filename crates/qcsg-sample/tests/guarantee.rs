@@ -1,0 +1,136 @@
+//! Layers 3-5: the guarantee on scenes built with the DAG builder. (a) Every sample lies on its
+//! quadric and on the CSG surface; (b) dense reference points on the true CSG surface, found by
+//! ray casting the DNF independently of the sampler, each have a sample on the same quadric
+//! within `r` (up to rounding). Also: byte-identical output for 1 and 2 threads.
+
+mod common;
+
+use common::{check_samples, diagonal, reference_points, uncovered};
+use qcsg_csg::Dnf;
+use qcsg_sample::{Sampling, sample};
+
+fn run(name: &str, dnf: &Dnf, relative_radius: f64) -> Sampling {
+    let diag = diagonal(dnf);
+    let r = relative_radius * diag;
+    let sampling = sample(dnf, r).expect("valid radius");
+    let stats = sampling.stats;
+    assert!(!sampling.samples.is_empty(), "{name}: no samples");
+    // (a) on the quadric and on the CSG surface.
+    let tol = 1e-9 * diag;
+    let (worst, off) = check_samples(dnf, &sampling.samples, tol);
+    assert!(
+        worst <= 1e-9,
+        "{name}: a sample is {worst:e} (× diagonal) off its quadric"
+    );
+    assert_eq!(off, 0, "{name}: {off} samples not on the CSG surface");
+    for s in &sampling.samples {
+        assert!(
+            s.radius > 0.0 && s.radius <= r,
+            "{name}: radius {}",
+            s.radius
+        );
+        assert!((s.normal.length() - 1.0).abs() < 1e-9, "{name}: normal");
+    }
+    // (b) coverage of independent reference points.
+    let refs = reference_points(dnf, 4000, 99);
+    assert!(
+        refs.len() > 2000,
+        "{name}: only {} reference points",
+        refs.len()
+    );
+    let missing = uncovered(&sampling.samples, &refs, r, 4e-9 * diag);
+    assert!(
+        missing.is_empty(),
+        "{name}: {} of {} reference points have no sample within r = {r}, e.g. {:?}; {stats:?}",
+        missing.len(),
+        refs.len(),
+        &missing[..missing.len().min(3)]
+    );
+    eprintln!(
+        "{name}: r = {relative_radius} diag, {} samples, {} queries, {} regions, unresolved {} + {}",
+        stats.samples,
+        stats.subdivision.distance_queries,
+        stats.basic_regions,
+        stats.subdivision.unresolved,
+        stats.regions.unresolved
+    );
+    sampling
+}
+
+#[test]
+fn sphere() {
+    run("sphere", &common::sphere_scene(), 0.05);
+}
+
+#[test]
+fn three_spheres() {
+    run("three spheres", &common::three_spheres(), 0.05);
+}
+
+#[test]
+fn cube_minus_cylinder() {
+    run("cube - cylinder", &common::cube_minus_cylinder(), 0.05);
+}
+
+#[test]
+fn cone_slab() {
+    run("cone ∩ slab", &common::cone_slab(), 0.05);
+}
+
+#[test]
+fn tangent_spheres() {
+    run("tangent spheres", &common::tangent_spheres(), 0.05);
+}
+
+#[test]
+fn far_scene() {
+    run("far", &common::far_scene(), 0.05);
+}
+
+#[test]
+fn tiny_scene() {
+    run("tiny", &common::tiny_scene(), 0.05);
+}
+
+#[test]
+fn identical_for_any_thread_count() {
+    let dnf = common::three_spheres();
+    let r = 0.05 * diagonal(&dnf);
+    let with = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(|| sample(&dnf, r).expect("sample"))
+    };
+    let (one, two) = (with(1), with(2));
+    assert_eq!(one.stats, two.stats);
+    let bits = |s: &Sampling| -> Vec<u64> {
+        s.samples
+            .iter()
+            .flat_map(|x| {
+                [
+                    x.position.x,
+                    x.position.y,
+                    x.position.z,
+                    x.normal.x,
+                    x.normal.y,
+                    x.normal.z,
+                    x.radius,
+                ]
+                .map(f64::to_bits)
+                .into_iter()
+                .chain([u64::from(x.quadric), u64::from(x.term)])
+            })
+            .collect()
+    };
+    assert_eq!(bits(&one), bits(&two));
+}
+
+#[test]
+fn invalid_radius_is_an_error() {
+    let dnf = common::sphere_scene();
+    for r in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(sample(&dnf, r).is_err());
+    }
+}
