@@ -168,8 +168,8 @@ pub fn sample(dnf: &Dnf, radius: f64) -> Result<Sampling, SampleError> {
             if let (Some(patch), Some(entry)) = (
                 patches.get(*patch_index),
                 dnf.quadrics.get(region.quadric as usize),
-            ) {
-                debug_assert_eq!(patch.quadric, region.quadric);
+            ) && patch.quadric == region.quadric
+            {
                 let ctx = RegionContext {
                     frame: &patch.frame,
                     quadric: &entry.quadric,

@@ -46,8 +46,19 @@ fn run(name: &str, dnf: &Dnf, relative_radius: f64) -> Sampling {
         refs.len(),
         &missing[..missing.len().min(3)]
     );
+    // (b) on the feature curves.
+    let edges = common::edge_points(dnf, 1500, 7);
+    let missing = uncovered(&sampling.samples, &edges, r, 4e-9 * diag);
+    assert!(
+        missing.is_empty(),
+        "{name}: {} of {} feature-curve points have no sample within r = {r}, e.g. {:?}",
+        missing.len(),
+        edges.len(),
+        &missing[..missing.len().min(3)]
+    );
     eprintln!(
-        "{name}: r = {relative_radius} diag, {} samples, {} queries, {} regions, unresolved {} + {}",
+        "{name}: r = {relative_radius} diag, {} edge points, {} samples, {} queries, {} regions, unresolved {} + {}",
+        edges.len(),
         stats.samples,
         stats.subdivision.distance_queries,
         stats.basic_regions,

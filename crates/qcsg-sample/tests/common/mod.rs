@@ -239,10 +239,17 @@ pub fn check_samples(dnf: &Dnf, samples: &[Sample], tol: f64) -> (f64, usize) {
 /// Reference points on the CSG surface by ray casting the DNF: every root of every quadric on
 /// random lines where the solid changes across the hit (`±eps` along the ray).
 pub fn reference_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> {
+    ray_hits(dnf, rays, seed).0
+}
+
+/// Ray hits on the quadrics: those where the solid changes across the hit (on the CSG surface)
+/// and those where it does not (on the quadric, off the CSG surface).
+pub fn ray_hits(dnf: &Dnf, rays: usize, seed: u64) -> (Vec<(u32, DVec3)>, Vec<(u32, DVec3)>) {
     let diag = diagonal(dnf);
     let eps = 1e-9 * diag;
     let mut rng = Rng::new(seed);
     let mut out = Vec::new();
+    let mut off = Vec::new();
     let half = 0.5 * (dnf.bounds.max - dnf.bounds.min) * 1.05;
     let widened = Aabb::from_centre_half(dnf.bounds.centre(), half);
     for _ in 0..rays {
@@ -256,8 +263,70 @@ pub fn reference_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> 
                 }
                 if dnf.contains(x - eps * v) != dnf.contains(x + eps * v) {
                     out.push((qi as u32, x));
+                } else {
+                    off.push((qi as u32, x));
                 }
             }
+        }
+    }
+    (out, off)
+}
+
+/// Whether the solid changes across quadric `q` at `x` (`±eps` along the normal).
+fn on_csg_surface(dnf: &Dnf, q: &Quadric, x: DVec3, eps: f64) -> Option<bool> {
+    let n = q.normal(x)?;
+    Some(dnf.contains(x - eps * n) != dnf.contains(x + eps * n))
+}
+
+/// The point of `q` nearest to `x` along the normal at `x` (a projection for nearby points).
+fn project(q: &Quadric, x: DVec3) -> Option<DVec3> {
+    let n = q.normal(x)?;
+    let t = q
+        .intersect_line(x, n)
+        .roots()
+        .into_iter()
+        .min_by(|a, b| a.abs().total_cmp(&b.abs()))?;
+    Some(x + t * n)
+}
+
+/// Reference points on the feature curves, where coverage is hardest: bisection along the
+/// quadric between a ray hit on the CSG surface and a nearby hit on the same quadric off it,
+/// keeping the last point on the CSG surface (within about `1e-12` of the diagonal of a curve).
+pub fn edge_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> {
+    let diag = diagonal(dnf);
+    let eps = 1e-9 * diag;
+    let (on, off) = ray_hits(dnf, rays, seed);
+    let mut out = Vec::new();
+    for (k, &(q_index, a)) in on.iter().enumerate() {
+        let q = dnf.quadrics[q_index as usize].quadric;
+        // The next off-surface hit on the same quadric within a fifth of the diagonal.
+        let Some(&(_, b)) = off
+            .iter()
+            .cycle()
+            .skip(k % off.len().max(1))
+            .take(off.len())
+            .find(|(qi, b)| *qi == q_index && (*b - a).length() < 0.2 * diag)
+        else {
+            continue;
+        };
+        let (mut inside, mut outside) = (a, b);
+        let mut ok = true;
+        for _ in 0..45 {
+            let Some(m) = project(&q, 0.5 * (inside + outside)) else {
+                ok = false;
+                break;
+            };
+            match on_csg_surface(dnf, &q, m, eps) {
+                Some(true) => inside = m,
+                Some(false) => outside = m,
+                None => {
+                    ok = false;
+                    break;
+                }
+            }
+        }
+        if ok && (inside - outside).length() < 1e-6 * diag {
+            out.push((q_index, inside));
         }
     }
     out
