@@ -1,0 +1,214 @@
+//! Rendering a frame: one ray per pixel through the solid and the translucent layers, shaded,
+//! with the depth and primitive id of the solid's hit kept per pixel.
+//!
+//! Rows are traced in parallel (rayon) but every pixel depends only on its own ray, and rows
+//! are collected in order, so the frame is byte-identical for any number of threads.
+
+use rayon::prelude::*;
+
+use crate::camera::{Camera, ImageSize};
+use crate::raytrace::{Hit, Scratch, trace};
+use crate::scene::{Layer, Scene};
+use crate::shade::{self, Rgb};
+
+/// What the solid's surface is at a pixel: the DNF quadric and the term, or nothing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PixelId {
+    /// The quadric's index in the solid's DNF, [`PixelId::NONE`] for a face of a term's box
+    /// (a solid cut by the region) or a miss.
+    pub quadric: u32,
+    /// The term's index in the solid's DNF, [`PixelId::NONE`] for a miss.
+    pub term: u32,
+}
+
+impl PixelId {
+    /// The index that means "none".
+    pub const NONE: u32 = u32::MAX;
+    /// A pixel that shows no solid.
+    pub const MISS: PixelId = PixelId {
+        quadric: Self::NONE,
+        term: Self::NONE,
+    };
+}
+
+/// Colours and translucency used by [`render`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// The image background.
+    pub background: Rgb,
+    /// The colour of parts without `color()`.
+    pub default_color: Rgb,
+    /// The tint of `#` highlighted parts.
+    pub highlight_color: Rgb,
+    /// The opacity of the highlight layer.
+    pub highlight_alpha: f64,
+    /// The colour of `%` background parts.
+    pub background_part_color: Rgb,
+    /// The opacity of the background-part layer.
+    pub background_part_alpha: f64,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            background: shade::BACKGROUND,
+            default_color: shade::DEFAULT_COLOR,
+            highlight_color: shade::HIGHLIGHT_COLOR,
+            highlight_alpha: shade::HIGHLIGHT_ALPHA,
+            background_part_color: shade::BACKGROUND_PART_COLOR,
+            background_part_alpha: shade::BACKGROUND_PART_ALPHA,
+        }
+    }
+}
+
+/// A rendered image with the buffers the splat renderer is compared against.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// The image size.
+    pub size: ImageSize,
+    /// 8-bit RGB, row-major from the top left, three bytes per pixel.
+    pub rgb: Vec<u8>,
+    /// Per pixel, the ray parameter of the solid's visible surface (distance from the eye, or
+    /// from the eye's plane for orthographic cameras); infinite where the ray misses.
+    pub depth: Vec<f64>,
+    /// Per pixel, which quadric and term of the solid is visible.
+    pub ids: Vec<PixelId>,
+}
+
+impl Frame {
+    /// Number of pixels that show the solid.
+    pub fn hit_count(&self) -> usize {
+        self.ids
+            .iter()
+            .filter(|id| id.term != PixelId::NONE)
+            .count()
+    }
+
+    /// The RGB colour at `(x, y)`.
+    pub fn pixel(&self, x: u32, y: u32) -> [u8; 3] {
+        let i = 3 * (y as usize * self.size.width() as usize + x as usize);
+        [self.rgb[i], self.rgb[i + 1], self.rgb[i + 2]]
+    }
+
+    /// The index of `(x, y)` in the depth and id buffers.
+    pub fn index(&self, x: u32, y: u32) -> usize {
+        y as usize * self.size.width() as usize + x as usize
+    }
+}
+
+/// Renders `scene` through `camera`. `progress` is called once per finished row (from worker
+/// threads, in no particular order).
+pub fn render(
+    scene: &Scene,
+    camera: &Camera,
+    size: ImageSize,
+    options: &RenderOptions,
+    progress: &(dyn Fn(u32) + Sync),
+) -> Frame {
+    let rows: Vec<Row> = (0..size.height())
+        .into_par_iter()
+        .map_init(Scratch::default, |scratch, y| {
+            let row = render_row(scene, camera, size, options, y, scratch);
+            progress(y);
+            row
+        })
+        .collect();
+    let mut frame = Frame {
+        size,
+        rgb: Vec::with_capacity(3 * size.pixel_count()),
+        depth: Vec::with_capacity(size.pixel_count()),
+        ids: Vec::with_capacity(size.pixel_count()),
+    };
+    for row in rows {
+        frame.rgb.extend(row.rgb);
+        frame.depth.extend(row.depth);
+        frame.ids.extend(row.ids);
+    }
+    frame
+}
+
+struct Row {
+    rgb: Vec<u8>,
+    depth: Vec<f64>,
+    ids: Vec<PixelId>,
+}
+
+fn render_row(
+    scene: &Scene,
+    camera: &Camera,
+    size: ImageSize,
+    options: &RenderOptions,
+    y: u32,
+    scratch: &mut Scratch,
+) -> Row {
+    let width = size.width() as usize;
+    let mut row = Row {
+        rgb: Vec::with_capacity(3 * width),
+        depth: Vec::with_capacity(width),
+        ids: Vec::with_capacity(width),
+    };
+    for x in 0..size.width() {
+        let ray = camera.ray(f64::from(x) + 0.5, f64::from(y) + 0.5, size);
+        let mut color = options.background;
+        let mut depth = f64::INFINITY;
+        let mut id = PixelId::MISS;
+        if let Some(solid) = &scene.solid
+            && let Some(hit) = trace_layer(solid, &ray, scratch)
+        {
+            let quadric = hit
+                .quadric
+                .and_then(|q| solid.dnf().quadrics.get(q as usize));
+            let mut base = quadric
+                .and_then(|q| q.color)
+                .map_or(options.default_color, |c| [c[0], c[1], c[2]]);
+            if quadric.is_some_and(|q| q.highlight) {
+                base = shade::blend(base, options.highlight_color, options.highlight_alpha);
+            }
+            color = shade::shade(base, hit.normal, ray.direction, camera);
+            depth = hit.t;
+            id = PixelId {
+                quadric: hit.quadric.unwrap_or(PixelId::NONE),
+                term: hit.term,
+            };
+        }
+        // Translucent layers in front of the solid, the farther one first.
+        let layers = [
+            (
+                &scene.backgrounds,
+                options.background_part_color,
+                options.background_part_alpha,
+            ),
+            (
+                &scene.highlights,
+                options.highlight_color,
+                options.highlight_alpha,
+            ),
+        ];
+        let mut overlays: [Option<(f64, Rgb, f64)>; 2] = [None, None];
+        for (slot, (layer, tint, alpha)) in overlays.iter_mut().zip(layers) {
+            if let Some(layer) = layer
+                && let Some(hit) = trace_layer(layer, &ray, scratch)
+                && hit.t < depth
+            {
+                *slot = Some((
+                    hit.t,
+                    shade::shade(tint, hit.normal, ray.direction, camera),
+                    alpha,
+                ));
+            }
+        }
+        let mut overlays: Vec<_> = overlays.into_iter().flatten().collect();
+        overlays.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (_, over, alpha) in overlays {
+            color = shade::blend(color, over, alpha);
+        }
+        row.rgb.extend(shade::to_rgb8(color));
+        row.depth.push(depth);
+        row.ids.push(id);
+    }
+    row
+}
+
+fn trace_layer(layer: &Layer, ray: &crate::raytrace::Ray, scratch: &mut Scratch) -> Option<Hit> {
+    trace(layer.dnf(), layer.boxes(), ray, 0.0, scratch)
+}

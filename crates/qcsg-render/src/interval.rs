@@ -1,0 +1,261 @@
+//! Sets of parameter intervals along a ray, each end labelled with what bounds it there, and
+//! the inside-set of one quadric literal along a line.
+//!
+//! A literal `q ≤ 0` restricted to a line is a quadratic in `t`, so its inside-set is a union
+//! of at most two intervals (three pieces of the line, alternating). Its ends are the roots of
+//! [`Quadric::intersect_line`]; which pieces are inside is decided by the sign of `q` at a point
+//! of each gap, which also carries an unbounded quadric's state at the ray's start. Tangent
+//! double roots and lines lying in the surface make no boundary, and zero-length pieces are
+//! dropped: the solids are regularised.
+
+use qcsg_quadric::{LineIntersection, Quadric};
+
+use crate::raytrace::Ray;
+
+/// What bounds an interval at one of its ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Boundary {
+    /// The surface of the DNF quadric with this index.
+    Quadric(u32),
+    /// The clipping range (a term's box, or the ray's start): not a surface of the solid.
+    Clip,
+}
+
+/// An interval `[start, end]` of ray parameters, `start < end`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interval {
+    /// Where it begins.
+    pub start: f64,
+    /// What bounds it there.
+    pub start_by: Boundary,
+    /// Where it ends.
+    pub end: f64,
+    /// What bounds it there.
+    pub end_by: Boundary,
+}
+
+impl Interval {
+    /// The interval `[start, end]` bounded by the clipping range at both ends.
+    pub fn clip(start: f64, end: f64) -> Self {
+        Self {
+            start,
+            start_by: Boundary::Clip,
+            end,
+            end_by: Boundary::Clip,
+        }
+    }
+}
+
+/// Writes into `out` the pieces of `[range.start, range.end]` where `quadric ≤ 0` along `ray`,
+/// ascending, bounded by `Boundary::Quadric(id)` at its roots.
+pub fn literal_intervals(
+    quadric: &Quadric,
+    id: u32,
+    ray: &Ray,
+    range: Interval,
+    out: &mut Vec<Interval>,
+) {
+    out.clear();
+    let mut cuts = [0.0; 2];
+    let mut cut_count = 0;
+    let roots = match quadric.intersect_line(ray.origin, ray.direction) {
+        LineIntersection::One(t) => [Some(t), None],
+        LineIntersection::Two(t0, t1) => [Some(t0), Some(t1)],
+        // A double root touches without crossing; a line in the surface crosses nothing.
+        LineIntersection::Tangent(_) | LineIntersection::None | LineIntersection::Contained => {
+            [None, None]
+        }
+    };
+    for t in roots.into_iter().flatten() {
+        if t > range.start && t < range.end {
+            cuts[cut_count] = t;
+            cut_count += 1;
+        }
+    }
+    let mut start = range.start;
+    let mut start_by = range.start_by;
+    let mut open: Option<(f64, Boundary)> = None;
+    let ends = cuts[..cut_count]
+        .iter()
+        .map(|&t| (t, Boundary::Quadric(id)))
+        .chain(std::iter::once((range.end, range.end_by)));
+    for (end, end_by) in ends {
+        // Two samples: one of them may fall on a tangent point, where q = 0 outside the solid.
+        let inside = quadric.value(ray.at(sample_point(start, end, 1.0 / 3.0))) < 0.0
+            && quadric.value(ray.at(sample_point(start, end, 2.0 / 3.0))) < 0.0;
+        match (inside, open) {
+            (true, None) => open = Some((start, start_by)),
+            (false, Some((s, s_by))) => {
+                push_nonempty(out, s, s_by, start, start_by);
+                open = None;
+            }
+            _ => {}
+        }
+        start = end;
+        start_by = end_by;
+    }
+    if let Some((s, s_by)) = open {
+        push_nonempty(out, s, s_by, range.end, range.end_by);
+    }
+}
+
+/// A parameter strictly inside the gap `(start, end)`, the fraction `f` of the way along it
+/// (a distance that grows with `f` when one end is infinite).
+fn sample_point(start: f64, end: f64, f: f64) -> f64 {
+    match (start.is_finite(), end.is_finite()) {
+        (true, true) => (1.0 - f) * start + f * end,
+        (true, false) => start + f * (1.0 + start.abs()),
+        (false, true) => end - f * (1.0 + end.abs()),
+        (false, false) => f,
+    }
+}
+
+fn push_nonempty(
+    out: &mut Vec<Interval>,
+    start: f64,
+    start_by: Boundary,
+    end: f64,
+    end_by: Boundary,
+) {
+    if start < end {
+        out.push(Interval {
+            start,
+            start_by,
+            end,
+            end_by,
+        });
+    }
+}
+
+/// Writes into `out` the intersection of two ascending sets of disjoint intervals; each result
+/// end is labelled by the operand that bounds it (the later start, the earlier end).
+pub fn intersect_into(a: &[Interval], b: &[Interval], out: &mut Vec<Interval>) {
+    out.clear();
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        let (x, y) = (a[i], b[j]);
+        let (start, start_by) = if x.start >= y.start {
+            (x.start, x.start_by)
+        } else {
+            (y.start, y.start_by)
+        };
+        let (end, end_by) = if x.end <= y.end {
+            (x.end, x.end_by)
+        } else {
+            (y.end, y.end_by)
+        };
+        push_nonempty(out, start, start_by, end, end_by);
+        if x.end <= y.end {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qcsg_quadric::DVec3;
+
+    fn ray_x() -> Ray {
+        Ray {
+            origin: DVec3::new(-10.0, 0.0, 0.0),
+            direction: DVec3::X,
+        }
+    }
+
+    #[test]
+    fn a_sphere_is_one_interval_bounded_by_it() {
+        let sphere = Quadric::sphere(DVec3::ZERO, 2.0).unwrap();
+        let mut out = Vec::new();
+        literal_intervals(
+            &sphere,
+            7,
+            &ray_x(),
+            Interval::clip(0.0, f64::INFINITY),
+            &mut out,
+        );
+        assert_eq!(out.len(), 1);
+        assert!((out[0].start - 8.0).abs() < 1e-12 && (out[0].end - 12.0).abs() < 1e-12);
+        assert_eq!(out[0].start_by, Boundary::Quadric(7));
+        // Its complement: two pieces, the second unbounded.
+        literal_intervals(
+            &sphere.negated(),
+            7,
+            &ray_x(),
+            Interval::clip(0.0, f64::INFINITY),
+            &mut out,
+        );
+        assert_eq!(out.len(), 2);
+        assert_eq!(out[0].start_by, Boundary::Clip);
+        assert!(out[1].end.is_infinite());
+    }
+
+    #[test]
+    fn a_half_space_keeps_its_state_at_the_ray_start() {
+        // x ≤ 0: the ray starts inside and leaves at t = 10.
+        let half = Quadric::half_space(DVec3::ZERO, DVec3::X).unwrap();
+        let mut out = Vec::new();
+        literal_intervals(&half, 0, &ray_x(), Interval::clip(0.0, 100.0), &mut out);
+        assert_eq!(out.len(), 1);
+        assert_eq!((out[0].start, out[0].start_by), (0.0, Boundary::Clip));
+        assert!((out[0].end - 10.0).abs() < 1e-12);
+        // Parallel to a plane and outside it: nothing.
+        let below = Quadric::half_space(DVec3::new(0.0, -1.0, 0.0), DVec3::Y).unwrap();
+        literal_intervals(&below, 0, &ray_x(), Interval::clip(0.0, 100.0), &mut out);
+        assert!(out.is_empty());
+    }
+
+    #[test]
+    fn tangent_rays_make_no_interval() {
+        let sphere = Quadric::sphere(DVec3::new(0.0, 1.0, 0.0), 1.0).unwrap();
+        let mut out = Vec::new();
+        literal_intervals(
+            &sphere,
+            0,
+            &ray_x(),
+            Interval::clip(0.0, f64::INFINITY),
+            &mut out,
+        );
+        assert!(out.is_empty(), "{out:?}");
+    }
+
+    #[test]
+    fn intersection_labels_ends_by_the_bounding_operand() {
+        let a = [Interval {
+            start: 0.0,
+            start_by: Boundary::Quadric(0),
+            end: 5.0,
+            end_by: Boundary::Quadric(0),
+        }];
+        let b = [
+            Interval {
+                start: 1.0,
+                start_by: Boundary::Quadric(1),
+                end: 2.0,
+                end_by: Boundary::Quadric(1),
+            },
+            Interval {
+                start: 4.0,
+                start_by: Boundary::Quadric(2),
+                end: 6.0,
+                end_by: Boundary::Quadric(2),
+            },
+        ];
+        let mut out = Vec::new();
+        intersect_into(&a, &b, &mut out);
+        assert_eq!(out.len(), 2);
+        assert_eq!(out[1].start_by, Boundary::Quadric(2));
+        assert_eq!(out[1].end_by, Boundary::Quadric(0));
+        // Touching intervals meet in a point: regularised away.
+        let c = [Interval {
+            start: 5.0,
+            start_by: Boundary::Quadric(3),
+            end: 7.0,
+            end_by: Boundary::Quadric(3),
+        }];
+        intersect_into(&a, &c, &mut out);
+        assert!(out.is_empty());
+    }
+}

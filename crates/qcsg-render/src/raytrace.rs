@@ -1,0 +1,218 @@
+//! The CPU reference ray tracer: exact CSG classification of a ray against a DNF.
+//!
+//! Per term, the ray is clipped to the term's box, then the inside-sets of the term's literals
+//! along it are intersected ([`interval`](crate::interval)); the terms' sets are united and the
+//! first point where the ray enters the union (in front of its start) is the hit. The quadric
+//! that bounds the interval there gives the normal — its gradient, which is outward because
+//! complements are folded into the literal's sign — and the colour. Intervals that merely
+//! touch are merged, so touching solids show no inner faces; tangent roots and zero-length
+//! intervals make no surface.
+
+use qcsg_csg::{Aabb, Dnf};
+use qcsg_quadric::DVec3;
+
+use crate::interval::{Boundary, Interval, intersect_into, literal_intervals};
+
+/// A ray `origin + t · direction`, `t ≥ 0`; the direction is unit length for the renderer, so
+/// that `t` is a distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Where it starts.
+    pub origin: DVec3,
+    /// Where it goes.
+    pub direction: DVec3,
+}
+
+impl Ray {
+    /// The point at parameter `t`.
+    #[inline]
+    pub fn at(&self, t: f64) -> DVec3 {
+        self.origin + t * self.direction
+    }
+
+    /// The parameter range `[t_in, t_out]` in which the ray lies in `bounds` (either may be
+    /// infinite), or `None` if it misses the box.
+    pub fn clip_to(&self, bounds: &Aabb) -> Option<(f64, f64)> {
+        if bounds.is_empty() {
+            return None;
+        }
+        let (mut t_in, mut t_out) = (f64::NEG_INFINITY, f64::INFINITY);
+        for axis in 0..3 {
+            let (o, d) = (self.origin[axis], self.direction[axis]);
+            let (lo, hi) = (bounds.min[axis], bounds.max[axis]);
+            if d == 0.0 {
+                if o < lo || o > hi {
+                    return None;
+                }
+                continue;
+            }
+            let (a, b) = ((lo - o) / d, (hi - o) / d);
+            let (near, far) = if a <= b { (a, b) } else { (b, a) };
+            // NaN from an infinite bound minus an infinite origin never narrows the range.
+            if near > t_in {
+                t_in = near;
+            }
+            if far < t_out {
+                t_out = far;
+            }
+        }
+        (t_in <= t_out).then_some((t_in, t_out))
+    }
+}
+
+/// Where a ray enters a solid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// The ray parameter of the entry point.
+    pub t: f64,
+    /// The entry point.
+    pub point: DVec3,
+    /// The outward unit normal of the solid there.
+    pub normal: DVec3,
+    /// The DNF quadric whose surface it is; `None` on a face of the term's box (a solid cut by
+    /// the DNF's region).
+    pub quadric: Option<u32>,
+    /// The term whose interval begins there.
+    pub term: u32,
+}
+
+/// Buffers reused from ray to ray, so that tracing allocates nothing in the steady state.
+#[derive(Clone, Debug, Default)]
+pub struct Scratch {
+    current: Vec<Interval>,
+    literal: Vec<Interval>,
+    merged: Vec<Interval>,
+    all: Vec<(Interval, u32)>,
+}
+
+/// The term boxes used for clipping: each term's box grown a little, so that a face lying on
+/// the box (a cube's slab) is met as the quadric's root, not as the box.
+pub fn clip_boxes(dnf: &Dnf) -> Vec<Aabb> {
+    dnf.terms
+        .iter()
+        .map(|term| {
+            let b = term.bounds;
+            if b.is_empty() {
+                return b;
+            }
+            let pad = |lo: f64, hi: f64| {
+                let grow = 1e-7 * ((hi - lo) + lo.abs().max(hi.abs()));
+                if grow.is_finite() { grow } else { 0.0 }
+            };
+            let grow = DVec3::new(
+                pad(b.min.x, b.max.x),
+                pad(b.min.y, b.max.y),
+                pad(b.min.z, b.max.z),
+            );
+            Aabb {
+                min: b.min - grow,
+                max: b.max + grow,
+            }
+        })
+        .collect()
+}
+
+/// The first entry of `ray` into the solid `dnf` at a parameter `> t_min`, given the padded
+/// term boxes from [`clip_boxes`]. A ray that starts inside the solid sees the next entry.
+pub fn trace(
+    dnf: &Dnf,
+    boxes: &[Aabb],
+    ray: &Ray,
+    t_min: f64,
+    scratch: &mut Scratch,
+) -> Option<Hit> {
+    scratch.all.clear();
+    for (term_index, (term, bounds)) in dnf.terms.iter().zip(boxes).enumerate() {
+        let Some((t_in, t_out)) = ray.clip_to(bounds) else {
+            continue;
+        };
+        let (t_in, t_out) = (t_in.max(t_min), t_out);
+        // Also skips NaN ranges.
+        if t_in.partial_cmp(&t_out) != Some(std::cmp::Ordering::Less) {
+            continue;
+        }
+        scratch.current.clear();
+        scratch.current.push(Interval::clip(t_in, t_out));
+        for &id in &term.literals {
+            let Some(literal) = dnf.quadrics.get(id as usize) else {
+                continue;
+            };
+            literal_intervals(
+                &literal.quadric,
+                id,
+                ray,
+                Interval::clip(t_in, t_out),
+                &mut scratch.literal,
+            );
+            intersect_into(&scratch.current, &scratch.literal, &mut scratch.merged);
+            std::mem::swap(&mut scratch.current, &mut scratch.merged);
+            if scratch.current.is_empty() {
+                break;
+            }
+        }
+        scratch
+            .all
+            .extend(scratch.current.iter().map(|&i| (i, term_index as u32)));
+    }
+    if scratch.all.is_empty() {
+        return None;
+    }
+    scratch
+        .all
+        .sort_unstable_by(|(a, ta), (b, tb)| a.start.total_cmp(&b.start).then(ta.cmp(tb)));
+
+    // Sweep the union: the first merged interval that does not begin at the ray's start.
+    let mut iter = scratch.all.iter();
+    let &(first, first_term) = iter.next()?;
+    let (mut entry, mut entry_term, mut end) = (first, first_term, first.end);
+    let candidate = |entry: &Interval| entry.start > t_min || entry.start_by != Boundary::Clip;
+    if candidate(&entry) {
+        return hit_at(dnf, ray, entry, entry_term);
+    }
+    for &(interval, term) in iter {
+        if interval.start <= end {
+            end = end.max(interval.end);
+            continue;
+        }
+        entry = interval;
+        entry_term = term;
+        end = interval.end;
+        if candidate(&entry) {
+            return hit_at(dnf, ray, entry, entry_term);
+        }
+    }
+    None
+}
+
+/// The hit at the start of `interval`.
+fn hit_at(dnf: &Dnf, ray: &Ray, interval: Interval, term: u32) -> Option<Hit> {
+    let t = interval.start;
+    let point = ray.at(t);
+    let (normal, quadric) = match interval.start_by {
+        Boundary::Quadric(id) => {
+            let q = &dnf.quadrics.get(id as usize)?.quadric;
+            (q.normal(point).unwrap_or(-ray.direction), Some(id))
+        }
+        Boundary::Clip => (box_face_normal(ray), None),
+    };
+    Some(Hit {
+        t,
+        point,
+        normal,
+        quadric,
+        term,
+    })
+}
+
+/// The outward normal of the box face a ray enters through: along its dominant axis.
+fn box_face_normal(ray: &Ray) -> DVec3 {
+    let d = ray.direction;
+    let a = d.abs();
+    if a.x >= a.y && a.x >= a.z {
+        DVec3::new(-d.x.signum(), 0.0, 0.0)
+    } else if a.y >= a.z {
+        DVec3::new(0.0, -d.y.signum(), 0.0)
+    } else {
+        DVec3::new(0.0, 0.0, -d.z.signum())
+    }
+}

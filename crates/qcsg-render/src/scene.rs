@@ -1,0 +1,123 @@
+//! What a preview shows: the solid, plus the `#` highlighted and `%` background parts that
+//! OpenSCAD previews draw translucent over it.
+
+use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
+use qcsg_diag::Diagnostic;
+
+use crate::raytrace::clip_boxes;
+
+/// How many DAG edges the search for highlighted parts may follow before it gives up on them.
+const HIGHLIGHT_VISIT_LIMIT: usize = 1_000_000;
+
+/// One solid to ray trace: its DNF and the padded term boxes it is clipped to.
+#[derive(Clone, Debug)]
+pub struct Layer {
+    dnf: Dnf,
+    boxes: Vec<Aabb>,
+}
+
+impl Layer {
+    /// A layer of one solid.
+    pub fn new(dnf: Dnf) -> Self {
+        let boxes = clip_boxes(&dnf);
+        Self { dnf, boxes }
+    }
+
+    /// The union of several solids as one layer (their DNFs concatenated).
+    pub fn union(parts: Vec<Dnf>) -> Option<Self> {
+        let mut parts = parts.into_iter();
+        let mut dnf = parts.next()?;
+        for part in parts {
+            let offset = dnf.quadrics.len() as u32;
+            dnf.quadrics
+                .extend(part.quadrics.into_iter().map(|q: DnfQuadric| q));
+            dnf.terms
+                .extend(part.terms.into_iter().map(|term: Term| Term {
+                    literals: term.literals.iter().map(|&l| l + offset).collect(),
+                    bounds: term.bounds,
+                }));
+            dnf.bounds = dnf.bounds.union(&part.bounds);
+        }
+        Some(Self::new(dnf))
+    }
+
+    /// The solid.
+    pub fn dnf(&self) -> &Dnf {
+        &self.dnf
+    }
+
+    /// The padded term boxes, one per term.
+    pub fn boxes(&self) -> &[Aabb] {
+        &self.boxes
+    }
+
+    /// The union of the term boxes.
+    pub fn bounds(&self) -> Aabb {
+        self.dnf.bounds
+    }
+}
+
+/// A scene to render.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The solid, drawn opaque.
+    pub solid: Option<Layer>,
+    /// The highlighted parts (`#`), drawn translucent pink, also where they were subtracted.
+    pub highlights: Option<Layer>,
+    /// The background parts (`%`), drawn translucent grey; not part of the solid.
+    pub backgrounds: Option<Layer>,
+}
+
+impl Scene {
+    /// A scene of one solid and no translucent parts.
+    pub fn new(solid: Dnf) -> Self {
+        Self {
+            solid: Some(Layer::new(solid)),
+            highlights: None,
+            backgrounds: None,
+        }
+    }
+
+    /// The solid, the highlighted parts and the background parts of a DAG. A DAG without a
+    /// root gives a scene without a solid (background parts alone are fine).
+    pub fn from_dag(dag: &mut Dag, options: &DnfOptions) -> Result<Self, Vec<Diagnostic>> {
+        let solid = match dag.root() {
+            Some(_) => Some(Layer::new(build_dnf(dag, options)?)),
+            None => None,
+        };
+        let highlight_parts = dag
+            .highlighted_parts(HIGHLIGHT_VISIT_LIMIT)
+            .unwrap_or_default();
+        let highlights = highlight_parts
+            .into_iter()
+            .map(|edge| build_dnf_of(dag, edge, options))
+            .collect::<Result<Vec<_>, _>>()?;
+        let backgrounds = dag
+            .backgrounds()
+            .iter()
+            .map(|&edge| build_dnf_of(dag, edge, options))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self {
+            solid,
+            highlights: Layer::union(highlights),
+            backgrounds: Layer::union(backgrounds),
+        })
+    }
+
+    /// The box holding everything drawn (empty for an empty scene).
+    pub fn bounds(&self) -> Aabb {
+        [&self.solid, &self.highlights, &self.backgrounds]
+            .into_iter()
+            .flatten()
+            .fold(Aabb::EMPTY, |acc, layer| acc.union(&layer.bounds()))
+    }
+
+    /// Number of quadrics over all layers.
+    pub fn quadric_count(&self) -> usize {
+        [&self.solid, &self.highlights, &self.backgrounds]
+            .into_iter()
+            .flatten()
+            .map(|layer| layer.dnf.quadrics.len())
+            .sum()
+    }
+}
