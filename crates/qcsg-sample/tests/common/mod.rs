@@ -242,9 +242,12 @@ pub fn reference_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> 
     ray_hits(dnf, rays, seed).0
 }
 
+/// A point on the quadric with the given index.
+pub type Hit = (u32, DVec3);
+
 /// Ray hits on the quadrics: those where the solid changes across the hit (on the CSG surface)
 /// and those where it does not (on the quadric, off the CSG surface).
-pub fn ray_hits(dnf: &Dnf, rays: usize, seed: u64) -> (Vec<(u32, DVec3)>, Vec<(u32, DVec3)>) {
+pub fn ray_hits(dnf: &Dnf, rays: usize, seed: u64) -> (Vec<Hit>, Vec<Hit>) {
     let diag = diagonal(dnf);
     let eps = 1e-9 * diag;
     let mut rng = Rng::new(seed);
