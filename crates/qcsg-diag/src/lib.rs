@@ -26,7 +26,10 @@ impl Span {
     /// The span `start..end`.
     pub fn new(start: usize, end: usize) -> Self {
         debug_assert!(start <= end, "span start {start} after end {end}");
-        Self { start: start as u32, end: end as u32 }
+        Self {
+            start: start as u32,
+            end: end as u32,
+        }
     }
 
     /// An empty span at `offset` (for "expected `;` here" at the end of a line).
@@ -36,7 +39,10 @@ impl Span {
 
     /// The smallest span covering both `self` and `other`.
     pub fn cover(self, other: Span) -> Self {
-        Self { start: self.start.min(other.start), end: self.end.max(other.end) }
+        Self {
+            start: self.start.min(other.start),
+            end: self.end.max(other.end),
+        }
     }
 
     /// Length in bytes.
@@ -135,7 +141,15 @@ impl Diagnostic {
         file: FileId,
         span: Span,
     ) -> Self {
-        Self { severity, code, message: message.into(), file, span, help: None, labels: Vec::new() }
+        Self {
+            severity,
+            code,
+            message: message.into(),
+            file,
+            span,
+            help: None,
+            labels: Vec::new(),
+        }
     }
 
     /// An error at `span`.
@@ -144,7 +158,12 @@ impl Diagnostic {
     }
 
     /// A warning at `span`.
-    pub fn warning(code: &'static str, message: impl Into<String>, file: FileId, span: Span) -> Self {
+    pub fn warning(
+        code: &'static str,
+        message: impl Into<String>,
+        file: FileId,
+        span: Span,
+    ) -> Self {
         Self::new(Severity::Warning, code, message, file, span)
     }
 
@@ -156,7 +175,11 @@ impl Diagnostic {
 
     /// Adds a secondary label.
     pub fn with_label(mut self, file: FileId, span: Span, message: impl Into<String>) -> Self {
-        self.labels.push(Label { file, span, message: message.into() });
+        self.labels.push(Label {
+            file,
+            span,
+            message: message.into(),
+        });
         self
     }
 
@@ -169,8 +192,13 @@ impl Diagnostic {
 /// Sorts diagnostics into a stable, reader-friendly order: by file, then position, then code.
 pub fn sort_diagnostics(diagnostics: &mut [Diagnostic]) {
     diagnostics.sort_by(|a, b| {
-        (a.file, a.span.start, a.span.end, a.code, &a.message)
-            .cmp(&(b.file, b.span.start, b.span.end, b.code, &b.message))
+        (a.file, a.span.start, a.span.end, a.code, &a.message).cmp(&(
+            b.file,
+            b.span.start,
+            b.span.end,
+            b.code,
+            &b.message,
+        ))
     });
 }
 

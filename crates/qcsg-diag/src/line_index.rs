@@ -22,9 +22,15 @@ impl LineIndex {
     pub fn new(text: &str) -> Self {
         let mut line_starts = vec![0];
         line_starts.extend(
-            text.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(i, _)| i as u32 + 1),
+            text.bytes()
+                .enumerate()
+                .filter(|&(_, b)| b == b'\n')
+                .map(|(i, _)| i as u32 + 1),
         );
-        Self { line_starts, len: text.len() as u32 }
+        Self {
+            line_starts,
+            len: text.len() as u32,
+        }
     }
 
     /// Number of lines (a text ending in `\n` has an empty last line).
@@ -46,8 +52,14 @@ impl LineIndex {
         }
         let line = self.line_starts.partition_point(|&s| s as usize <= offset) - 1;
         let start = self.line_starts[line] as usize;
-        let character = text[start..offset].chars().map(char::len_utf16).sum::<usize>();
-        LineCol { line: line as u32, character: character as u32 }
+        let character = text[start..offset]
+            .chars()
+            .map(char::len_utf16)
+            .sum::<usize>();
+        LineCol {
+            line: line as u32,
+            character: character as u32,
+        }
     }
 
     /// The byte offset of a line and UTF-16 column; columns past the end of the line clamp to it.
@@ -55,7 +67,9 @@ impl LineIndex {
         let Some(start) = self.line_start(position.line) else {
             return text.len();
         };
-        let end = self.line_start(position.line + 1).map_or(text.len(), |next| next - 1);
+        let end = self
+            .line_start(position.line + 1)
+            .map_or(text.len(), |next| next - 1);
         let mut units = 0;
         for (i, c) in text[start..end].char_indices() {
             if units >= position.character as usize {
@@ -77,9 +91,30 @@ mod tests {
         let index = LineIndex::new(text);
         let c = text.find(" c").unwrap() + 1;
         // é is one UTF-16 unit, 😀 is two.
-        assert_eq!(index.line_col(text, c), LineCol { line: 1, character: 11 });
-        assert_eq!(index.offset(text, LineCol { line: 1, character: 11 }), c);
-        assert_eq!(index.line_col(text, text.len()), LineCol { line: 2, character: 0 });
+        assert_eq!(
+            index.line_col(text, c),
+            LineCol {
+                line: 1,
+                character: 11
+            }
+        );
+        assert_eq!(
+            index.offset(
+                text,
+                LineCol {
+                    line: 1,
+                    character: 11
+                }
+            ),
+            c
+        );
+        assert_eq!(
+            index.line_col(text, text.len()),
+            LineCol {
+                line: 2,
+                character: 0
+            }
+        );
         assert_eq!(index.line_count(), 3);
     }
 }
