@@ -10,6 +10,20 @@
 //! are sampled in parallel with rayon; the output is the concatenation in region order, so it is
 //! byte-identical for any thread count.
 //!
+//! Decisions where the paper leaves room, each documented and tested in its module:
+//! - basic regions are axis-aligned rectangles found by conservative refinement with the §3.4
+//!   distortion bound instead of the analytic split into triangles, elliptic and hyperbolic
+//!   triangles ([`regions`]; kept regions have distortion at most
+//!   [`regions::KEEP_DISTORTION`] rather than `√3`);
+//! - eq. 22 leaves out terms sharing the sampled quadric and complementary literals, and uses
+//!   the DNF's region, not the per-term boxes ([`csg_distance`]);
+//! - small regions get one sample at a corner or the centre proven on the surface, with the
+//!   radius reduced to the region's footprint; unproven ones are split down to
+//!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint and counted when given up
+//!   ([`subdivide::SubdivisionStats::unresolved`]).
+//!
+//! Not yet: clip lists per sample (the renderer's local clipping, §6).
+//!
 //! Quadrics without a surface area (empty, all-space, a point, a line) contribute no samples;
 //! every other kind, degenerate ones included, is sampled through its heightfields. Terms whose
 //! box is unbounded are skipped and counted ([`SampleStats::unbounded_terms`]): the DNF builder
