@@ -14,10 +14,11 @@
 //! to the footprint (§6.1: less overdraw, same guarantee). If neither is on the surface the
 //! rectangle keeps being split, because only a proof keeps the guarantee: the paper's cut-off
 //! at a tenth of the splat "can theoretically result in small holes". The cut-off here is at
-//! [`SMALL_REGION_FRACTION`] of the splat footprint, and each rectangle given up there is counted
-//! in [`SubdivisionStats::unresolved`]: a surface sliver that avoids every corner and centre down
-//! to that size (only at tangential contacts) could be missed, and the count says whether it was
-//! possible at all.
+//! [`SMALL_REGION_FRACTION`] of the splat footprint: a surface sliver that avoids every corner
+//! and centre down to that size could be missed. A given-up rectangle within `r − footprint` of a
+//! sample of its own region is still covered (counted in
+//! [`SubdivisionStats::unresolved_covered`]); the rest are counted in
+//! [`SubdivisionStats::unresolved`], so the count says whether a hole was possible at all.
 
 use qcsg_quadric::{PrincipalFrame, Quadric};
 
@@ -44,8 +45,11 @@ pub struct SubdivisionStats {
     pub discarded: u64,
     /// Small rectangles that got a single sample.
     pub small: u64,
-    /// Rectangles given up unclassified (see the module doc).
+    /// Rectangles given up unclassified and not within reach of a sample of their region (see
+    /// the module doc): the only places where the guarantee is not proven.
     pub unresolved: u64,
+    /// Rectangles given up unclassified but proven covered by a sample of their region.
+    pub unresolved_covered: u64,
 }
 
 impl SubdivisionStats {
@@ -57,6 +61,7 @@ impl SubdivisionStats {
         self.discarded += other.discarded;
         self.small += other.small;
         self.unresolved += other.unresolved;
+        self.unresolved_covered += other.unresolved_covered;
     }
 }
 
@@ -94,6 +99,8 @@ pub fn sample_region(
         (root.x.1, root.y.1),
     ];
     let d = corners.map(|(x, y)| query(ctx, region, x, y, stats));
+    let first_sample = out.len();
+    let mut given_up = Vec::new();
     let mut stack = vec![Cell { rect: root, d }];
     while let Some(cell) = stack.pop() {
         stats.rectangles += 1;
@@ -130,7 +137,7 @@ pub fn sample_region(
                 continue;
             }
             if diagonal <= cutoff {
-                stats.unresolved += 1;
+                given_up.push((rect, footprint));
                 continue;
             }
         }
@@ -147,7 +154,7 @@ pub fn sample_region(
         };
         if low.diagonal() >= diagonal || high.diagonal() >= diagonal {
             // No progress in floating point: the rectangle is as small as it gets.
-            stats.unresolved += 1;
+            given_up.push((rect, footprint));
             continue;
         }
         stack.push(Cell {
@@ -159,6 +166,37 @@ pub fn sample_region(
             d: low_d,
         });
     }
+    for (rect, footprint) in given_up {
+        let samples = out.get(first_sample..).unwrap_or(&[]);
+        if covered_by_sample(ctx, region, &rect, footprint, samples) {
+            stats.unresolved_covered += 1;
+        } else {
+            stats.unresolved += 1;
+        }
+    }
+}
+
+/// Whether a sample of this region lies within `r − footprint` of the rectangle's corner, so
+/// that it is within `r` of every point of the rectangle's surface.
+fn covered_by_sample(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    rect: &Rect,
+    footprint: f64,
+    samples: &[Sample],
+) -> bool {
+    let reach = ctx.radius - footprint;
+    if reach.is_nan() || reach <= 0.0 {
+        return false;
+    }
+    region_point(
+        ctx.frame,
+        &region.heightfield,
+        region.sheet,
+        rect.x.0,
+        rect.y.0,
+    )
+    .is_some_and(|p| samples.iter().any(|s| (s.position - p).length() <= reach))
 }
 
 /// The maximum distortion over a sub-rectangle (§3.4), falling back to the region's bound.

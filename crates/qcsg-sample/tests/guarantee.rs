@@ -31,6 +31,15 @@ fn run(name: &str, dnf: &Dnf, relative_radius: f64) -> Sampling {
         );
         assert!((s.normal.length() - 1.0).abs() < 1e-9, "{name}: normal");
     }
+    // Every given-up rectangle was proven covered: the guarantee holds without exceptions.
+    assert_eq!(
+        stats.subdivision.unresolved, 0,
+        "{name}: unproven rectangles"
+    );
+    assert_eq!(
+        stats.regions.unresolved, 0,
+        "{name}: unresolved region rectangles"
+    );
     // (b) coverage of independent reference points.
     let refs = reference_points(dnf, 4000, 99);
     assert!(
@@ -57,13 +66,14 @@ fn run(name: &str, dnf: &Dnf, relative_radius: f64) -> Sampling {
         &missing[..missing.len().min(3)]
     );
     eprintln!(
-        "{name}: r = {relative_radius} diag, {} edge points, {} samples, {} queries, {} regions, unresolved {} + {}",
+        "{name}: r = {relative_radius} diag, {} edge points, {} samples, {} queries, {} regions, unresolved {} + {} (covered {})",
         edges.len(),
         stats.samples,
         stats.subdivision.distance_queries,
         stats.basic_regions,
         stats.subdivision.unresolved,
-        stats.regions.unresolved
+        stats.regions.unresolved,
+        stats.subdivision.unresolved_covered
     );
     sampling
 }
@@ -101,6 +111,16 @@ fn far_scene() {
 #[test]
 fn tiny_scene() {
     run("tiny", &common::tiny_scene(), 0.05);
+}
+
+#[test]
+fn smaller_radius() {
+    run("three spheres, small r", &common::three_spheres(), 0.02);
+    run(
+        "cube - cylinder, small r",
+        &common::cube_minus_cylinder(),
+        0.02,
+    );
 }
 
 #[test]
