@@ -26,11 +26,12 @@ fn scenes(c: &mut Criterion) {
             let Ok(once) = sample(dnf, r) else { continue };
             let stats = once.stats;
             eprintln!(
-                "{name} r = {relative} diag: {} samples, {} distance queries, {} basic regions, {} unresolved",
+                "{name} r = {relative} diag: {} samples, {} distance queries, {} basic regions, {} unresolved ({} more proven covered)",
                 stats.samples,
                 stats.subdivision.distance_queries,
                 stats.basic_regions,
                 stats.subdivision.unresolved + stats.regions.unresolved,
+                stats.subdivision.unresolved_covered,
             );
             group.bench_function(format!("{name}/{relative}"), |b| {
                 b.iter(|| sample(black_box(dnf), r))
