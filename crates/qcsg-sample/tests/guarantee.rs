@@ -10,6 +10,10 @@ use qcsg_csg::Dnf;
 use qcsg_sample::{Sampling, sample};
 
 fn run(name: &str, dnf: &Dnf, relative_radius: f64) -> Sampling {
+    run_with(name, dnf, relative_radius, false)
+}
+
+fn run_with(name: &str, dnf: &Dnf, relative_radius: f64, allow_apex: bool) -> Sampling {
     let diag = diagonal(dnf);
     let r = relative_radius * diag;
     let sampling = sample(dnf, r).expect("valid radius");
@@ -36,9 +40,12 @@ fn run(name: &str, dnf: &Dnf, relative_radius: f64) -> Sampling {
         stats.subdivision.unresolved, 0,
         "{name}: unproven rectangles"
     );
-    assert_eq!(
-        stats.regions.unresolved, 0,
-        "{name}: unresolved region rectangles"
+    // Region rectangles are given up only around points of undefined distortion (a cone's apex
+    // seen from the side, at 2^-40 of the domain); the coverage checks below still apply there.
+    assert!(
+        stats.regions.unresolved == 0 || allow_apex,
+        "{name}: {} unresolved region rectangles",
+        stats.regions.unresolved
     );
     // (b) coverage of independent reference points.
     let refs = reference_points(dnf, 4000, 99);
@@ -96,6 +103,11 @@ fn cube_minus_cylinder() {
 #[test]
 fn cone_slab() {
     run("cone ∩ slab", &common::cone_slab(), 0.05);
+}
+
+#[test]
+fn cone_through_its_apex() {
+    run_with("cone apex", &common::cone_with_apex(), 0.05, true);
 }
 
 #[test]

@@ -393,3 +393,17 @@ pub fn points_on(q: &Quadric, bounds: &Aabb, count: usize, rng: &mut Rng) -> Vec
     }
     out
 }
+
+/// A double cone (apex at the origin, axis z, slope 0.6) cut by the slab |z| ≤ 0.7: the apex lies
+/// inside the solid's boundary.
+pub fn cone_with_apex() -> Dnf {
+    let mut dag = Dag::new();
+    let cone = leaf(&mut dag, Quadric::cone(DVec3::ZERO, DVec3::Z, 0.6));
+    let slab = leaf(&mut dag, Quadric::slab(DVec3::ZERO, DVec3::Z, 0.7));
+    let both = dag.intersection([cone, slab], at());
+    let both = dag.bounded(
+        both,
+        Aabb::new(DVec3::new(-0.5, -0.5, -0.7), DVec3::new(0.5, 0.5, 0.7)),
+    );
+    finish(dag, both.into())
+}
