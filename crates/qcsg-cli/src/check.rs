@@ -130,8 +130,14 @@ fn check_all(inputs: &[Input], options: &CheckOptions, threads: NonZeroUsize) ->
             Input::Unreadable(_) => None,
         })
         .collect();
+    let eval_options = qcsg_eval::EvalOptions {
+        defines: options.defines.clone(),
+        ..qcsg_eval::EvalOptions::default()
+    };
     let check = |(name, text): (&str, &str)| {
-        qcsg_sema::check_file(name, text.to_owned(), options, &FsLoader)
+        let mut analysis = qcsg_sema::check_file(name, text.to_owned(), options, &FsLoader);
+        crate::compile::append_evaluation(&mut analysis, &eval_options);
+        analysis
     };
     let workers = threads.get().min(jobs.len());
     if workers <= 1 {

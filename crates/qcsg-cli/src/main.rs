@@ -4,6 +4,7 @@
 //! command lives in its own module, and the two diagnostic formats in [`human`] and [`json`].
 
 mod check;
+mod compile;
 mod human;
 mod json;
 
@@ -30,8 +31,10 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Parse and check programs, print their diagnostics; exit 1 if any has an error.
+    /// Parse, check and evaluate programs, print their diagnostics; exit 1 if any has an error.
     Check(CheckArgs),
+    /// Compile a program and print a stage: `--emit ast|dag|dnf`, as text or JSON.
+    Compile(compile::CompileArgs),
 }
 
 /// Arguments of `qcsg check`.
@@ -111,6 +114,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let status = match cli.command {
         Command::Check(args) => check::run(args),
+        Command::Compile(args) => compile::run(args),
     };
     ExitCode::from(status)
 }

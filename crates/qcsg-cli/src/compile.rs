@@ -1,0 +1,258 @@
+//! `qcsg compile FILE --emit ast|dag|dnf [--format text|json] [-o OUT]`: prints a stage of the
+//! compilation, and the evaluation step that `qcsg check` runs after a clean static check.
+//!
+//! Diagnostics go to standard error for people; the chosen stage goes to OUT (standard output by
+//! default) only when the input has no errors, so a failed run never writes a partial file.
+
+use std::io::{IsTerminal, Read, Write};
+
+use clap::{Args, ValueEnum};
+use qcsg_csg::{DnfOptions, build_dnf, dag_to_json, dag_to_text, dnf_to_json, dnf_to_text};
+use qcsg_diag::Diagnostic;
+use qcsg_eval::{EvalOptions, evaluate};
+use qcsg_sema::{Analysis, CheckOptions, FsLoader};
+
+use crate::human::{HumanRenderer, summary_line};
+use crate::{EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
+
+/// Arguments of `qcsg compile`.
+#[derive(Debug, Args)]
+pub struct CompileArgs {
+    /// The program (`.qcsg` or `.scad`); `-` reads standard input.
+    #[arg(value_name = "FILE")]
+    file: String,
+
+    /// The stage to print: the syntax tree, the CSG DAG or its disjunctive normal form.
+    #[arg(long, value_enum)]
+    emit: Emit,
+
+    /// How the stage is printed.
+    #[arg(long, value_enum, default_value_t = OutputFormat::Text)]
+    format: OutputFormat,
+
+    /// Where to write the stage; `-` is standard output.
+    #[arg(short = 'o', value_name = "OUT", default_value = "-")]
+    output: String,
+
+    /// Override a top-level variable, as OpenSCAD's `-D` (VALUE is an expression); repeatable.
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = crate::parse_define)]
+    defines: Vec<(String, String)>,
+
+    /// Report errors only: no warnings, echo output or summary line.
+    #[arg(short, long)]
+    quiet: bool,
+
+    #[command(flatten)]
+    limits: LimitArgs,
+}
+
+/// Evaluation limits (a program crossing one gets a diagnostic, never a hang).
+#[derive(Debug, Args)]
+pub struct LimitArgs {
+    /// Deepest nesting of module and function calls (tail calls do not nest).
+    #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_RECURSION)]
+    max_recursion: usize,
+
+    /// Most loop iterations and function calls in total.
+    #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_ITERATIONS)]
+    max_iterations: u64,
+
+    /// Most elements of one vector.
+    #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_VECTOR_LEN)]
+    max_vector_len: u64,
+
+    /// Most primitive instances.
+    #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_INSTANCES)]
+    max_instances: u64,
+
+    /// Most terms of the disjunctive normal form (`--emit dnf`).
+    #[arg(long, value_name = "N", default_value_t = qcsg_csg::DEFAULT_TERM_LIMIT)]
+    max_terms: usize,
+}
+
+/// What `--emit` prints.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Emit {
+    /// The syntax tree as S-expressions, one top-level statement per line.
+    Ast,
+    /// The transformed CSG DAG.
+    Dag,
+    /// The disjunctive normal form over world-space quadrics.
+    Dnf,
+}
+
+/// The `--format` of the emitted stage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum OutputFormat {
+    /// Readable text.
+    Text,
+    /// JSON (the formats of CLI.md).
+    Json,
+}
+
+/// Evaluates a program whose static check found no errors and appends the evaluation's
+/// diagnostics (echo output, warnings, runtime errors) to the analysis.
+pub fn append_evaluation(analysis: &mut Analysis, options: &EvalOptions) {
+    if analysis.has_errors() {
+        return;
+    }
+    let evaluation = evaluate(analysis, options);
+    analysis.diagnostics.extend(evaluation.diagnostics);
+}
+
+/// Runs `qcsg compile` and returns the process exit status.
+pub fn run(args: CompileArgs) -> u8 {
+    let (name, text) = match read(&args.file) {
+        Ok(input) => input,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let check_options = CheckOptions {
+        search_path: crate::search_path_from_env(),
+        defines: args.defines.clone(),
+    };
+    let mut analysis = qcsg_sema::check_file(&name, text, &check_options, &FsLoader);
+    let mut output = None;
+    if !analysis.has_errors() {
+        output = match args.emit {
+            Emit::Ast => Some(emit_ast(&analysis, args.format)),
+            Emit::Dag | Emit::Dnf => {
+                let options = EvalOptions {
+                    defines: args.defines.clone(),
+                    max_recursion: args.limits.max_recursion,
+                    max_iterations: args.limits.max_iterations,
+                    max_vector_len: args.limits.max_vector_len,
+                    max_instances: args.limits.max_instances,
+                };
+                let evaluation = evaluate(&analysis, &options);
+                let failed = evaluation.has_errors();
+                analysis.diagnostics.extend(evaluation.diagnostics);
+                if failed {
+                    None
+                } else if args.emit == Emit::Dag {
+                    Some(emit_dag(&analysis, &evaluation.dag, args.format))
+                } else {
+                    let dnf_options = DnfOptions {
+                        term_limit: args.limits.max_terms,
+                        ..DnfOptions::default()
+                    };
+                    match build_dnf(&evaluation.dag, &dnf_options) {
+                        Ok(dnf) => {
+                            analysis.diagnostics.extend(dnf.warnings.iter().cloned());
+                            Some(match args.format {
+                                OutputFormat::Text => {
+                                    dnf_to_text(&dnf, &qcsg_csg::line_locator(&analysis.sources))
+                                }
+                                OutputFormat::Json => {
+                                    dnf_to_json(&dnf, &|file| file_name(&analysis, file))
+                                }
+                            })
+                        }
+                        Err(errors) => {
+                            analysis.diagnostics.extend(errors);
+                            None
+                        }
+                    }
+                }
+            }
+        };
+    }
+    print_diagnostics(&analysis, args.quiet);
+    if analysis.has_errors() {
+        return EXIT_INPUT_ERRORS;
+    }
+    let Some(mut text) = output else {
+        return EXIT_INPUT_ERRORS;
+    };
+    if !text.ends_with('\n') {
+        text.push('\n');
+    }
+    let written = if args.output == "-" {
+        std::io::stdout().lock().write_all(text.as_bytes())
+    } else {
+        std::fs::write(&args.output, text.as_bytes())
+    };
+    match written {
+        Ok(()) => EXIT_OK,
+        Err(err) => {
+            eprintln!("error: cannot write `{}`: {err}", args.output);
+            EXIT_USAGE
+        }
+    }
+}
+
+fn file_name(analysis: &Analysis, file: qcsg_diag::FileId) -> String {
+    analysis
+        .sources
+        .iter()
+        .find(|(id, _)| *id == file)
+        .map_or_else(|| "<unknown>".to_string(), |(_, f)| f.name.clone())
+}
+
+fn emit_ast(analysis: &Analysis, format: OutputFormat) -> String {
+    let tree = analysis.tree(analysis.main);
+    match format {
+        OutputFormat::Text => tree
+            .map(qcsg_syntax::sexpr::file_to_sexpr)
+            .unwrap_or_default(),
+        OutputFormat::Json => {
+            let statements: Vec<String> = tree
+                .map(|t| {
+                    t.stmts
+                        .iter()
+                        .map(qcsg_syntax::sexpr::stmt_to_sexpr)
+                        .collect()
+                })
+                .unwrap_or_default();
+            let json = serde_json::json!({
+                "file": file_name(analysis, analysis.main),
+                "statements": statements,
+            });
+            serde_json::to_string_pretty(&json).unwrap_or_default()
+        }
+    }
+}
+
+fn emit_dag(analysis: &Analysis, dag: &qcsg_csg::Dag, format: OutputFormat) -> String {
+    match format {
+        OutputFormat::Text => dag_to_text(dag, &qcsg_csg::line_locator(&analysis.sources)),
+        OutputFormat::Json => dag_to_json(dag, &|file| file_name(analysis, file)),
+    }
+}
+
+fn print_diagnostics(analysis: &Analysis, quiet: bool) {
+    let stderr = std::io::stderr();
+    let colour = stderr.is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty());
+    let renderer = HumanRenderer::for_terminal(colour);
+    let mut out = String::new();
+    let mut counts = [0usize; 4];
+    for diagnostic in analysis
+        .diagnostics
+        .iter()
+        .filter(|d| !quiet || Diagnostic::is_error(d))
+    {
+        counts[diagnostic.severity as usize] += 1;
+        out.push_str(&renderer.render(&analysis.sources, diagnostic));
+    }
+    if !quiet {
+        out.push_str(&summary_line(counts));
+        out.push('\n');
+    }
+    let _ = stderr.lock().write_all(out.as_bytes());
+}
+
+/// The name and text of FILE (`-`: standard input).
+fn read(file: &str) -> Result<(String, String), String> {
+    if file == "-" {
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|err| format!("cannot read standard input: {err}"))?;
+        return Ok((crate::check::STDIN_NAME.to_owned(), text));
+    }
+    std::fs::read_to_string(file)
+        .map(|text| (file.to_owned(), text))
+        .map_err(|err| format!("cannot read `{file}`: {err}"))
+}
