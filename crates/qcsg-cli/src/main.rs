@@ -4,9 +4,11 @@
 //! command lives in its own module, and the two diagnostic formats in [`human`] and [`json`].
 
 mod check;
+mod fmt;
 mod compile;
 mod human;
 mod json;
+mod lsp;
 
 use std::num::NonZeroUsize;
 use std::path::PathBuf;
@@ -35,6 +37,10 @@ enum Command {
     Check(CheckArgs),
     /// Compile a program and print a stage: `--emit ast|dag|dnf`, as text or JSON.
     Compile(compile::CompileArgs),
+    /// Format files in place (`-`: standard input to standard output); `--check` only reports.
+    Fmt(fmt::FmtArgs),
+    /// Run the language server on standard input and output.
+    Lsp,
 }
 
 /// Arguments of `qcsg check`.
@@ -115,6 +121,8 @@ fn main() -> ExitCode {
     let status = match cli.command {
         Command::Check(args) => check::run(args),
         Command::Compile(args) => compile::run(args),
+        Command::Fmt(args) => fmt::run(args),
+        Command::Lsp => lsp::run(),
     };
     ExitCode::from(status)
 }

@@ -206,7 +206,13 @@ impl<'a> Evaluator<'a> {
     fn collect(&mut self, file: FileId, stmts: &'a [Stmt], out: &mut ScopeItems<'a>) {
         for stmt in stmts {
             match &stmt.kind {
-                StmtKind::Empty | StmtKind::Error => {}
+                // A disabled statement is not evaluated, nor counted in `$children`.
+                StmtKind::Empty
+                | StmtKind::Error
+                | StmtKind::Modified {
+                    modifier: Modifier::Disable,
+                    ..
+                } => {}
                 StmtKind::Assign { name, value } => {
                     match out.assignments.iter_mut().find(|(n, _, _)| *n == name.name) {
                         Some(slot) => *slot = (&name.name, value, file),
