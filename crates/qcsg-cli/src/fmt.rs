@@ -1,0 +1,67 @@
+//! `qcsg fmt FILE... [--check]`: format files in place, or report which would change.
+//!
+//! `-` formats standard input to standard output. A file with syntax errors is left untouched
+//! and reported; the run then exits 1, as does `--check` when any file would change.
+
+use std::io::{Read, Write};
+
+use clap::Args;
+
+use crate::{EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
+
+/// Arguments of `qcsg fmt`.
+#[derive(Debug, Args)]
+pub struct FmtArgs {
+    /// Files to format in place (`.qcsg` or `.scad`); `-` formats standard input to standard
+    /// output.
+    #[arg(value_name = "FILE", required = true)]
+    files: Vec<String>,
+
+    /// Change nothing; exit 1 if any file is not formatted.
+    #[arg(long)]
+    check: bool,
+}
+
+/// Runs `qcsg fmt` and returns the process exit status.
+pub fn run(args: FmtArgs) -> u8 {
+    let mut status = EXIT_OK;
+    for file in &args.files {
+        let text = if file == "-" {
+            let mut text = String::new();
+            std::io::stdin().read_to_string(&mut text).map(|_| text)
+        } else {
+            std::fs::read_to_string(file)
+        };
+        let text = match text {
+            Ok(text) => text,
+            Err(error) => {
+                eprintln!("error: cannot read {file}: {error}");
+                return EXIT_USAGE;
+            }
+        };
+        let formatted = match qcsg_ide::format::format(&text) {
+            Ok(formatted) => formatted,
+            Err(error) => {
+                eprintln!("error: {file}: {error}");
+                status = status.max(EXIT_INPUT_ERRORS);
+                continue;
+            }
+        };
+        if args.check {
+            if formatted != text {
+                eprintln!("{file}: would be reformatted");
+                status = status.max(EXIT_INPUT_ERRORS);
+            }
+        } else if file == "-" {
+            if std::io::stdout().write_all(formatted.as_bytes()).is_err() {
+                return EXIT_USAGE;
+            }
+        } else if formatted != text
+            && let Err(error) = std::fs::write(file, formatted)
+        {
+            eprintln!("error: cannot write {file}: {error}");
+            return EXIT_USAGE;
+        }
+    }
+    status
+}

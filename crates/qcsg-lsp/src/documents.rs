@@ -1,0 +1,247 @@
+//! The open documents: text, version and the latest analysis, behind one lock.
+//!
+//! LSP messages are processed concurrently, so a `didChange` can arrive while a request is being
+//! answered. The lock is a plain mutex held only to read or replace a document, never across an
+//! `.await` or an analysis; analyses run on a snapshot and are cached only if the document has
+//! not changed meanwhile.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use qcsg_diag::{LineCol, LineIndex};
+use qcsg_ide::{Analysis, CheckOptions, FileLoader};
+use tower_lsp_server::ls_types::{Range, TextDocumentContentChangeEvent, Uri};
+
+/// One open document.
+#[derive(Debug)]
+struct Document {
+    text: String,
+    version: i32,
+    /// The analysis of this version, once computed (and the generation it was computed in).
+    analysis: Option<(u64, Arc<Analysis>)>,
+}
+
+/// All open documents.
+#[derive(Debug, Default)]
+pub struct Documents {
+    state: Mutex<State>,
+}
+
+#[derive(Debug, Default)]
+struct State {
+    documents: HashMap<Uri, Document>,
+    /// Increases with every edit of any document: an analysis also depends on the buffers of the
+    /// files it includes.
+    generation: u64,
+}
+
+/// What an analysis needs, taken under the lock and used after releasing it.
+#[derive(Debug)]
+pub struct Snapshot {
+    /// The document's path (or its URI for documents that are not files).
+    pub path: String,
+    /// The document's text.
+    pub text: String,
+    /// Its version.
+    pub version: i32,
+    generation: u64,
+    /// Every open file's text by path, so includes see unsaved edits.
+    buffers: HashMap<PathBuf, String>,
+}
+
+/// The path an analysis uses for a document.
+pub fn document_path(uri: &Uri) -> String {
+    match uri.to_file_path() {
+        Some(path) => path.to_string_lossy().into_owned(),
+        None => uri.as_str().to_owned(),
+    }
+}
+
+impl Documents {
+    fn lock(&self) -> MutexGuard<'_, State> {
+        // A panic while holding the lock cannot leave a document half-written (every update is a
+        // single assignment), so a poisoned lock is still usable.
+        self.state
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+
+    /// Opens (or reopens) a document.
+    pub fn open(&self, uri: Uri, text: String, version: i32) {
+        let mut state = self.lock();
+        state.generation += 1;
+        state.documents.insert(
+            uri,
+            Document {
+                text,
+                version,
+                analysis: None,
+            },
+        );
+    }
+
+    /// Closes a document.
+    pub fn close(&self, uri: &Uri) {
+        let mut state = self.lock();
+        state.generation += 1;
+        state.documents.remove(uri);
+    }
+
+    /// Applies edits (ranges in UTF-16 positions, or whole-text replacements) in order.
+    /// Returns `false` when the document is not open.
+    pub fn change(
+        &self,
+        uri: &Uri,
+        version: i32,
+        changes: Vec<TextDocumentContentChangeEvent>,
+    ) -> bool {
+        let mut state = self.lock();
+        state.generation += 1;
+        let Some(document) = state.documents.get_mut(uri) else {
+            return false;
+        };
+        for change in changes {
+            match change.range {
+                Some(range) => apply_edit(&mut document.text, range, &change.text),
+                None => document.text = change.text,
+            }
+        }
+        document.version = version;
+        document.analysis = None;
+        true
+    }
+
+    /// The current text and version of a document.
+    pub fn text(&self, uri: &Uri) -> Option<(String, i32)> {
+        let state = self.lock();
+        state
+            .documents
+            .get(uri)
+            .map(|d| (d.text.clone(), d.version))
+    }
+
+    /// The URIs of every open document.
+    pub fn uris(&self) -> Vec<Uri> {
+        self.lock().documents.keys().cloned().collect()
+    }
+
+    /// The current version of a document.
+    pub fn version(&self, uri: &Uri) -> Option<i32> {
+        self.lock().documents.get(uri).map(|d| d.version)
+    }
+
+    /// The cached analysis of the current version, or a snapshot to compute it from.
+    pub fn analysis_or_snapshot(&self, uri: &Uri) -> Option<Result<Arc<Analysis>, Snapshot>> {
+        let state = self.lock();
+        let document = state.documents.get(uri)?;
+        if let Some((generation, analysis)) = &document.analysis
+            && *generation == state.generation
+        {
+            return Some(Ok(analysis.clone()));
+        }
+        let buffers = state
+            .documents
+            .iter()
+            .filter_map(|(uri, d)| Some((uri.to_file_path()?.into_owned(), d.text.clone())))
+            .collect();
+        Some(Err(Snapshot {
+            path: document_path(uri),
+            text: document.text.clone(),
+            version: document.version,
+            generation: state.generation,
+            buffers,
+        }))
+    }
+
+    /// Caches an analysis computed from `snapshot` unless anything changed since. Returns whether
+    /// it is still current.
+    pub fn store(&self, uri: &Uri, snapshot: &Snapshot, analysis: &Arc<Analysis>) -> bool {
+        let mut state = self.lock();
+        let generation = state.generation;
+        let Some(document) = state.documents.get_mut(uri) else {
+            return false;
+        };
+        if document.version != snapshot.version {
+            return false;
+        }
+        if generation == snapshot.generation {
+            document.analysis = Some((generation, analysis.clone()));
+        }
+        true
+    }
+}
+
+impl Snapshot {
+    /// Checks the snapshot's document.
+    pub fn analyze(&self) -> Analysis {
+        Analysis::new(
+            &self.path,
+            self.text.clone(),
+            &CheckOptions {
+                search_path: search_path(),
+                defines: Vec::new(),
+            },
+            self,
+        )
+    }
+}
+
+/// The directories of `QCSG_PATH`, as `qcsg check` uses them.
+fn search_path() -> Vec<PathBuf> {
+    std::env::var_os("QCSG_PATH")
+        .map(|paths| {
+            std::env::split_paths(&paths)
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+impl FileLoader for Snapshot {
+    fn load(&self, path: &Path) -> std::io::Result<String> {
+        match self.buffers.get(path) {
+            Some(text) => Ok(text.clone()),
+            None => std::fs::read_to_string(path),
+        }
+    }
+}
+
+/// Replaces `range` (UTF-16 positions; out-of-range positions clamp) of `text` with `new_text`.
+pub fn apply_edit(text: &mut String, range: Range, new_text: &str) {
+    let index = LineIndex::new(text);
+    let offset = |p: tower_lsp_server::ls_types::Position| {
+        index.offset(
+            text,
+            LineCol {
+                line: p.line,
+                character: p.character,
+            },
+        )
+    };
+    let start = offset(range.start);
+    let end = offset(range.end).max(start);
+    text.replace_range(start..end, new_text);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tower_lsp_server::ls_types::Position;
+
+    fn range(a: (u32, u32), b: (u32, u32)) -> Range {
+        Range::new(Position::new(a.0, a.1), Position::new(b.0, b.1))
+    }
+
+    #[test]
+    fn edits_count_utf16_units() {
+        let mut text = "s = \"😀\"; x = 1;\ny = 2;\n".to_owned();
+        // The emoji is two UTF-16 units: `x` is at column 10.
+        apply_edit(&mut text, range((0, 10), (0, 11)), "width");
+        assert_eq!(text, "s = \"😀\"; width = 1;\ny = 2;\n");
+        apply_edit(&mut text, range((1, 0), (2, 0)), "");
+        assert_eq!(text, "s = \"😀\"; width = 1;\n");
+        apply_edit(&mut text, range((5, 0), (9, 9)), "z = 3;\n");
+        assert_eq!(text, "s = \"😀\"; width = 1;\nz = 3;\n");
+    }
+}
