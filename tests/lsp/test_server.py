@@ -28,7 +28,8 @@ def doc(uri):
 
 
 def at(uri, text, needle, nth=0, shift=0):
-    return types.TextDocumentPositionParams(text_document=doc(uri), position=position_of(text, needle, nth, shift))
+    """Keyword arguments naming a document and a position in it."""
+    return {"text_document": doc(uri), "position": position_of(text, needle, nth, shift)}
 
 
 async def open_program(client, tmp_path, text=PROGRAM):
@@ -39,27 +40,27 @@ async def open_program(client, tmp_path, text=PROGRAM):
 
 
 async def test_diagnostics_on_open_and_incremental_change(client: LanguageClient, tmp_path):
-    text = "w = 1;\ncube(wdth);\nw = 2;\n"
+    text = "width = 1;\ncube(widht);\nwidth = 2;\n"
     uri = open_document(client, tmp_path / "a.qcsg", text)
     diagnostics = await diagnostics_until(client, uri, lambda d: len(d) > 0)
     codes = {d.code for d in diagnostics}
     assert "E0101" in codes and "W0105" in codes
     undefined = next(d for d in diagnostics if d.code == "E0101")
-    assert undefined.range.start == position_of(text, "wdth")
+    assert undefined.range.start == position_of(text, "widht")
     assert undefined.severity == types.DiagnosticSeverity.Error
-    assert "did you mean `w`" in undefined.message
+    assert "`width`" in undefined.message
     reassigned = next(d for d in diagnostics if d.code == "W0105")
     assert reassigned.related_information, "labels become related information"
 
     # Fix the typo with an incremental edit, then remove the reassignment.
-    start = position_of(text, "wdth")
+    start = position_of(text, "widht")
     client.text_document_did_change(
         types.DidChangeTextDocumentParams(
             text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=2),
             content_changes=[
                 types.TextDocumentContentChangePartial(
-                    range=types.Range(start=start, end=types.Position(line=start.line, character=start.character + 4)),
-                    text="w",
+                    range=types.Range(start=start, end=types.Position(line=start.line, character=start.character + 5)),
+                    text="width",
                 ),
                 types.TextDocumentContentChangePartial(
                     range=types.Range(start=types.Position(line=2, character=0), end=types.Position(line=3, character=0)),
@@ -84,45 +85,45 @@ async def test_utf16_positions_in_edits_and_hover(client: LanguageClient, tmp_pa
     await diagnostics_until(client, uri, lambda d: True)
     # `size` after the emoji: the emoji counts as two UTF-16 code units.
     start = position_of(text, "size")
-    assert start.character == 16
+    assert start.character == 15
     client.text_document_did_change(
         types.DidChangeTextDocumentParams(
             text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=2),
             content_changes=[
                 types.TextDocumentContentChangePartial(
-                    range=types.Range(start=types.Position(line=0, character=23), end=types.Position(line=0, character=24)),
+                    range=types.Range(start=types.Position(line=0, character=22), end=types.Position(line=0, character=23)),
                     text="7",
                 )
             ],
         )
     )
     new_text = text.replace("size = 2", "size = 7")
-    hover = await client.text_document_hover_async(types.HoverParams(**vars(at(uri, new_text, "size", 1))))
+    hover = await client.text_document_hover_async(types.HoverParams(**(at(uri, new_text, "size", 1))))
     assert hover is not None and "size = 7" in hover.contents.value
 
 
 async def test_hover(client: LanguageClient, tmp_path):
     uri = await open_program(client, tmp_path)
-    width = await client.text_document_hover_async(types.HoverParams(**vars(at(uri, PROGRAM, "width));", 0, 1))))
+    width = await client.text_document_hover_async(types.HoverParams(**(at(uri, PROGRAM, "width));", 0, 1))))
     assert "width = 20" in width.contents.value and "Width of the plate." in width.contents.value
-    plate = await client.text_document_hover_async(types.HoverParams(**vars(at(uri, PROGRAM, "plate(width"))))
+    plate = await client.text_document_hover_async(types.HoverParams(**(at(uri, PROGRAM, "plate(width"))))
     assert "module plate(w, thickness = 1)" in plate.contents.value
-    part = await client.text_document_hover_async(types.HoverParams(**vars(at(uri, PROGRAM, "part(lib"))))
+    part = await client.text_document_hover_async(types.HoverParams(**(at(uri, PROGRAM, "part(lib"))))
     assert "A library part." in part.contents.value
-    cube = await client.text_document_hover_async(types.HoverParams(**vars(at(uri, PROGRAM, "cube"))))
+    cube = await client.text_document_hover_async(types.HoverParams(**(at(uri, PROGRAM, "cube"))))
     assert "built-in primitive" in cube.contents.value and "cube(size, center)" in cube.contents.value
-    nothing = await client.text_document_hover_async(types.HoverParams(**vars(at(uri, PROGRAM, "10"))))
+    nothing = await client.text_document_hover_async(types.HoverParams(**(at(uri, PROGRAM, "10"))))
     assert nothing is None
 
 
 async def test_definition_including_into_included_files(client: LanguageClient, tmp_path):
     uri = await open_program(client, tmp_path)
-    local = await client.text_document_definition_async(types.DefinitionParams(**vars(at(uri, PROGRAM, "width, 3"))))
+    local = await client.text_document_definition_async(types.DefinitionParams(**(at(uri, PROGRAM, "width, 3"))))
     assert local.uri == uri and local.range.start == position_of(PROGRAM, "width =")
-    remote = await client.text_document_definition_async(types.DefinitionParams(**vars(at(uri, PROGRAM, "part("))))
+    remote = await client.text_document_definition_async(types.DefinitionParams(**(at(uri, PROGRAM, "part("))))
     assert remote.uri == (tmp_path / "lib.scad").as_uri()
     assert remote.range.start == types.Position(line=1, character=7)
-    include = await client.text_document_definition_async(types.DefinitionParams(**vars(at(uri, PROGRAM, "lib.scad"))))
+    include = await client.text_document_definition_async(types.DefinitionParams(**(at(uri, PROGRAM, "lib.scad"))))
     assert include.uri == (tmp_path / "lib.scad").as_uri()
 
 
@@ -131,8 +132,8 @@ async def test_references(client: LanguageClient, tmp_path):
     position = at(uri, PROGRAM, "width =")
     found = await client.text_document_references_async(
         types.ReferenceParams(
-            text_document=position.text_document,
-            position=position.position,
+            text_document=position["text_document"],
+            position=position["position"],
             context=types.ReferenceContext(include_declaration=True),
         )
     )
@@ -141,14 +142,14 @@ async def test_references(client: LanguageClient, tmp_path):
 
 async def test_rename(client: LanguageClient, tmp_path):
     uri = await open_program(client, tmp_path)
-    prepared = await client.text_document_prepare_rename_async(types.PrepareRenameParams(**vars(at(uri, PROGRAM, "twice(w"))))
+    prepared = await client.text_document_prepare_rename_async(types.PrepareRenameParams(**(at(uri, PROGRAM, "twice(w"))))
     assert prepared.placeholder == "twice"
     edit = await client.text_document_rename_async(
-        types.RenameParams(**vars(at(uri, PROGRAM, "twice(w")), new_name="double")
+        types.RenameParams(**(at(uri, PROGRAM, "twice(w")), new_name="double")
     )
     assert len(edit.changes[uri]) == 2 and all(e.new_text == "double" for e in edit.changes[uri])
     with pytest.raises(Exception, match="built-in"):
-        await client.text_document_prepare_rename_async(types.PrepareRenameParams(**vars(at(uri, PROGRAM, "cube"))))
+        await client.text_document_prepare_rename_async(types.PrepareRenameParams(**(at(uri, PROGRAM, "cube"))))
 
 
 async def test_symbols(client: LanguageClient, tmp_path):
@@ -171,7 +172,7 @@ async def test_completion(client: LanguageClient, tmp_path):
 
     async def labels(needle, shift):
         result = await client.text_document_completion_async(
-            types.CompletionParams(**vars(at(uri, text, needle, 0, shift)))
+            types.CompletionParams(**(at(uri, text, needle, 0, shift)))
         )
         items = result.items if hasattr(result, "items") else result
         return {item.label: item for item in items}
@@ -188,7 +189,7 @@ async def test_completion(client: LanguageClient, tmp_path):
 async def test_signature_help(client: LanguageClient, tmp_path):
     text = "cylinder(10, 2, );\n"
     uri = open_document(client, tmp_path / "s.qcsg", text)
-    help = await client.text_document_signature_help_async(types.SignatureHelpParams(**vars(at(uri, text, ", )", 0, 2))))
+    help = await client.text_document_signature_help_async(types.SignatureHelpParams(**(at(uri, text, ", )", 0, 2))))
     assert help.signatures[0].label.startswith("cylinder(h, r1, r2")
     assert help.active_parameter == 2
 
@@ -302,7 +303,7 @@ async def test_requests_interleaved_with_changes(client: LanguageClient, tmp_pat
             )
         )
         current += addition
-        pending.append(client.text_document_hover_async(types.HoverParams(**vars(at(uri, text, "size", 1)))))
+        pending.append(client.text_document_hover_async(types.HoverParams(**(at(uri, text, "size", 1)))))
         pending.append(client.text_document_semantic_tokens_full_async(types.SemanticTokensParams(text_document=doc(uri))))
     results = await asyncio.gather(*pending, return_exceptions=True)
     # A request may be answered for an older version, but never fail.

@@ -28,19 +28,33 @@ fn median(mut samples: Vec<Duration>) -> Duration {
 }
 
 fn time(runs: usize, mut f: impl FnMut()) -> Duration {
-    median((0..runs).map(|_| {
-        let start = Instant::now();
-        f();
-        start.elapsed()
-    }).collect())
+    median(
+        (0..runs)
+            .map(|_| {
+                let start = Instant::now();
+                f();
+                start.elapsed()
+            })
+            .collect(),
+    )
 }
 
 fn main() {
     let text = program(10_000);
     let lines = text.lines().count();
-    let analyze = |text: &str| Analysis::new("bench.qcsg", text.to_owned(), &CheckOptions::default(), &FsLoader);
+    let analyze = |text: &str| {
+        Analysis::new(
+            "bench.qcsg",
+            text.to_owned(),
+            &CheckOptions::default(),
+            &FsLoader,
+        )
+    };
     let middle = text.len() / 2;
-    let edit_at = text[middle..].find("base)").map(|i| middle + i).expect("an instantiation");
+    let edit_at = text[middle..]
+        .find("base)")
+        .map(|i| middle + i)
+        .expect("an instantiation");
     let edited = format!("{}base + 1{}", &text[..edit_at], &text[edit_at + 4..]);
 
     let diagnostics = time(15, || {
@@ -49,7 +63,13 @@ fn main() {
     });
     let analysis = analyze(&edited);
     let index = LineIndex::new(&edited);
-    let hover_at = index.line_col(&edited, edited[middle..].find("width_").map(|i| middle + i + 2).expect("a name"));
+    let hover_at = index.line_col(
+        &edited,
+        edited[middle..]
+            .find("width_")
+            .map(|i| middle + i + 2)
+            .expect("a name"),
+    );
     let hover = time(51, || {
         black_box(analysis.hover(black_box(hover_at)));
     });
