@@ -4,8 +4,8 @@
 //! command lives in its own module, and the two diagnostic formats in [`human`] and [`json`].
 
 mod check;
-mod fmt;
 mod compile;
+mod fmt;
 mod human;
 mod json;
 mod lsp;
