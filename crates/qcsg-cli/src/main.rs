@@ -9,6 +9,7 @@ mod fmt;
 mod human;
 mod json;
 mod lsp;
+mod render;
 
 use std::num::NonZeroUsize;
 use std::path::PathBuf;
@@ -35,6 +36,8 @@ struct Cli {
 enum Command {
     /// Parse, check and evaluate programs, print their diagnostics; exit 1 if any has an error.
     Check(CheckArgs),
+    /// Render a preview image (PNG) of the program's solid.
+    Render(render::RenderArgs),
     /// Compile a program and print a stage: `--emit ast|dag|dnf`, as text or JSON.
     Compile(compile::CompileArgs),
     /// Format files in place (`-`: standard input to standard output); `--check` only reports.
@@ -120,6 +123,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let status = match cli.command {
         Command::Check(args) => check::run(args),
+        Command::Render(args) => render::run(args),
         Command::Compile(args) => compile::run(args),
         Command::Fmt(args) => fmt::run(args),
         Command::Lsp => lsp::run(),
