@@ -3,7 +3,7 @@
 //! Files are checked independently (each is its own program) and possibly in parallel, but the
 //! output is always in the order the files were given, so it never depends on `--threads`.
 
-use std::io::{IsTerminal, Read, Write};
+use std::io::{IsTerminal, Write};
 use std::num::NonZeroUsize;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -102,22 +102,9 @@ fn wants_colour(is_terminal: bool, no_color: Option<std::ffi::OsString>) -> bool
 
 /// Reads one FILE argument; `-` is standard input.
 fn read_input(file: &str) -> Input {
-    if file == "-" {
-        let mut text = String::new();
-        return match std::io::stdin().read_to_string(&mut text) {
-            Ok(_) => Input::Read {
-                name: STDIN_NAME.to_owned(),
-                text,
-            },
-            Err(err) => Input::Unreadable(format!("cannot read standard input: {err}")),
-        };
-    }
-    match std::fs::read_to_string(file) {
-        Ok(text) => Input::Read {
-            name: file.to_owned(),
-            text,
-        },
-        Err(err) => Input::Unreadable(format!("cannot read `{file}`: {err}")),
+    match crate::program::read(file) {
+        Ok((name, text)) => Input::Read { name, text },
+        Err(message) => Input::Unreadable(message),
     }
 }
 
@@ -136,7 +123,7 @@ fn check_all(inputs: &[Input], options: &CheckOptions, threads: NonZeroUsize) ->
     };
     let check = |(name, text): (&str, &str)| {
         let mut analysis = qcsg_sema::check_file(name, text.to_owned(), options, &FsLoader);
-        crate::compile::append_evaluation(&mut analysis, &eval_options);
+        crate::program::evaluate_checked(&mut analysis, &eval_options);
         analysis
     };
     let workers = threads.get().min(jobs.len());

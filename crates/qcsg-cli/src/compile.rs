@@ -4,15 +4,14 @@
 //! Diagnostics go to standard error for people; the chosen stage goes to OUT (standard output by
 //! default) only when the input has no errors, so a failed run never writes a partial file.
 
-use std::io::{IsTerminal, Read, Write};
+use std::io::Write;
 
 use clap::{Args, ValueEnum};
 use qcsg_csg::{DnfOptions, build_dnf, dag_to_json, dag_to_text, dnf_to_json, dnf_to_text};
-use qcsg_diag::Diagnostic;
-use qcsg_eval::{EvalOptions, evaluate};
-use qcsg_sema::{Analysis, CheckOptions, FsLoader};
+use qcsg_eval::EvalOptions;
+use qcsg_sema::Analysis;
 
-use crate::human::{HumanRenderer, summary_line};
+use crate::program;
 use crate::{EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
 
 /// Arguments of `qcsg compile`.
@@ -65,9 +64,30 @@ pub struct LimitArgs {
     #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_INSTANCES)]
     max_instances: u64,
 
-    /// Most terms of the disjunctive normal form (`--emit dnf`).
+    /// Most terms of the disjunctive normal form.
     #[arg(long, value_name = "N", default_value_t = qcsg_csg::DEFAULT_TERM_LIMIT)]
     max_terms: usize,
+}
+
+impl LimitArgs {
+    /// The evaluator's options: these limits and the `-D` overrides.
+    pub fn eval_options(&self, defines: &[(String, String)]) -> EvalOptions {
+        EvalOptions {
+            defines: defines.to_vec(),
+            max_recursion: self.max_recursion,
+            max_iterations: self.max_iterations,
+            max_vector_len: self.max_vector_len,
+            max_instances: self.max_instances,
+        }
+    }
+
+    /// The DNF builder's options: the term limit.
+    pub fn dnf_options(&self) -> DnfOptions {
+        DnfOptions {
+            term_limit: self.max_terms,
+            ..DnfOptions::default()
+        }
+    }
 }
 
 /// What `--emit` prints.
@@ -90,55 +110,28 @@ enum OutputFormat {
     Json,
 }
 
-/// Evaluates a program whose static check found no errors and appends the evaluation's
-/// diagnostics (echo output, warnings, runtime errors) to the analysis.
-pub fn append_evaluation(analysis: &mut Analysis, options: &EvalOptions) {
-    if analysis.has_errors() {
-        return;
-    }
-    let evaluation = evaluate(analysis, options);
-    analysis.diagnostics.extend(evaluation.diagnostics);
-}
-
 /// Runs `qcsg compile` and returns the process exit status.
 pub fn run(args: CompileArgs) -> u8 {
-    let (name, text) = match read(&args.file) {
+    let (name, text) = match program::read(&args.file) {
         Ok(input) => input,
         Err(message) => {
             eprintln!("error: {message}");
             return EXIT_USAGE;
         }
     };
-    let check_options = CheckOptions {
-        search_path: crate::search_path_from_env(),
-        defines: args.defines.clone(),
-    };
-    let mut analysis = qcsg_sema::check_file(&name, text, &check_options, &FsLoader);
+    let mut analysis = program::check(&name, text, &args.defines);
     let mut output = None;
     if !analysis.has_errors() {
         output = match args.emit {
             Emit::Ast => Some(emit_ast(&analysis, args.format)),
             Emit::Dag | Emit::Dnf => {
-                let options = EvalOptions {
-                    defines: args.defines.clone(),
-                    max_recursion: args.limits.max_recursion,
-                    max_iterations: args.limits.max_iterations,
-                    max_vector_len: args.limits.max_vector_len,
-                    max_instances: args.limits.max_instances,
-                };
-                let evaluation = evaluate(&analysis, &options);
-                let failed = evaluation.has_errors();
-                analysis.diagnostics.extend(evaluation.diagnostics);
-                if failed {
-                    None
-                } else if args.emit == Emit::Dag {
-                    Some(emit_dag(&analysis, &evaluation.dag, args.format))
-                } else {
-                    let dnf_options = DnfOptions {
-                        term_limit: args.limits.max_terms,
-                        ..DnfOptions::default()
-                    };
-                    match build_dnf(&evaluation.dag, &dnf_options) {
+                let options = args.limits.eval_options(&args.defines);
+                match program::evaluate_checked(&mut analysis, &options) {
+                    None => None,
+                    Some(dag) if args.emit == Emit::Dag => {
+                        Some(emit_dag(&analysis, &dag, args.format))
+                    }
+                    Some(dag) => match build_dnf(&dag, &args.limits.dnf_options()) {
                         Ok(dnf) => {
                             analysis.diagnostics.extend(dnf.warnings.iter().cloned());
                             Some(match args.format {
@@ -154,12 +147,12 @@ pub fn run(args: CompileArgs) -> u8 {
                             analysis.diagnostics.extend(errors);
                             None
                         }
-                    }
+                    },
                 }
             }
         };
     }
-    print_diagnostics(&analysis, args.quiet);
+    program::print_human(&analysis, args.quiet);
     if analysis.has_errors() {
         return EXIT_INPUT_ERRORS;
     }
@@ -220,39 +213,4 @@ fn emit_dag(analysis: &Analysis, dag: &qcsg_csg::Dag, format: OutputFormat) -> S
         OutputFormat::Text => dag_to_text(dag, &qcsg_csg::line_locator(&analysis.sources)),
         OutputFormat::Json => dag_to_json(dag, &|file| file_name(analysis, file)),
     }
-}
-
-fn print_diagnostics(analysis: &Analysis, quiet: bool) {
-    let stderr = std::io::stderr();
-    let colour = stderr.is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty());
-    let renderer = HumanRenderer::for_terminal(colour);
-    let mut out = String::new();
-    let mut counts = [0usize; 4];
-    for diagnostic in analysis
-        .diagnostics
-        .iter()
-        .filter(|d| !quiet || Diagnostic::is_error(d))
-    {
-        counts[diagnostic.severity as usize] += 1;
-        out.push_str(&renderer.render(&analysis.sources, diagnostic));
-    }
-    if !quiet {
-        out.push_str(&summary_line(counts));
-        out.push('\n');
-    }
-    let _ = stderr.lock().write_all(out.as_bytes());
-}
-
-/// The name and text of FILE (`-`: standard input).
-fn read(file: &str) -> Result<(String, String), String> {
-    if file == "-" {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
-            .map_err(|err| format!("cannot read standard input: {err}"))?;
-        return Ok((crate::check::STDIN_NAME.to_owned(), text));
-    }
-    std::fs::read_to_string(file)
-        .map(|text| (file.to_owned(), text))
-        .map_err(|err| format!("cannot read `{file}`: {err}"))
 }

@@ -9,6 +9,7 @@ mod fmt;
 mod human;
 mod json;
 mod lsp;
+mod program;
 mod render;
 
 use std::num::NonZeroUsize;
@@ -36,10 +37,10 @@ struct Cli {
 enum Command {
     /// Parse, check and evaluate programs, print their diagnostics; exit 1 if any has an error.
     Check(CheckArgs),
-    /// Render a preview image (PNG) of the program's solid.
-    Render(render::RenderArgs),
     /// Compile a program and print a stage: `--emit ast|dag|dnf`, as text or JSON.
     Compile(compile::CompileArgs),
+    /// Render a preview image (PNG) of the program's solid.
+    Render(render::RenderArgs),
     /// Format files in place (`-`: standard input to standard output); `--check` only reports.
     Fmt(fmt::FmtArgs),
     /// Run the language server on standard input and output.
@@ -123,8 +124,8 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let status = match cli.command {
         Command::Check(args) => check::run(args),
-        Command::Render(args) => render::run(args),
         Command::Compile(args) => compile::run(args),
+        Command::Render(args) => render::run(args),
         Command::Fmt(args) => fmt::run(args),
         Command::Lsp => lsp::run(),
     };

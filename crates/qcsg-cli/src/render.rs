@@ -6,7 +6,7 @@
 //! The splat renderer (`--renderer splat`, `--device gpu`) does not exist yet: asking for it is
 //! a usage error rather than a silent fallback.
 
-use std::io::{IsTerminal, Read, Write};
+use std::io::{IsTerminal, Write};
 use std::path::Path;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -14,13 +14,12 @@ use std::time::{Duration, Instant};
 
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use qcsg_csg::DnfOptions;
 use qcsg_diag::Diagnostic;
-use qcsg_eval::{EvalOptions, evaluate};
 use qcsg_render::{Camera, ImageSize, Projection, RenderOptions, Scene, View};
-use qcsg_sema::{Analysis, CheckOptions, FsLoader};
+use qcsg_sema::Analysis;
 
-use crate::human::{HumanRenderer, summary_line};
+use crate::compile::LimitArgs;
+use crate::program;
 use crate::{CommonArgs, DiagnosticFormat, EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
 
 /// Renders that take longer than this show a progress bar (on a terminal).
@@ -58,9 +57,8 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = Device::Auto)]
     device: Device,
 
-    /// Most terms of the disjunctive normal form.
-    #[arg(long, value_name = "N", default_value_t = qcsg_csg::DEFAULT_TERM_LIMIT)]
-    max_terms: usize,
+    #[command(flatten)]
+    limits: LimitArgs,
 
     #[command(flatten)]
     common: CommonArgs,
@@ -112,18 +110,14 @@ pub fn run(args: RenderArgs) -> u8 {
         );
         return EXIT_USAGE;
     }
-    let (name, text) = match read(&args.file) {
+    let (name, text) = match program::read(&args.file) {
         Ok(input) => input,
         Err(message) => {
             eprintln!("error: {message}");
             return EXIT_USAGE;
         }
     };
-    let check_options = CheckOptions {
-        search_path: crate::search_path_from_env(),
-        defines: args.common.defines.clone(),
-    };
-    let mut analysis = qcsg_sema::check_file(&name, text, &check_options, &FsLoader);
+    let mut analysis = program::check(&name, text, &args.common.defines);
     let scene = build_scene(&mut analysis, &args);
     print_diagnostics(&analysis, &args.common, args.output != "-");
     let Some(scene) = scene.filter(|_| !analysis.has_errors()) else {
@@ -198,24 +192,9 @@ pub fn run(args: RenderArgs) -> u8 {
 
 /// Evaluates the checked program and builds the scene; `None` after errors (in the analysis).
 fn build_scene(analysis: &mut Analysis, args: &RenderArgs) -> Option<Scene> {
-    if analysis.has_errors() {
-        return None;
-    }
-    let options = EvalOptions {
-        defines: args.common.defines.clone(),
-        ..EvalOptions::default()
-    };
-    let mut evaluation = evaluate(analysis, &options);
-    let failed = evaluation.has_errors();
-    analysis.diagnostics.append(&mut evaluation.diagnostics);
-    if failed {
-        return None;
-    }
-    let dnf_options = DnfOptions {
-        term_limit: args.max_terms,
-        ..DnfOptions::default()
-    };
-    match Scene::from_dag(&mut evaluation.dag, &dnf_options) {
+    let options = args.limits.eval_options(&args.common.defines);
+    let mut dag = program::evaluate_checked(analysis, &options)?;
+    match Scene::from_dag(&mut dag, &args.limits.dnf_options()) {
         Ok(scene) => {
             for layer in [&scene.solid, &scene.highlights, &scene.backgrounds]
                 .into_iter()
@@ -304,32 +283,5 @@ fn print_diagnostics(analysis: &Analysis, common: &CommonArgs, stdout_free: bool
         }
         return;
     }
-    let stderr = std::io::stderr();
-    let colour = stderr.is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty());
-    let renderer = HumanRenderer::for_terminal(colour);
-    let mut out = String::new();
-    let mut counts = [0usize; 4];
-    for diagnostic in shown {
-        counts[diagnostic.severity as usize] += 1;
-        out.push_str(&renderer.render(&analysis.sources, diagnostic));
-    }
-    if !common.quiet && counts.iter().sum::<usize>() > 0 {
-        out.push_str(&summary_line(counts));
-        out.push('\n');
-    }
-    let _ = stderr.lock().write_all(out.as_bytes());
-}
-
-/// The name and text of FILE (`-`: standard input).
-fn read(file: &str) -> Result<(String, String), String> {
-    if file == "-" {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
-            .map_err(|err| format!("cannot read standard input: {err}"))?;
-        return Ok((crate::check::STDIN_NAME.to_owned(), text));
-    }
-    std::fs::read_to_string(file)
-        .map(|text| (file.to_owned(), text))
-        .map_err(|err| format!("cannot read `{file}`: {err}"))
+    program::print_human(analysis, common.quiet);
 }

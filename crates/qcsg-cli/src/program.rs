@@ -1,0 +1,70 @@
+//! What `compile` and `render` share: reading a program, checking and evaluating it, and
+//! printing its diagnostics for people.
+
+use std::io::{IsTerminal, Read, Write};
+
+use qcsg_csg::Dag;
+use qcsg_diag::Diagnostic;
+use qcsg_eval::{EvalOptions, evaluate};
+use qcsg_sema::{Analysis, CheckOptions, FsLoader};
+
+use crate::human::{HumanRenderer, summary_line};
+
+/// The name and text of FILE (`-`: standard input, named `<stdin>`).
+pub fn read(file: &str) -> Result<(String, String), String> {
+    if file == "-" {
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|err| format!("cannot read standard input: {err}"))?;
+        return Ok((crate::check::STDIN_NAME.to_owned(), text));
+    }
+    std::fs::read_to_string(file)
+        .map(|text| (file.to_owned(), text))
+        .map_err(|err| format!("cannot read `{file}`: {err}"))
+}
+
+/// Statically checks a program, with `-D` overrides and `QCSG_PATH`.
+pub fn check(name: &str, text: String, defines: &[(String, String)]) -> Analysis {
+    let options = CheckOptions {
+        search_path: crate::search_path_from_env(),
+        defines: defines.to_vec(),
+    };
+    qcsg_sema::check_file(name, text, &options, &FsLoader)
+}
+
+/// Evaluates a program whose static check found no errors, appending the evaluation's
+/// diagnostics (echo output, warnings, runtime errors) to the analysis. The DAG comes back only
+/// when neither step found an error.
+pub fn evaluate_checked(analysis: &mut Analysis, options: &EvalOptions) -> Option<Dag> {
+    if analysis.has_errors() {
+        return None;
+    }
+    let evaluation = evaluate(analysis, options);
+    let failed = evaluation.has_errors();
+    analysis.diagnostics.extend(evaluation.diagnostics);
+    (!failed).then_some(evaluation.dag)
+}
+
+/// Prints the diagnostics on standard error with source excerpts (colour on a terminal unless
+/// `NO_COLOR` is set), then a summary line when anything was shown; `quiet` shows errors only.
+pub fn print_human(analysis: &Analysis, quiet: bool) {
+    let stderr = std::io::stderr();
+    let colour = stderr.is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty());
+    let renderer = HumanRenderer::for_terminal(colour);
+    let mut out = String::new();
+    let mut counts = [0usize; 4];
+    for diagnostic in analysis
+        .diagnostics
+        .iter()
+        .filter(|d| !quiet || Diagnostic::is_error(d))
+    {
+        counts[diagnostic.severity as usize] += 1;
+        out.push_str(&renderer.render(&analysis.sources, diagnostic));
+    }
+    if !quiet && counts.iter().sum::<usize>() > 0 {
+        out.push_str(&summary_line(counts));
+        out.push('\n');
+    }
+    let _ = stderr.lock().write_all(out.as_bytes());
+}
