@@ -158,29 +158,24 @@ impl<'a> Frame<'a> {
 
     /// Looks a user function up along the lexical chain (the last definition in a scope wins).
     pub fn lookup_function(self: &Rc<Self>, name: &str) -> Option<Rc<FunctionDef<'a>>> {
-        let mut frame = Some(self.clone());
-        while let Some(f) = frame {
-            let found = f
-                .functions
-                .borrow()
-                .iter()
-                .rev()
-                .find(|(n, _)| *n == name)
-                .map(|(_, d)| d.clone());
-            if found.is_some() {
-                return found;
-            }
-            frame = f.lexical.clone();
-        }
-        None
+        self.lookup_definition(name, |frame| &frame.functions)
     }
 
     /// Looks a user module up along the lexical chain (the last definition in a scope wins).
     pub fn lookup_module(self: &Rc<Self>, name: &str) -> Option<Rc<ModuleDef<'a>>> {
+        self.lookup_definition(name, |frame| &frame.modules)
+    }
+
+    /// The last definition of `name` in the table `table` picks out, searched frame by frame
+    /// along the lexical chain.
+    fn lookup_definition<T>(
+        self: &Rc<Self>,
+        name: &str,
+        table: impl Fn(&Self) -> &RefCell<Vec<(&'a str, Rc<T>)>>,
+    ) -> Option<Rc<T>> {
         let mut frame = Some(self.clone());
         while let Some(f) = frame {
-            let found = f
-                .modules
+            let found = table(&f)
                 .borrow()
                 .iter()
                 .rev()

@@ -1934,37 +1934,40 @@ impl<'a> Resolver<'a> {
     }
 
     fn lookup_function(&self, name: &str) -> FunctionLookup {
-        if let Some(&def) = self
-            .scopes
-            .iter()
-            .rev()
-            .find_map(|scope| scope.funcs.get(name))
-        {
-            return FunctionLookup::User(def);
-        }
-        for &unit in self.used_units() {
-            if let Some(&def) = self.units.get(unit).and_then(|u| u.scope.funcs.get(name)) {
-                return FunctionLookup::User(def);
+        match self.lookup_user(name, |scope| &scope.funcs) {
+            Some(def) => FunctionLookup::User(def),
+            None => {
+                builtins::function(name).map_or(FunctionLookup::Missing, FunctionLookup::Builtin)
             }
         }
-        builtins::function(name).map_or(FunctionLookup::Missing, FunctionLookup::Builtin)
     }
 
     fn lookup_module(&self, name: &str) -> ModuleLookup {
-        if let Some(&def) = self
+        match self.lookup_user(name, |scope| &scope.modules) {
+            Some(def) => ModuleLookup::User(def),
+            None => builtins::module(name).map_or(ModuleLookup::Missing, ModuleLookup::Builtin),
+        }
+    }
+
+    /// A user definition of `name` in the namespace `table` picks out: the innermost open scope
+    /// first, then the files brought in by `use`.
+    fn lookup_user(
+        &self,
+        name: &str,
+        table: impl Fn(&Scope) -> &HashMap<String, DefId>,
+    ) -> Option<DefId> {
+        let in_scope = self
             .scopes
             .iter()
             .rev()
-            .find_map(|scope| scope.modules.get(name))
-        {
-            return ModuleLookup::User(def);
-        }
-        for &unit in self.used_units() {
-            if let Some(&def) = self.units.get(unit).and_then(|u| u.scope.modules.get(name)) {
-                return ModuleLookup::User(def);
-            }
-        }
-        builtins::module(name).map_or(ModuleLookup::Missing, ModuleLookup::Builtin)
+            .find_map(|scope| table(scope).get(name));
+        in_scope
+            .or_else(|| {
+                self.used_units()
+                    .iter()
+                    .find_map(|&unit| self.units.get(unit).and_then(|u| table(&u.scope).get(name)))
+            })
+            .copied()
     }
 
     /// The visible name of `namespace` closest to `name`, for "did you mean".
