@@ -22,13 +22,15 @@
 //!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint and counted when given up
 //!   ([`subdivide::SubdivisionStats::unresolved`]).
 //!
-//! Not yet: clip lists per sample (the renderer's local clipping, §6).
+//! Every sample carries its clip list (§6): the other literals of its term that come within its
+//! radius, deduplicated into one indirection buffer ([`clip`]).
 //!
 //! Quadrics without a surface area (empty, all-space, a point, a line) contribute no samples;
 //! every other kind, degenerate ones included, is sampled through its heightfields. Terms whose
 //! box is unbounded are skipped and counted ([`SampleStats::unbounded_terms`]): the DNF builder
 //! requires a region for unbounded scenes.
 
+pub mod clip;
 pub mod csg_distance;
 pub mod regions;
 pub mod subdivide;
@@ -37,6 +39,8 @@ use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, QuadricKind};
 use rayon::prelude::*;
 
+pub use crate::clip::ClipLists;
+use crate::clip::{ClipListBuilder, RawClipLists};
 use crate::csg_distance::CsgDistance;
 use crate::regions::{BasicRegion, RegionStats, basic_regions};
 use crate::subdivide::{RegionContext, SubdivisionStats, sample_region};
@@ -54,6 +58,8 @@ pub struct Sample {
     pub term: u32,
     /// The radius it covers (at most the requested radius; smaller for small regions).
     pub radius: f64,
+    /// Index of its clip list in [`Sampling::clip_lists`].
+    pub clip_list: u32,
 }
 
 /// Counters of one sampling run.
@@ -69,6 +75,10 @@ pub struct SampleStats {
     pub subdivision: SubdivisionStats,
     /// Terms skipped because their box is unbounded.
     pub unbounded_terms: u64,
+    /// Distinct clip lists.
+    pub clip_lists: u64,
+    /// Quadric indices in the deduplicated clip lists (paper Table 2's "clip indices").
+    pub clip_indices: u64,
 }
 
 /// Errors of [`sample`].
@@ -95,6 +105,8 @@ impl std::error::Error for SampleError {}
 pub struct Sampling {
     /// The samples, in region order.
     pub samples: Vec<Sample>,
+    /// The deduplicated clip lists the samples point into.
+    pub clip_lists: ClipLists,
     /// The counters.
     pub stats: SampleStats,
 }
@@ -174,7 +186,7 @@ pub fn sample(dnf: &Dnf, radius: f64) -> Result<Sampling, SampleError> {
     let mut stats = SampleStats::default();
     let (patches, regions) = all_regions(dnf, &mut stats);
     stats.basic_regions = regions.len() as u64;
-    let per_region: Vec<(Vec<Sample>, SubdivisionStats)> = regions
+    let per_region: Vec<(Vec<Sample>, RawClipLists, SubdivisionStats)> = regions
         .par_iter()
         .map(|(patch_index, region)| {
             let mut out = Vec::new();
@@ -192,14 +204,26 @@ pub fn sample(dnf: &Dnf, radius: f64) -> Result<Sampling, SampleError> {
                 };
                 sample_region(&ctx, region, &mut out, &mut counters);
             }
-            (out, counters)
+            let mut clip = RawClipLists::default();
+            clip.push_samples(dnf, &out);
+            (out, clip, counters)
         })
         .collect();
-    let mut samples = Vec::with_capacity(per_region.iter().map(|(s, _)| s.len()).sum());
-    for (region_samples, counters) in per_region {
-        samples.extend(region_samples);
-        stats.subdivision.add(&counters);
+    let mut samples = Vec::with_capacity(per_region.iter().map(|(s, _, _)| s.len()).sum());
+    let mut builder = ClipListBuilder::new();
+    for (region_samples, raw, counters) in &per_region {
+        let first = samples.len();
+        samples.extend_from_slice(region_samples);
+        builder.assign(raw, &mut samples[first..]);
+        stats.subdivision.add(counters);
     }
+    let clip_lists = builder.finish();
     stats.samples = samples.len() as u64;
-    Ok(Sampling { samples, stats })
+    stats.clip_lists = clip_lists.len() as u64;
+    stats.clip_indices = clip_lists.indices.len() as u64;
+    Ok(Sampling {
+        samples,
+        clip_lists,
+        stats,
+    })
 }

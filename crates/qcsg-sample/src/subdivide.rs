@@ -277,5 +277,6 @@ fn emit(
         quadric: region.quadric,
         term: region.term,
         radius,
+        clip_list: 0,
     });
 }

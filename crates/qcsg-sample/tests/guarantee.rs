@@ -137,8 +137,8 @@ fn smaller_radius() {
 
 #[test]
 fn identical_for_any_thread_count() {
-    let dnf = common::three_spheres();
-    let r = 0.05 * diagonal(&dnf);
+    let dnf = common::cube_minus_cylinder();
+    let r = 0.03 * diagonal(&dnf);
     let with = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -148,6 +148,8 @@ fn identical_for_any_thread_count() {
     };
     let (one, two) = (with(1), with(2));
     assert_eq!(one.stats, two.stats);
+    assert_eq!(one.clip_lists, two.clip_lists);
+    assert!(one.stats.clip_indices > 0, "no clipping exercised");
     let bits = |s: &Sampling| -> Vec<u64> {
         s.samples
             .iter()
@@ -163,7 +165,11 @@ fn identical_for_any_thread_count() {
                 ]
                 .map(f64::to_bits)
                 .into_iter()
-                .chain([u64::from(x.quadric), u64::from(x.term)])
+                .chain([
+                    u64::from(x.quadric),
+                    u64::from(x.term),
+                    u64::from(x.clip_list),
+                ])
             })
             .collect()
     };

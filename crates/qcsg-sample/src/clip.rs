@@ -1,0 +1,136 @@
+//! Clip lists (paper §6): for every sample, the other quadrics of its term whose surface comes
+//! within the sample's radius, so that a renderer can clip the sample's splat locally.
+//!
+//! A literal `j` of the sample's term enters the list unless its conservative distance (eqs.
+//! 10-12, a lower bound of the true distance) exceeds the radius at the sample: then no point of
+//! `Q_j` lies within the radius, and nothing inside the splat can be cut by it. The test is
+//! conservative: a quadric whose surface does reach into the splat is never left out.
+//!
+//! Identical lists are stored once: [`ClipLists`] is one indirection buffer, and each sample
+//! holds the index of its list. Lists are numbered in order of first use in the (deterministic)
+//! sample order, so the buffer is the same for any thread count.
+
+use std::collections::HashMap;
+
+use qcsg_csg::Dnf;
+
+use crate::Sample;
+
+/// Deduplicated clip lists: list `k` is `indices[offsets[k]..offsets[k + 1]]`, indices into
+/// [`Dnf::quadrics`], ascending.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ClipLists {
+    /// Start of each list in `indices`, plus one final entry: `offsets.len()` is the number of
+    /// lists plus one.
+    pub offsets: Vec<u32>,
+    /// The lists' quadric indices, concatenated.
+    pub indices: Vec<u32>,
+}
+
+impl Default for ClipLists {
+    fn default() -> Self {
+        Self {
+            offsets: vec![0],
+            indices: Vec::new(),
+        }
+    }
+}
+
+impl ClipLists {
+    /// Number of distinct lists.
+    pub fn len(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    /// Whether there is no list at all.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// List `k`, or `None` if out of range.
+    pub fn get(&self, k: u32) -> Option<&[u32]> {
+        let k = k as usize;
+        let start = *self.offsets.get(k)? as usize;
+        let end = *self.offsets.get(k + 1)? as usize;
+        self.indices.get(start..end)
+    }
+}
+
+/// Clip lists of one region's samples before deduplication: `lengths[i]` indices of sample `i`,
+/// concatenated in `indices`.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct RawClipLists {
+    pub(crate) lengths: Vec<u32>,
+    pub(crate) indices: Vec<u32>,
+}
+
+impl RawClipLists {
+    /// Appends the clip list of each sample (the other literals of its term within its radius).
+    pub(crate) fn push_samples(&mut self, dnf: &Dnf, samples: &[Sample]) {
+        for sample in samples {
+            let start = self.indices.len();
+            if let Some(term) = dnf.terms.get(sample.term as usize) {
+                for &literal in &term.literals {
+                    if literal == sample.quadric {
+                        continue;
+                    }
+                    let Some(entry) = dnf.quadrics.get(literal as usize) else {
+                        continue;
+                    };
+                    let distance = entry.quadric.conservative_distance(sample.position);
+                    // NaN (never for finite samples) keeps the literal: conservative.
+                    if distance.is_nan() || distance.abs() <= sample.radius {
+                        self.indices.push(literal);
+                    }
+                }
+            }
+            let list = &mut self.indices[start..];
+            list.sort_unstable();
+            let mut unique = 0;
+            for i in 0..list.len() {
+                if i == 0 || list[i] != list[unique - 1] {
+                    list[unique] = list[i];
+                    unique += 1;
+                }
+            }
+            self.indices.truncate(start + unique);
+            self.lengths.push(unique as u32);
+        }
+    }
+}
+
+/// Assigns every sample its list index, sharing identical lists, in sample order.
+pub(crate) struct ClipListBuilder<'a> {
+    lists: ClipLists,
+    known: HashMap<&'a [u32], u32>,
+}
+
+impl<'a> ClipListBuilder<'a> {
+    pub(crate) fn new() -> Self {
+        Self {
+            lists: ClipLists::default(),
+            known: HashMap::new(),
+        }
+    }
+
+    /// Sets `clip_list` of each sample from its raw list (same order as `samples`).
+    pub(crate) fn assign(&mut self, raw: &'a RawClipLists, samples: &mut [Sample]) {
+        let mut start = 0usize;
+        for (sample, &length) in samples.iter_mut().zip(&raw.lengths) {
+            let end = start + length as usize;
+            let list = &raw.indices[start..end];
+            start = end;
+            let lists = &mut self.lists;
+            sample.clip_list = *self.known.entry(list).or_insert_with(|| {
+                let id = lists.len() as u32;
+                lists.indices.extend_from_slice(list);
+                lists.offsets.push(lists.indices.len() as u32);
+                id
+            });
+        }
+    }
+
+    pub(crate) fn finish(self) -> ClipLists {
+        self.lists
+    }
+}
