@@ -43,7 +43,7 @@ pub use crate::clip::ClipLists;
 use crate::clip::{ClipListBuilder, RawClipLists};
 use crate::csg_distance::CsgDistance;
 use crate::regions::{BasicRegion, RegionStats, basic_regions};
-use crate::subdivide::{RegionContext, SubdivisionStats, sample_region};
+use crate::subdivide::{GivenUp, RegionContext, SubdivisionStats, sample_region, settle_given_up};
 
 /// One sample on the CSG surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -186,11 +186,13 @@ pub fn sample(dnf: &Dnf, radius: f64) -> Result<Sampling, SampleError> {
     let mut stats = SampleStats::default();
     let (patches, regions) = all_regions(dnf, &mut stats);
     stats.basic_regions = regions.len() as u64;
-    let per_region: Vec<(Vec<Sample>, RawClipLists, SubdivisionStats)> = regions
+    type RegionOutput = (Vec<Sample>, RawClipLists, Vec<GivenUp>, SubdivisionStats);
+    let per_region: Vec<RegionOutput> = regions
         .par_iter()
         .map(|(patch_index, region)| {
             let mut out = Vec::new();
             let mut counters = SubdivisionStats::default();
+            let mut pending = Vec::new();
             if let (Some(patch), Some(entry)) = (
                 patches.get(*patch_index),
                 dnf.quadrics.get(region.quadric as usize),
@@ -202,21 +204,24 @@ pub fn sample(dnf: &Dnf, radius: f64) -> Result<Sampling, SampleError> {
                     distance: &patch.distance,
                     radius,
                 };
-                sample_region(&ctx, region, &mut out, &mut counters);
+                sample_region(&ctx, region, &mut out, &mut pending, &mut counters);
             }
             let mut clip = RawClipLists::default();
             clip.push_samples(dnf, &out);
-            (out, clip, counters)
+            (out, clip, pending, counters)
         })
         .collect();
-    let mut samples = Vec::with_capacity(per_region.iter().map(|(s, _, _)| s.len()).sum());
+    let mut samples = Vec::with_capacity(per_region.iter().map(|(s, ..)| s.len()).sum());
     let mut builder = ClipListBuilder::new();
-    for (region_samples, raw, counters) in &per_region {
+    let mut pending = Vec::new();
+    for (region_samples, raw, given_up, counters) in &per_region {
         let first = samples.len();
         samples.extend_from_slice(region_samples);
         builder.assign(raw, &mut samples[first..]);
+        pending.extend_from_slice(given_up);
         stats.subdivision.add(counters);
     }
+    settle_given_up(&pending, &samples, &mut stats.subdivision);
     let clip_lists = builder.finish();
     stats.samples = samples.len() as u64;
     stats.clip_lists = clip_lists.len() as u64;

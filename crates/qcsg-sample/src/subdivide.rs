@@ -16,11 +16,16 @@
 //! at a tenth of the splat "can theoretically result in small holes". The cut-off here is at
 //! [`SMALL_REGION_FRACTION`] of the splat footprint: a surface sliver that avoids every corner
 //! and centre down to that size could be missed. A given-up rectangle within `r − footprint` of a
-//! sample of its own region is still covered (counted in
-//! [`SubdivisionStats::unresolved_covered`]); the rest are counted in
-//! [`SubdivisionStats::unresolved`], so the count says whether a hole was possible at all.
+//! sample of the same quadric is still covered (counted in
+//! [`SubdivisionStats::unresolved_covered`]): samples of its own region are checked here, those
+//! of other regions (a neighbouring region often holds the sample, since given-up rectangles sit
+//! on feature curves that cross region borders) once all regions are done ([`GivenUp`]). The
+//! rest are counted in [`SubdivisionStats::unresolved`], so the count says whether a hole was
+//! possible at all.
 
-use qcsg_quadric::{PrincipalFrame, Quadric};
+use std::collections::{HashMap, HashSet};
+
+use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
 
 use crate::Sample;
 use crate::csg_distance::CsgDistance;
@@ -65,6 +70,18 @@ impl SubdivisionStats {
     }
 }
 
+/// A rectangle given up unclassified and not covered by a sample of its own region: covered
+/// if some sample of the same quadric lies within `reach` of `point`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GivenUp {
+    /// Index of the quadric in the DNF's quadric table.
+    pub quadric: u32,
+    /// A surface point of the rectangle (its first corner).
+    pub point: DVec3,
+    /// `r − footprint`: a sample this close to `point` covers the whole rectangle.
+    pub reach: f64,
+}
+
 /// What one basic region needs to be sampled.
 pub struct RegionContext<'a> {
     /// The quadric's principal frame.
@@ -84,10 +101,13 @@ struct Cell {
 }
 
 /// Samples one basic region, appending to `out` in a deterministic (depth-first) order.
+/// Given-up rectangles not covered by a sample of this region go to `pending` (not counted
+/// yet: see [`GivenUp`]); those without a surface point at their corner count as unresolved.
 pub fn sample_region(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
     out: &mut Vec<Sample>,
+    pending: &mut Vec<GivenUp>,
     stats: &mut SubdivisionStats,
 ) {
     let root = region.rect;
@@ -167,36 +187,82 @@ pub fn sample_region(
         });
     }
     for (rect, footprint) in given_up {
+        let reach = ctx.radius - footprint;
+        let point = region_point(
+            ctx.frame,
+            &region.heightfield,
+            region.sheet,
+            rect.x.0,
+            rect.y.0,
+        );
+        let Some(point) = point.filter(|_| reach > 0.0) else {
+            stats.unresolved += 1;
+            continue;
+        };
         let samples = out.get(first_sample..).unwrap_or(&[]);
-        if covered_by_sample(ctx, region, &rect, footprint, samples) {
+        if samples
+            .iter()
+            .any(|s| (s.position - point).length() <= reach)
+        {
+            stats.unresolved_covered += 1;
+        } else {
+            pending.push(GivenUp {
+                quadric: region.quadric,
+                point,
+                reach,
+            });
+        }
+    }
+}
+
+/// Settles the given-up rectangles of all regions against all samples: each one with a sample
+/// of its quadric within its reach counts as covered, the rest as unresolved.
+pub fn settle_given_up(pending: &[GivenUp], samples: &[Sample], stats: &mut SubdivisionStats) {
+    if pending.is_empty() {
+        return;
+    }
+    let cell = pending.iter().map(|g| g.reach).fold(0.0, f64::max);
+    let anchor = pending[0].point;
+    let key = |p: DVec3| {
+        let c = ((p - anchor) / cell).floor();
+        (c.x as i64, c.y as i64, c.z as i64)
+    };
+    // Samples of the pending quadrics, bucketed by (cell, quadric).
+    let mut grid: HashMap<(i64, i64, i64, u32), Vec<usize>> = HashMap::new();
+    let wanted: HashSet<u32> = pending.iter().map(|g| g.quadric).collect();
+    for (index, sample) in samples.iter().enumerate() {
+        if wanted.contains(&sample.quadric) {
+            let (x, y, z) = key(sample.position);
+            grid.entry((x, y, z, sample.quadric))
+                .or_default()
+                .push(index);
+        }
+    }
+    for given_up in pending {
+        let (x, y, z) = key(given_up.point);
+        let mut covered = false;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let Some(list) = grid.get(&(x + dx, y + dy, z + dz, given_up.quadric)) else {
+                        continue;
+                    };
+                    if list
+                        .iter()
+                        .any(|&i| (samples[i].position - given_up.point).length() <= given_up.reach)
+                    {
+                        covered = true;
+                        break 'search;
+                    }
+                }
+            }
+        }
+        if covered {
             stats.unresolved_covered += 1;
         } else {
             stats.unresolved += 1;
         }
     }
-}
-
-/// Whether a sample of this region lies within `r − footprint` of the rectangle's corner, so
-/// that it is within `r` of every point of the rectangle's surface.
-fn covered_by_sample(
-    ctx: &RegionContext<'_>,
-    region: &BasicRegion,
-    rect: &Rect,
-    footprint: f64,
-    samples: &[Sample],
-) -> bool {
-    let reach = ctx.radius - footprint;
-    if reach.is_nan() || reach <= 0.0 {
-        return false;
-    }
-    region_point(
-        ctx.frame,
-        &region.heightfield,
-        region.sheet,
-        rect.x.0,
-        rect.y.0,
-    )
-    .is_some_and(|p| samples.iter().any(|s| (s.position - p).length() <= reach))
 }
 
 /// The maximum distortion over a sub-rectangle (§3.4), falling back to the region's bound.
