@@ -7,11 +7,11 @@
 //! `echo` output are collected on the way. Deep recursion runs on a growing stack (`stacker`)
 //! and every limit is checked before the work it bounds.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
 use glam::DMat4;
-use qcsg_csg::{Dag, Edge, Source};
+use qcsg_csg::{Dag, Edge, NodeId, Source};
 use qcsg_diag::{Diagnostic, FileId, Span};
 use qcsg_syntax::ast::{
     Arg, BinaryOp, Binding, Expr, ExprKind, ListElem, ListElemKind, Modifier, Param, SourceFile,
@@ -80,6 +80,8 @@ pub(crate) struct Evaluator<'a> {
     root_override: Option<Edge>,
     used_frames: HashMap<FileId, Rc<Frame<'a>>>,
     include_stack: Vec<FileId>,
+    /// The node each instantiation statement produced, once per distinct pair.
+    pub instantiations: HashSet<(Source, NodeId)>,
 }
 
 impl<'a> Evaluator<'a> {
@@ -104,6 +106,7 @@ impl<'a> Evaluator<'a> {
             root_override: None,
             used_frames: HashMap::new(),
             include_stack: Vec::new(),
+            instantiations: HashSet::new(),
         }
     }
 
@@ -405,7 +408,14 @@ impl<'a> Evaluator<'a> {
             }
             StmtKind::Instantiate {
                 name, args, child, ..
-            } => self.instantiate(&name.name, name.span, args, child.as_deref(), stmt.span, cx),
+            } => {
+                let made =
+                    self.instantiate(&name.name, name.span, args, child.as_deref(), stmt.span, cx)?;
+                if let Some(edge) = made {
+                    self.instantiations.insert((source, edge.child));
+                }
+                Ok(made)
+            }
             StmtKind::Modified {
                 modifier,
                 modifier_span,

@@ -94,6 +94,10 @@ pub struct Evaluation {
     pub dag: Dag,
     /// Echo output, warnings and errors, in the order evaluation produced them.
     pub diagnostics: Vec<Diagnostic>,
+    /// Which DAG node each module instantiation statement (its whole span, in its file)
+    /// produced, sorted, once per distinct pair: a statement run several times with different
+    /// results has several entries. Editors use it to show the geometry of a call.
+    pub instantiations: Vec<(qcsg_csg::Source, qcsg_csg::NodeId)>,
 }
 
 impl Evaluation {
@@ -140,7 +144,11 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
         let mut dag = Dag::new();
         let root = dag.empty(qcsg_csg::Source::new(analysis.main, Span::default()));
         dag.set_root(root.into());
-        return Evaluation { dag, diagnostics };
+        return Evaluation {
+            dag,
+            diagnostics,
+            instantiations: Vec::new(),
+        };
     }
     let links: HashMap<(FileId, u32), FileId> = analysis
         .links
@@ -156,9 +164,15 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
             let root = dag.empty(qcsg_csg::Source::new(analysis.main, Span::default()));
             dag.set_root(root.into());
         }
-        (dag, std::mem::take(&mut evaluator.diagnostics))
+        let mut instantiations: Vec<_> = evaluator.instantiations.drain().collect();
+        instantiations.sort_unstable();
+        (
+            dag,
+            std::mem::take(&mut evaluator.diagnostics),
+            instantiations,
+        )
     }));
-    let (dag, mut found) = match run {
+    let (dag, mut found, instantiations) = match run {
         Ok(result) => result,
         Err(_) => {
             let mut dag = Dag::new();
@@ -171,7 +185,7 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
                 analysis.main,
                 Span::default(),
             );
-            (dag, vec![internal])
+            (dag, vec![internal], Vec::new())
         }
     };
     for d in &mut found {
@@ -181,7 +195,11 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
         }
     }
     diagnostics.extend(found);
-    Evaluation { dag, diagnostics }
+    Evaluation {
+        dag,
+        diagnostics,
+        instantiations,
+    }
 }
 
 /// The expression of a `-D name=value` override.
