@@ -1562,12 +1562,19 @@ impl<'a> Resolver<'a> {
                     elem: elem.clone(),
                 }
             }
-            (Ty::Number, Ty::Vector { len, .. }) | (Ty::Vector { len, .. }, Ty::Number)
+            // Scaling is element-wise: a number times a matrix is a matrix.
+            (Ty::Number, Ty::Vector { len, elem }) | (Ty::Vector { len, elem }, Ty::Number)
                 if op == Mul =>
             {
-                Ty::number_vector(*len)
+                Ty::Vector {
+                    len: *len,
+                    elem: elem.clone(),
+                }
             }
-            (Ty::Vector { len, .. }, Ty::Number) if op == Div => Ty::number_vector(*len),
+            (Ty::Vector { len, elem }, Ty::Number) if op == Div => Ty::Vector {
+                len: *len,
+                elem: elem.clone(),
+            },
             _ => Ty::Any,
         }
     }
