@@ -1,6 +1,7 @@
 //! The examples gallery (`examples/`): every example checks clean, its committed preview
 //! (`examples/previews/NAME.png`) is what `qcsg render` makes of it today, and the gallery page
-//! (`examples/README.md`) shows every example with the command that renders its preview.
+//! (`examples/README.md`) shows every example with the command that renders its preview; the
+//! examples are formatted by `qcsg fmt`.
 //!
 //! An example keeps its preview settings in a header line, `// preview: --camera iso --size
 //! 480,360` (any `qcsg render` flags), and may name the warnings it shows on purpose in another,
@@ -226,6 +227,26 @@ fn every_example_checks_clean() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+#[test]
+fn every_example_is_formatted() {
+    // Examples are what new users copy: they follow the house style of `qcsg fmt`.
+    let mut unformatted = Vec::new();
+    for example in examples() {
+        let output = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+            .args(["fmt", "--check"])
+            .arg(&example.path)
+            .output()
+            .expect("qcsg runs");
+        if !output.status.success() {
+            unformatted.push(example.file_name);
+        }
+    }
+    assert!(
+        unformatted.is_empty(),
+        "not formatted (run `qcsg fmt` on them): {unformatted:?}"
+    );
 }
 
 #[test]
