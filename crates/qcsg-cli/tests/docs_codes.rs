@@ -1,6 +1,6 @@
 //! `docs/language.md` stays true: its table of diagnostic codes lists exactly the codes the checker
-//! can report (those of `qcsg_syntax::codes::ALL`, `qcsg_sema::codes::ALL` and the evaluator's
-//! `qcsg_eval::codes::ALL`), and its examples parse.
+//! can report (those of `qcsg_syntax::codes::ALL`, `qcsg_sema::codes::ALL`, the evaluator's
+//! `qcsg_eval::codes::ALL` and the scene IR's `qcsg_csg::codes::ALL`), and its examples parse.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -43,6 +43,7 @@ fn manual_documents_every_code_exactly_once() {
         .iter()
         .chain(qcsg_sema::codes::ALL)
         .chain(qcsg_eval::codes::ALL)
+        .chain(qcsg_csg::codes::ALL)
         .map(|(code, _)| *code)
         .collect();
     let undocumented: Vec<_> = known.difference(&unique).collect();
@@ -59,6 +60,19 @@ fn table_parser_reads_the_first_column_of_the_section_only() {
     let manual = "| `E9999` | before |\n## Diagnostic codes\n\n| code | meaning |\n| --- | --- |\n\
                   | `E0001` | a |\n| `W0101` | `b` |\n\n## Next\n| `E0002` | after |\n";
     assert_eq!(documented_codes(manual), ["E0001", "W0101"]);
+}
+
+/// A code's letter says its severity: `E` errors, `W` warnings.
+#[test]
+fn scene_codes_are_named_by_their_severity() {
+    assert!(qcsg_csg::codes::SINGULAR_TRANSFORM.starts_with('W'));
+    for code in [
+        qcsg_csg::codes::UNBOUNDED,
+        qcsg_csg::codes::TERM_LIMIT,
+        qcsg_csg::codes::NO_ROOT,
+    ] {
+        assert!(code.starts_with('E'), "{code}");
+    }
 }
 
 /// Examples are fragments (they may name things defined elsewhere), but each must be valid syntax.

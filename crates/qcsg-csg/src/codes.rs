@@ -1,11 +1,12 @@
-//! Stable diagnostic codes of the scene IR (E0600–E0699).
+//! Stable diagnostic codes of the scene IR: errors E0600–E0699, warnings W0600–W0699.
 
 /// The solid (or a term of its DNF) is unbounded.
 pub const UNBOUNDED: &str = "E0600";
 /// Expanding the scene to its DNF would exceed the term limit.
 pub const TERM_LIMIT: &str = "E0601";
 /// A transform is singular, so the part below it has no volume and was left out.
-pub const SINGULAR_TRANSFORM: &str = "E0602";
+/// A warning: the rest of the solid is still built.
+pub const SINGULAR_TRANSFORM: &str = "W0602";
 /// There is no root to build a DNF from.
 pub const NO_ROOT: &str = "E0603";
 
