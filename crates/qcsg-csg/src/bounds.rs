@@ -119,12 +119,26 @@ impl Aabb {
         self.widened_by(ROUNDING_MARGIN)
     }
 
-    /// The box grown outwards by `relative` times the magnitude of each coordinate.
+    /// The box grown outwards on every side by `relative` times its own scale (its largest
+    /// finite extent), plus a few ulps of each coordinate for the rounding of the bounds
+    /// themselves. The margin depends on the box's size, not on its distance from the origin:
+    /// a unit box far away grows by as little as the same box at the origin, up to rounding.
     pub fn widened_by(&self, relative: f64) -> Aabb {
         if self.is_empty() {
             return *self;
         }
-        let grow = |v: f64| v.abs() * relative;
+        let scale = (0..3)
+            .filter(|&axis| self.is_axis_bounded(axis))
+            .map(|axis| self.max[axis] - self.min[axis])
+            .fold(0.0, f64::max);
+        let size_margin = relative * scale;
+        let grow = |v: f64| {
+            if v.is_finite() {
+                size_margin + ROUNDING_MARGIN * v.abs()
+            } else {
+                0.0
+            }
+        };
         Aabb {
             min: DVec3::from_array(self.min.to_array().map(|v| v - grow(v))),
             max: DVec3::from_array(self.max.to_array().map(|v| v + grow(v))),
@@ -281,6 +295,45 @@ mod tests {
         assert!(!t.min.is_nan() && !t.max.is_nan());
         let rotated = slab.transformed(&DMat4::from_rotation_z(0.3));
         assert!(!rotated.is_axis_bounded(0) && !rotated.min.is_nan());
+    }
+
+    #[test]
+    fn widening_follows_the_box_size_not_its_distance_from_the_origin() {
+        let unit = Aabb::new(DVec3::ZERO, DVec3::ONE);
+        for offset in [0.0, 1e3, 1e6, -1e9] {
+            let shift = DVec3::splat(offset);
+            let far = Aabb::new(unit.min + shift, unit.max + shift);
+            let wide = far.widened_by(1e-6);
+            assert!(wide.contains_box(&far));
+            for axis in 0..3 {
+                let grown_low = far.min[axis] - wide.min[axis];
+                let grown_high = wide.max[axis] - far.max[axis];
+                // 1e-6 of the unit size, plus rounding of coordinates of magnitude |offset|.
+                let bound = 1e-6 + 16.0 * f64::EPSILON * (offset.abs() + 1.0);
+                assert!(
+                    grown_low >= 1e-6 * 0.999 && grown_low <= bound,
+                    "{offset}: {grown_low}"
+                );
+                assert!(
+                    grown_high >= 1e-6 * 0.999 && grown_high <= bound,
+                    "{offset}: {grown_high}"
+                );
+            }
+        }
+        // A big box grows with its largest extent on every axis.
+        let slab = Aabb::new(DVec3::new(0.0, 0.0, 5.0), DVec3::new(100.0, 1.0, 5.0));
+        let wide = slab.widened_by(1e-3);
+        assert!((slab.min.z - wide.min.z - 0.1).abs() < 1e-9);
+        // Infinite sides stay infinite and nothing becomes NaN.
+        let half_space = Aabb::new(
+            DVec3::new(1e8, f64::NEG_INFINITY, 0.0),
+            DVec3::new(1e8 + 2.0, 0.0, f64::INFINITY),
+        );
+        let wide = half_space.widened_by(1e-3);
+        assert_eq!(wide.min.y, f64::NEG_INFINITY);
+        assert_eq!(wide.max.z, f64::INFINITY);
+        assert!((half_space.min.x - wide.min.x - 2e-3).abs() < 1e-6);
+        assert!(!wide.min.is_nan() && !wide.max.is_nan());
     }
 
     #[test]
