@@ -290,24 +290,3 @@ fn several_files_report_in_argument_order_for_any_thread_count() {
     );
     assert_eq!(run_with("3").stdout, one.stdout);
 }
-
-#[test]
-fn examples_check_clean() {
-    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&examples)
-        .expect("examples/ exists")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|ext| ext == "qcsg"))
-        .collect();
-    files.sort();
-    assert!(files.len() >= 3, "at least three examples");
-    for file in files {
-        let run = qcsg(&["check", "--format", "json", file.to_str().unwrap()], "");
-        assert_eq!(
-            (run.status, run.stdout.as_str()),
-            (0, "[]\n"),
-            "{}",
-            file.display()
-        );
-    }
-}
