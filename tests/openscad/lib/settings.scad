@@ -1,0 +1,2 @@
+// Included: its variables become the includer's.
+block = [3, 2, 1];
