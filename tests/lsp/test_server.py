@@ -308,7 +308,11 @@ async def test_requests_interleaved_with_changes(client: LanguageClient, tmp_pat
     results = await asyncio.gather(*pending, return_exceptions=True)
     # A request may be answered for an older version, but never fail.
     assert not [r for r in results if isinstance(r, Exception)], results
-    await diagnostics_until(client, uri, lambda d: len(d) == 0)
+    # Only the echo output of the last version remains: one line per `echo`.
+    echoes = await diagnostics_until(
+        client, uri, lambda d: len(d) == 38 and all(x.severity == types.DiagnosticSeverity.Information for x in d)
+    )
+    assert echoes[-1].message == "ECHO: 40"
     final = await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=doc(uri)))
     assert len(final) == 1 + 38
     assert final[-1].name == "v39"
@@ -332,3 +336,74 @@ async def test_typing_a_file_character_by_character(client: LanguageClient, tmp_
             )
             await client.text_document_hover_async(types.HoverParams(text_document=doc(uri), position=end))
     await diagnostics_until(client, uri, lambda d: len(d) == 0)
+
+
+async def test_hover_shows_the_quadrics_of_a_call(client: LanguageClient, tmp_path):
+    text = "module post(h) cylinder(h = h, r = 1);\nfor (i = [0 : 3]) translate([5 * i, 0, 0]) post(2);\nsphere(r = 4);\n"
+    uri = open_document(client, tmp_path / "geometry.qcsg", text)
+    await diagnostics_until(client, uri, lambda d: True)
+    sphere = await client.text_document_hover_async(types.HoverParams(**(at(uri, text, "sphere"))))
+    value = sphere.contents.value
+    assert "built-in primitive" in value, value
+    assert "**geometry**: 1 instance · 1 quadric" in value, value
+    assert "**sphere** · centre (0, 0, 0) · radius 4" in value, value
+    post = await client.text_document_hover_async(types.HoverParams(**(at(uri, text, "post", 1))))
+    value = post.contents.value
+    assert "module post(h)" in value, value
+    assert "4 instances" in value and "instance 3:" in value and "… and 1 more instance" in value, value
+    assert "centre (10, 0, 1)" in value, value
+    # A name that is not a module instantiation evaluates nothing and shows no geometry.
+    h = await client.text_document_hover_async(types.HoverParams(**(at(uri, text, "h", 2))))
+    assert "geometry" not in h.contents.value
+
+
+async def test_evaluation_diagnostics(client: LanguageClient, tmp_path):
+    text = 'echo("size", 2 * 3);\nassert(1 > 2, "too small");\n'
+    uri = open_document(client, tmp_path / "runtime.qcsg", text)
+    diagnostics = await diagnostics_until(client, uri, lambda d: len(d) >= 2)
+    echo = next(d for d in diagnostics if d.severity == types.DiagnosticSeverity.Information)
+    assert echo.message == 'ECHO: "size", 6'
+    assert echo.range.start == position_of(text, "echo")
+    failed = next(d for d in diagnostics if d.severity == types.DiagnosticSeverity.Error)
+    assert "too small" in failed.message and failed.range.start.line == 1
+
+
+async def test_errors_of_included_files(client: LanguageClient, tmp_path):
+    (tmp_path / "broken.scad").write_text("module part() cube(1);\nx = ;\n")
+    (tmp_path / "checks.scad").write_text('module check(n) assert(n < 3, "n too big");\n')
+    text = "include <broken.scad>\nuse <checks.scad>\npart();\n"
+    uri = open_document(client, tmp_path / "main.qcsg", text)
+    diagnostics = await diagnostics_until(client, uri, lambda d: len(d) > 0)
+    shown = next(d for d in diagnostics if d.severity == types.DiagnosticSeverity.Error)
+    assert shown.range.start == position_of(text, "<broken.scad>")
+    assert shown.message.startswith("in included file `broken.scad`")
+    inside = shown.related_information[0].location
+    assert inside.uri == (tmp_path / "broken.scad").as_uri() and inside.range.start.line == 1
+
+    # A runtime error inside a used file, fine on its own: shown at the `use` line, and in that
+    # file once it is open.
+    fixed = "include <broken.scad>\nuse <checks.scad>\ncheck(5);\n".replace("include <broken.scad>\n", "")
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=2),
+            content_changes=[types.TextDocumentContentChangeWholeDocument(text=fixed)],
+        )
+    )
+    at_use = await diagnostics_until(client, uri, lambda d: any("n too big" in x.message for x in d))
+    assert next(d for d in at_use if "n too big" in d.message).range.start == position_of(fixed, "<checks.scad>")
+    checks_text = (tmp_path / "checks.scad").read_text()
+    checks = open_document(client, tmp_path / "checks.scad", checks_text)
+    in_file = await diagnostics_until(client, checks, lambda d: any("n too big" in x.message for x in d))
+    assert next(d for d in in_file if "n too big" in d.message).range.start == position_of(checks_text, "assert")
+
+    # Fixing the library in the editor re-checks the program that uses it.
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=checks, version=2),
+            content_changes=[types.TextDocumentContentChangeWholeDocument(text="module check(n) cube(n);\n")],
+        )
+    )
+    await diagnostics_until(client, uri, lambda d: len(d) == 0)
+    # Only the library's own warning (its module is unused on its own) remains.
+    left = await diagnostics_until(client, checks, lambda d: not any("n too big" in x.message for x in d))
+    assert [d.code for d in left] == ["W0103"]

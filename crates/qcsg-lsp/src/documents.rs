@@ -6,11 +6,12 @@
 //! not changed meanwhile.
 
 use std::collections::HashMap;
+use std::ops::Deref;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 
-use qcsg_diag::{LineCol, LineIndex};
-use qcsg_ide::{Analysis, CheckOptions, FileLoader};
+use qcsg_diag::{LineCol, LineIndex, Span};
+use qcsg_ide::{Analysis, CheckOptions, FileId, FileLoader, Geometry, HoverExtension};
 use tower_lsp_server::ls_types::{Range, TextDocumentContentChangeEvent, Uri};
 
 /// One open document.
@@ -19,7 +20,7 @@ struct Document {
     text: String,
     version: i32,
     /// The analysis of this version, once computed (and the generation it was computed in).
-    analysis: Option<(u64, Arc<Analysis>)>,
+    analysis: Option<(u64, Arc<Analyzed>)>,
 }
 
 /// All open documents.
@@ -34,6 +35,52 @@ struct State {
     /// Increases with every edit of any document: an analysis also depends on the buffers of the
     /// files it includes.
     generation: u64,
+}
+
+/// A checked document and, once something needs it, its evaluation.
+#[derive(Debug)]
+pub struct Analyzed {
+    analysis: Analysis,
+    /// Evaluated on first need, once: concurrent callers wait for the first one.
+    geometry: OnceLock<Option<Geometry>>,
+}
+
+impl Analyzed {
+    /// Wraps a checked document; nothing is evaluated yet.
+    pub fn new(analysis: Analysis) -> Self {
+        Self {
+            analysis,
+            geometry: OnceLock::new(),
+        }
+    }
+
+    /// The checked document.
+    pub fn analysis(&self) -> &Analysis {
+        &self.analysis
+    }
+
+    /// The evaluated solid under the editor's limits (evaluated now if it was not yet); `None`
+    /// when the program has static errors.
+    pub fn geometry(&self) -> Option<&Geometry> {
+        self.geometry
+            .get_or_init(|| self.analysis.evaluate(&qcsg_ide::editor_limits()))
+            .as_ref()
+    }
+}
+
+impl Deref for Analyzed {
+    type Target = Analysis;
+
+    fn deref(&self) -> &Analysis {
+        &self.analysis
+    }
+}
+
+/// Hover's geometry, evaluated only when the hover is on a module instantiation.
+impl HoverExtension for Analyzed {
+    fn instantiation(&self, analysis: &Analysis, file: FileId, name_span: Span) -> Option<String> {
+        self.geometry()?.instantiation(analysis, file, name_span)
+    }
 }
 
 /// What an analysis needs, taken under the lock and used after releasing it.
@@ -132,7 +179,7 @@ impl Documents {
     }
 
     /// The cached analysis of the current version, or a snapshot to compute it from.
-    pub fn analysis_or_snapshot(&self, uri: &Uri) -> Option<Result<Arc<Analysis>, Snapshot>> {
+    pub fn analysis_or_snapshot(&self, uri: &Uri) -> Option<Result<Arc<Analyzed>, Snapshot>> {
         let state = self.lock();
         let document = state.documents.get(uri)?;
         if let Some((generation, analysis)) = &document.analysis
@@ -156,7 +203,7 @@ impl Documents {
 
     /// Caches an analysis computed from `snapshot` unless anything changed since. Returns whether
     /// it is still current.
-    pub fn store(&self, uri: &Uri, snapshot: &Snapshot, analysis: &Arc<Analysis>) -> bool {
+    pub fn store(&self, uri: &Uri, snapshot: &Snapshot, analysis: &Arc<Analyzed>) -> bool {
         let mut state = self.lock();
         let generation = state.generation;
         let Some(document) = state.documents.get_mut(uri) else {
@@ -174,8 +221,8 @@ impl Documents {
 
 impl Snapshot {
     /// Checks the snapshot's document.
-    pub fn analyze(&self) -> Analysis {
-        Analysis::new(
+    pub fn analyze(&self) -> Analyzed {
+        Analyzed::new(Analysis::new(
             &self.path,
             self.text.clone(),
             &CheckOptions {
@@ -183,7 +230,7 @@ impl Snapshot {
                 defines: Vec::new(),
             },
             self,
-        )
+        ))
     }
 }
 

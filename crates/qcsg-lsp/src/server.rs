@@ -5,22 +5,79 @@
 //! queries run inside `catch_unwind`: a panic is logged and answered with an internal error, and
 //! the server keeps serving.
 
+use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, MutexGuard};
 
-use qcsg_ide::{self as ide, Analysis};
+use qcsg_ide as ide;
 use tower_lsp_server::jsonrpc::{Error, Result};
 use tower_lsp_server::ls_types::*;
 use tower_lsp_server::{Client, LanguageServer};
 
 use crate::convert;
-use crate::documents::{Documents, document_path};
+use crate::documents::{Analyzed, Documents, document_path};
 
-/// The server's state: the client handle and the open documents.
+/// The server's state: the client handle, the open documents and what was published.
 #[derive(Debug)]
 pub struct Backend {
     client: Client,
     documents: Documents,
+    published: Mutex<Published>,
+}
+
+/// The diagnostics last published, by the document whose analysis found them.
+#[derive(Debug, Default)]
+struct Published {
+    /// Each document's diagnostics of itself.
+    own: HashMap<Uri, Vec<Diagnostic>>,
+    /// Each document's diagnostics located in other open files (included or used).
+    foreign: HashMap<Uri, HashMap<Uri, Vec<Diagnostic>>>,
+    /// The files each document's analysis read besides itself, by path.
+    dependencies: HashMap<Uri, Vec<String>>,
+}
+
+impl Published {
+    /// What a file shows: its own diagnostics and those other documents found in it, each once.
+    fn merged(&self, uri: &Uri) -> Vec<Diagnostic> {
+        let mut merged: Vec<Diagnostic> = self.own.get(uri).cloned().unwrap_or_default();
+        for found in self.foreign.values().filter_map(|f| f.get(uri)) {
+            for diagnostic in found {
+                if !merged.contains(diagnostic) {
+                    merged.push(diagnostic.clone());
+                }
+            }
+        }
+        merged
+    }
+
+    /// Forgets what a closed document published.
+    fn forget(&mut self, uri: &Uri) -> Vec<Uri> {
+        self.own.remove(uri);
+        self.dependencies.remove(uri);
+        self.foreign
+            .remove(uri)
+            .map(|f| f.into_keys().collect())
+            .unwrap_or_default()
+    }
+}
+
+/// `found` for every open file other than the main one, keyed by the file's URI.
+fn foreign_diagnostics(
+    open: &HashMap<String, Uri>,
+    found: impl Fn(&str) -> Vec<ide::IdeDiagnostic>,
+    main_path: &str,
+    main_uri: &Uri,
+) -> HashMap<Uri, Vec<Diagnostic>> {
+    open.iter()
+        .filter(|(path, _)| path.as_str() != main_path)
+        .filter_map(|(path, uri)| {
+            let diagnostics: Vec<_> = found(path)
+                .iter()
+                .map(|d| convert::diagnostic(d, main_path, main_uri))
+                .collect();
+            (!diagnostics.is_empty()).then(|| (uri.clone(), diagnostics))
+        })
+        .collect()
 }
 
 impl Backend {
@@ -29,6 +86,7 @@ impl Backend {
         Self {
             client,
             documents: Documents::default(),
+            published: Mutex::default(),
         }
     }
 
@@ -36,7 +94,7 @@ impl Backend {
     async fn query<T: Send + 'static>(
         &self,
         uri: &Uri,
-        query: impl FnOnce(&Analysis) -> T + Send + 'static,
+        query: impl FnOnce(&Analyzed) -> T + Send + 'static,
     ) -> Result<Option<T>> {
         Ok(self
             .query_versioned(uri, query)
@@ -49,7 +107,7 @@ impl Backend {
     async fn query_versioned<T: Send + 'static>(
         &self,
         uri: &Uri,
-        query: impl FnOnce(&Analysis) -> T + Send + 'static,
+        query: impl FnOnce(&Analyzed) -> T + Send + 'static,
     ) -> Result<Option<(T, bool)>> {
         let Some(cached) = self.documents.analysis_or_snapshot(uri) else {
             return Ok(None);
@@ -96,29 +154,132 @@ impl Backend {
     }
 
     /// Checks a document and publishes its diagnostics, unless it changed meanwhile (a newer
-    /// change publishes its own).
+    /// change publishes its own): first the checker's, at once; then, for a program without
+    /// static errors, again with the evaluator's (runtime errors, warnings, `echo`) once the
+    /// evaluation is done. Diagnostics located in files it includes that are open are published
+    /// to those files too.
     async fn publish_diagnostics(&self, uri: Uri) {
         let Some(version) = self.documents.version(&uri) else {
             return;
         };
-        let main_uri = uri.clone();
-        let path = document_path(&uri);
-        let result = self
-            .query_versioned(&uri, move |analysis| {
-                analysis
-                    .diagnostics()
-                    .iter()
-                    .map(|d| convert::diagnostic(d, &path, &main_uri))
-                    .collect::<Vec<_>>()
+        let open = self.open_paths();
+        let (main_uri, path) = (uri.clone(), document_path(&uri));
+        let checked = self
+            .query_versioned(&uri, move |a| {
+                let convert = |d: &ide::IdeDiagnostic| convert::diagnostic(d, &path, &main_uri);
+                let own: Vec<_> = a.diagnostics().iter().map(convert).collect();
+                let foreign = foreign_diagnostics(&open, |p| a.diagnostics_in(p), &path, &main_uri);
+                let dependencies = a.dependencies();
+                (own, foreign, dependencies, a.sema().has_errors())
             })
             .await;
-        if let Ok(Some((diagnostics, true))) = result
-            && self.documents.version(&uri) == Some(version)
-        {
-            self.client
-                .publish_diagnostics(uri, diagnostics, Some(version))
-                .await;
+        let Ok(Some(((own, foreign, dependencies, has_errors), true))) = checked else {
+            return;
+        };
+        if self.documents.version(&uri) != Some(version) {
+            return;
         }
+        self.lock_published()
+            .dependencies
+            .insert(uri.clone(), dependencies);
+        self.publish_merged(&uri, own.clone(), foreign.clone(), version)
+            .await;
+        if has_errors || self.documents.version(&uri) != Some(version) {
+            return;
+        }
+        let open = self.open_paths();
+        let (main_uri, path) = (uri.clone(), document_path(&uri));
+        let evaluated = self
+            .query_versioned(&uri, move |a| {
+                let Some(geometry) = a.geometry() else {
+                    return (Vec::new(), HashMap::new());
+                };
+                let convert = |d: &ide::IdeDiagnostic| convert::diagnostic(d, &path, &main_uri);
+                let own: Vec<_> = geometry.diagnostics(a).iter().map(convert).collect();
+                let foreign =
+                    foreign_diagnostics(&open, |p| geometry.diagnostics_in(a, p), &path, &main_uri);
+                (own, foreign)
+            })
+            .await;
+        if let Ok(Some(((more_own, more_foreign), true))) = evaluated
+            && self.documents.version(&uri) == Some(version)
+            && !(more_own.is_empty() && more_foreign.is_empty())
+        {
+            let mut own = own;
+            own.extend(more_own);
+            let mut foreign = foreign;
+            for (target, diagnostics) in more_foreign {
+                foreign.entry(target).or_default().extend(diagnostics);
+            }
+            self.publish_merged(&uri, own, foreign, version).await;
+        }
+    }
+
+    /// Records `uri`'s own diagnostics and those it found in other open files, then publishes
+    /// to `uri` and to every file it reports on now or did before.
+    async fn publish_merged(
+        &self,
+        uri: &Uri,
+        own: Vec<Diagnostic>,
+        foreign: HashMap<Uri, Vec<Diagnostic>>,
+        version: i32,
+    ) {
+        let mut targets: Vec<Uri> = foreign.keys().cloned().collect();
+        {
+            let mut published = self.lock_published();
+            published.own.insert(uri.clone(), own);
+            if let Some(before) = published.foreign.insert(uri.clone(), foreign) {
+                targets.extend(before.into_keys());
+            }
+        }
+        let merged = self.lock_published().merged(uri);
+        self.client
+            .publish_diagnostics(uri.clone(), merged, Some(version))
+            .await;
+        targets.sort_by(|a, b| a.as_str().cmp(b.as_str()));
+        targets.dedup();
+        for target in targets.into_iter().filter(|t| t != uri) {
+            if let Some(version) = self.documents.version(&target) {
+                let merged = self.lock_published().merged(&target);
+                self.client
+                    .publish_diagnostics(target, merged, Some(version))
+                    .await;
+            }
+        }
+    }
+
+    /// Re-checks every other open document that includes or uses `uri` (their diagnostics
+    /// depend on its unsaved text).
+    async fn publish_dependents(&self, uri: &Uri) {
+        let path = document_path(uri);
+        let dependents: Vec<Uri> = self
+            .lock_published()
+            .dependencies
+            .iter()
+            .filter(|(d, files)| *d != uri && files.contains(&path))
+            .map(|(d, _)| d.clone())
+            .collect();
+        for dependent in dependents {
+            if self.documents.version(&dependent).is_some() {
+                self.publish_diagnostics(dependent).await;
+            }
+        }
+    }
+
+    /// Every open document by its path.
+    fn open_paths(&self) -> HashMap<String, Uri> {
+        self.documents
+            .uris()
+            .into_iter()
+            .map(|uri| (document_path(&uri), uri))
+            .collect()
+    }
+
+    fn lock_published(&self) -> MutexGuard<'_, Published> {
+        // Every update is a single insertion or removal: a poisoned lock is still consistent.
+        self.published
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 
     fn location_converter(
@@ -205,7 +366,8 @@ impl LanguageServer for Backend {
         let document = params.text_document;
         self.documents
             .open(document.uri.clone(), document.text, document.version);
-        self.publish_diagnostics(document.uri).await;
+        self.publish_diagnostics(document.uri.clone()).await;
+        self.publish_dependents(&document.uri).await;
     }
 
     async fn did_change(&self, params: DidChangeTextDocumentParams) {
@@ -215,22 +377,37 @@ impl LanguageServer for Backend {
             .documents
             .change(&uri, params.text_document.version, params.content_changes)
         {
-            self.publish_diagnostics(uri).await;
+            self.publish_diagnostics(uri.clone()).await;
+            self.publish_dependents(&uri).await;
         }
     }
 
     async fn did_close(&self, params: DidCloseTextDocumentParams) {
-        self.documents.close(&params.text_document.uri);
+        let uri = params.text_document.uri;
+        self.documents.close(&uri);
+        let targets = self.lock_published().forget(&uri);
         self.client
-            .publish_diagnostics(params.text_document.uri, Vec::new(), None)
+            .publish_diagnostics(uri.clone(), Vec::new(), None)
             .await;
+        // Files it reported on lose those diagnostics; files including it see it from disk now.
+        for target in targets {
+            if let Some(version) = self.documents.version(&target) {
+                let merged = self.lock_published().merged(&target);
+                self.client
+                    .publish_diagnostics(target, merged, Some(version))
+                    .await;
+            }
+        }
+        self.publish_dependents(&uri).await;
     }
 
     async fn hover(&self, params: HoverParams) -> Result<Option<Hover>> {
         let at = params.text_document_position_params;
         let position = convert::line_col(at.position);
         let hover = self
-            .query(&at.text_document.uri, move |a| a.hover(position))
+            .query(&at.text_document.uri, move |a| {
+                a.hover_with(position, Some(a as &dyn ide::HoverExtension))
+            })
             .await?
             .flatten();
         Ok(hover.map(|hover| Hover {
@@ -300,8 +477,7 @@ impl LanguageServer for Backend {
         let result = self
             .query(&at.text_document.uri, move |a| {
                 a.rename(position, &new_name).map(|ranges| {
-                    let mut changes: std::collections::HashMap<Uri, Vec<TextEdit>> =
-                        Default::default();
+                    let mut changes: HashMap<Uri, Vec<TextEdit>> = Default::default();
                     for location in ranges.iter().filter_map(&to_location) {
                         changes
                             .entry(location.uri)
