@@ -1,5 +1,6 @@
 //! Editor latency on a generated 10,000-line program: diagnostics after an edit (a full re-check,
-//! which is what the server does per change) and hover, semantic tokens, completion and
+//! which is what the server does per change), the evaluation that follows it (runtime
+//! diagnostics, and the geometry hover uses), and hover, semantic tokens, completion and
 //! formatting on the result. Run with `cargo bench -p qcsg-ide --bench latency`; the numbers are
 //! recorded in `docs/lsp.md`.
 
@@ -7,7 +8,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use qcsg_diag::LineIndex;
-use qcsg_ide::{Analysis, CheckOptions, FsLoader};
+use qcsg_ide::{Analysis, CheckOptions, FsLoader, HoverExtension, editor_limits};
 
 /// A program of about `lines` lines: parameters, functions, modules and their instantiations.
 fn program(lines: usize) -> String {
@@ -73,6 +74,24 @@ fn main() {
     let hover = time(51, || {
         black_box(analysis.hover(black_box(hover_at)));
     });
+    let evaluation = time(15, || {
+        let geometry = analysis
+            .evaluate(black_box(&editor_limits()))
+            .expect("evaluates");
+        black_box(geometry.diagnostics(&analysis));
+    });
+    let geometry = analysis.evaluate(&editor_limits()).expect("evaluates");
+    let call_at = index.line_col(
+        &edited,
+        edited[middle..]
+            .find("\npart_")
+            .map(|i| middle + i + 3)
+            .expect("an instantiation"),
+    );
+    let geometry_hover = time(51, || {
+        let hover = analysis.hover_with(black_box(call_at), Some(&geometry as &dyn HoverExtension));
+        assert!(hover.is_some_and(|h| h.markdown.contains("**geometry**")));
+    });
     let tokens = time(15, || {
         black_box(analysis.semantic_tokens());
     });
@@ -84,7 +103,9 @@ fn main() {
     });
     println!("program: {lines} lines, {} bytes", edited.len());
     println!("diagnostics after an edit (parse + check + convert): {diagnostics:.2?}");
+    println!("evaluation + runtime diagnostics (editor limits): {evaluation:.2?}");
     println!("hover: {hover:.2?}");
+    println!("hover on a module instantiation, with its geometry: {geometry_hover:.2?}");
     println!("semantic tokens (full): {tokens:.2?}");
     println!("completion: {completion:.2?}");
     println!("formatting: {format:.2?}");
