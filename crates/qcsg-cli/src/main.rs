@@ -11,6 +11,7 @@ mod json;
 mod lsp;
 mod program;
 mod render;
+mod sample;
 
 use std::num::NonZeroUsize;
 use std::path::PathBuf;
@@ -41,6 +42,8 @@ enum Command {
     Compile(compile::CompileArgs),
     /// Render a preview image (PNG) of the program's solid.
     Render(render::RenderArgs),
+    /// Sample the solid's surface: points on it, each surface point within R of one (PLY).
+    Sample(sample::SampleArgs),
     /// Format files in place (`-`: standard input to standard output); `--check` only reports.
     Fmt(fmt::FmtArgs),
     /// Run the language server on standard input and output.
@@ -126,6 +129,7 @@ fn main() -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Compile(args) => compile::run(args),
         Command::Render(args) => render::run(args),
+        Command::Sample(args) => sample::run(args),
         Command::Fmt(args) => fmt::run(args),
         Command::Lsp => lsp::run(),
     };

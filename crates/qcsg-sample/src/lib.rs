@@ -180,12 +180,32 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, B
 
 /// Samples the CSG surface of `dnf` with world radius `radius` on the current rayon pool.
 pub fn sample(dnf: &Dnf, radius: f64) -> Result<Sampling, SampleError> {
+    sample_with_progress(dnf, radius, &|_| {})
+}
+
+/// Progress of a sampling run, reported from the worker threads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Progress {
+    /// The basic regions are known: this many will be sampled.
+    Regions(u64),
+    /// One more basic region is done.
+    RegionDone,
+}
+
+/// [`sample`], calling `progress` when the work is known and as it gets done (from any thread;
+/// the output does not depend on it).
+pub fn sample_with_progress(
+    dnf: &Dnf,
+    radius: f64,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Sampling, SampleError> {
     if !(radius.is_finite() && radius > 0.0) {
         return Err(SampleError::InvalidRadius(radius));
     }
     let mut stats = SampleStats::default();
     let (patches, regions) = all_regions(dnf, &mut stats);
     stats.basic_regions = regions.len() as u64;
+    progress(Progress::Regions(stats.basic_regions));
     type RegionOutput = (Vec<Sample>, RawClipLists, Vec<GivenUp>, SubdivisionStats);
     let per_region: Vec<RegionOutput> = regions
         .par_iter()
@@ -208,6 +228,7 @@ pub fn sample(dnf: &Dnf, radius: f64) -> Result<Sampling, SampleError> {
             }
             let mut clip = RawClipLists::default();
             clip.push_samples(dnf, &out);
+            progress(Progress::RegionDone);
             (out, clip, pending, counters)
         })
         .collect();

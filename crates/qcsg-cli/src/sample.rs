@@ -1,0 +1,414 @@
+//! `qcsg sample FILE --radius R [-o OUT.ply] [--ascii] [--stats [FILE]]`: samples exactly on the
+//! solid's surface, every surface point within `R` of a sample on the same quadric.
+//!
+//! The program is checked, evaluated and turned into its DNF like `compile` does; the sampler
+//! (`qcsg-sample`) runs on `--threads` workers and its output does not depend on their number.
+//! The PLY (binary little-endian unless `--ascii`) and the stats file are written through a
+//! temporary file and a rename, so a failed run leaves no partial file. Runs longer than a
+//! second show a progress bar on a terminal.
+
+use std::fmt::Write as _;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use qcsg_csg::{Dnf, build_dnf};
+use qcsg_diag::Diagnostic;
+use qcsg_sample::{Progress, Sampling, sample_with_progress};
+use qcsg_sema::Analysis;
+
+use crate::compile::LimitArgs;
+use crate::program;
+use crate::{CommonArgs, DiagnosticFormat, EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
+
+/// Sampling that takes longer than this shows a progress bar (on a terminal).
+const PROGRESS_DELAY: Duration = Duration::from_secs(1);
+
+/// Arguments of `qcsg sample`.
+#[derive(Debug, Args)]
+pub struct SampleArgs {
+    /// The program (`.qcsg` or `.scad`); `-` reads standard input.
+    #[arg(value_name = "FILE")]
+    file: String,
+
+    /// Coverage radius: a length (`0.1`) or a percentage of the scene's bounding-box diagonal
+    /// (`1%`).
+    #[arg(long, value_name = "R", value_parser = parse_radius)]
+    radius: RadiusArg,
+
+    /// The PLY file to write (`-`: standard output); without it nothing is written.
+    #[arg(short = 'o', value_name = "OUT.ply")]
+    output: Option<String>,
+
+    /// Write the PLY as text instead of binary little-endian.
+    #[arg(long)]
+    ascii: bool,
+
+    /// Print counters and time as JSON, to FILE if given (`-` or nothing: standard output, or
+    /// standard error when the PLY goes to standard output).
+    #[arg(long, value_name = "FILE", num_args = 0..=1, default_missing_value = "-")]
+    stats: Option<String>,
+
+    #[command(flatten)]
+    limits: LimitArgs,
+
+    #[command(flatten)]
+    common: CommonArgs,
+}
+
+/// `--radius`: a length, or a fraction of the bounding-box diagonal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RadiusArg {
+    /// An absolute length.
+    Absolute(f64),
+    /// A fraction (not a percentage) of the diagonal.
+    OfDiagonal(f64),
+}
+
+/// Parses `0.1` or `1%`; the value must be positive and finite.
+pub fn parse_radius(text: &str) -> Result<RadiusArg, String> {
+    let trimmed = text.trim();
+    let (number, percent) = match trimmed.strip_suffix('%') {
+        Some(number) => (number.trim(), true),
+        None => (trimmed, false),
+    };
+    let value: f64 = number
+        .parse()
+        .map_err(|_| format!("`{text}` is not a length (`0.1`) or a percentage (`1%`)"))?;
+    if !(value.is_finite() && value > 0.0) {
+        return Err(format!(
+            "the radius must be positive and finite, got `{text}`"
+        ));
+    }
+    Ok(if percent {
+        RadiusArg::OfDiagonal(value / 100.0)
+    } else {
+        RadiusArg::Absolute(value)
+    })
+}
+
+/// Runs `qcsg sample` and returns the process exit status.
+pub fn run(args: SampleArgs) -> u8 {
+    let (name, text) = match program::read(&args.file) {
+        Ok(input) => input,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let stdout_taken = args.output.as_deref() == Some("-");
+    let stats_to_stdout = !stdout_taken && args.stats.as_deref() == Some("-");
+    let mut analysis = program::check(&name, text, &args.common.defines);
+    let dnf = build(&mut analysis, &args);
+    print_diagnostics(&analysis, &args.common, !stdout_taken && !stats_to_stdout);
+    let Some(dnf) = dnf.filter(|_| !analysis.has_errors()) else {
+        return EXIT_INPUT_ERRORS;
+    };
+
+    let diagonal = (dnf.bounds.max - dnf.bounds.min).length();
+    let radius = match args.radius {
+        RadiusArg::Absolute(r) => r,
+        RadiusArg::OfDiagonal(_) if dnf.terms.is_empty() => 0.0,
+        RadiusArg::OfDiagonal(fraction) if diagonal.is_finite() => fraction * diagonal,
+        RadiusArg::OfDiagonal(_) => {
+            eprintln!(
+                "error: the solid is unbounded, so `--radius` cannot be a percentage of its \
+                 diagonal; give a length, and bound the solid (e.g. intersect it with a cube)"
+            );
+            return EXIT_USAGE;
+        }
+    };
+    let pool = match rayon::ThreadPoolBuilder::new()
+        .num_threads(args.common.threads.map_or(0, |n| n.get()))
+        .build()
+    {
+        Ok(pool) => pool,
+        Err(error) => {
+            eprintln!("error: cannot start worker threads: {error}");
+            return EXIT_USAGE;
+        }
+    };
+
+    let started = Instant::now();
+    let bar = ProgressDisplay::new(!args.common.quiet);
+    let sampled = if dnf.terms.is_empty() {
+        Ok(Sampling::default())
+    } else {
+        pool.install(|| sample_with_progress(&dnf, radius, &|event| bar.update(event)))
+    };
+    bar.finish();
+    let seconds = started.elapsed().as_secs_f64();
+    let sampling = match sampled {
+        Ok(sampling) => sampling,
+        Err(error) => {
+            eprintln!("error: {error}");
+            return EXIT_USAGE;
+        }
+    };
+
+    if let Some(output) = &args.output {
+        let bytes = if args.ascii {
+            ply_ascii(&sampling)
+        } else {
+            ply_binary(&sampling)
+        };
+        if let Err(message) = write_output(output, &bytes) {
+            eprintln!("error: {message}");
+            return EXIT_USAGE;
+        }
+    }
+    let threads = pool.current_num_threads();
+    if let Some(stats_file) = &args.stats {
+        let json = stats_json(&sampling, &dnf, radius, seconds, threads);
+        let written = if stats_file == "-" && stdout_taken {
+            eprintln!("{json}");
+            Ok(())
+        } else {
+            write_output(stats_file, format!("{json}\n").as_bytes())
+        };
+        if let Err(message) = written {
+            eprintln!("error: {message}");
+            return EXIT_USAGE;
+        }
+    }
+    if !args.common.quiet {
+        let stats = &sampling.stats;
+        if stats.unbounded_terms > 0 {
+            eprintln!(
+                "warning: {} terms of the solid are unbounded and were not sampled; bound the \
+                 solid (e.g. intersect it with a cube)",
+                stats.unbounded_terms
+            );
+        }
+        eprintln!(
+            "sampled {} points (radius {radius}, {} quadrics, {} terms, {} clip indices) on {threads} threads in {seconds:.2} s",
+            stats.samples,
+            dnf.quadrics.len(),
+            dnf.terms.len(),
+            stats.clip_indices,
+        );
+    }
+    EXIT_OK
+}
+
+/// Evaluates the checked program and builds its DNF; `None` after errors (in the analysis).
+fn build(analysis: &mut Analysis, args: &SampleArgs) -> Option<Dnf> {
+    let options = args.limits.eval_options(&args.common.defines);
+    let dag = program::evaluate_checked(analysis, &options)?;
+    match build_dnf(&dag, &args.limits.dnf_options()) {
+        Ok(dnf) => {
+            analysis.diagnostics.extend(dnf.warnings.iter().cloned());
+            Some(dnf)
+        }
+        Err(errors) => {
+            analysis.diagnostics.extend(errors);
+            None
+        }
+    }
+}
+
+/// The stats JSON of CLI.md: the documented keys first, then the sampler's other counters.
+pub fn stats_json(
+    sampling: &Sampling,
+    dnf: &Dnf,
+    radius: f64,
+    seconds: f64,
+    threads: usize,
+) -> String {
+    let stats = &sampling.stats;
+    let subdivision = &stats.subdivision;
+    serde_json::json!({
+        "samples": stats.samples,
+        "distance_queries": subdivision.distance_queries,
+        "seconds": seconds,
+        "threads": threads,
+        "radius": radius,
+        "quadrics": dnf.quadrics.len(),
+        "terms": dnf.terms.len(),
+        "clip_lists": stats.clip_lists,
+        "clip_indices": stats.clip_indices,
+        "basic_regions": stats.basic_regions,
+        "rectangles": subdivision.rectangles,
+        "unresolved": subdivision.unresolved + stats.regions.unresolved,
+        "unbounded_terms": stats.unbounded_terms,
+        "diagonal": (dnf.bounds.max - dnf.bounds.min).length(),
+    })
+    .to_string()
+}
+
+/// The PLY header for `count` vertices in `format`.
+fn ply_header(format: &str, count: usize) -> String {
+    format!(
+        "ply\nformat {format} 1.0\ncomment qcsg surface samples\nelement vertex {count}\n\
+         property double x\nproperty double y\nproperty double z\n\
+         property float nx\nproperty float ny\nproperty float nz\n\
+         property float radius\nproperty uint quadric\nproperty uint term\nend_header\n"
+    )
+}
+
+/// Binary little-endian PLY: 48 bytes per sample.
+pub fn ply_binary(sampling: &Sampling) -> Vec<u8> {
+    let header = ply_header("binary_little_endian", sampling.samples.len());
+    let mut bytes = Vec::with_capacity(header.len() + 48 * sampling.samples.len());
+    bytes.extend_from_slice(header.as_bytes());
+    for s in &sampling.samples {
+        for v in s.position.to_array() {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+        for v in s.normal.to_array() {
+            bytes.extend_from_slice(&(v as f32).to_le_bytes());
+        }
+        bytes.extend_from_slice(&(s.radius as f32).to_le_bytes());
+        bytes.extend_from_slice(&s.quadric.to_le_bytes());
+        bytes.extend_from_slice(&s.term.to_le_bytes());
+    }
+    bytes
+}
+
+/// Text PLY; positions with full precision (shortest round-trip form).
+pub fn ply_ascii(sampling: &Sampling) -> Vec<u8> {
+    let mut text = ply_header("ascii", sampling.samples.len());
+    for s in &sampling.samples {
+        let p = s.position;
+        let n = s.normal.as_vec3();
+        let _ = writeln!(
+            text,
+            "{:?} {:?} {:?} {:?} {:?} {:?} {:?} {} {}",
+            p.x, p.y, p.z, n.x, n.y, n.z, s.radius as f32, s.quadric, s.term
+        );
+    }
+    text.into_bytes()
+}
+
+/// Writes `bytes` to standard output (`-`) or atomically to a file.
+fn write_output(target: &str, bytes: &[u8]) -> Result<(), String> {
+    if target == "-" {
+        let mut stdout = std::io::stdout().lock();
+        return stdout
+            .write_all(bytes)
+            .and_then(|()| stdout.flush())
+            .map_err(|e| format!("cannot write standard output: {e}"));
+    }
+    write_atomically(Path::new(target), bytes).map_err(|e| format!("cannot write `{target}`: {e}"))
+}
+
+/// Writes through a temporary file next to `path` and a rename: no partial file on failure.
+fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let directory = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let Some(name) = path.file_name() else {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a file name",
+        ));
+    };
+    let mut temporary_name = std::ffi::OsString::from(".");
+    temporary_name.push(name);
+    temporary_name.push(format!(".{}.tmp", std::process::id()));
+    let temporary = directory.join(temporary_name);
+    let result = std::fs::File::create(&temporary)
+        .and_then(|mut file| {
+            file.write_all(bytes)?;
+            file.sync_all()
+        })
+        .and_then(|()| std::fs::rename(&temporary, path));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    result
+}
+
+/// A progress bar on standard error over the basic regions, shown only on a terminal and only
+/// once sampling has taken longer than [`PROGRESS_DELAY`].
+struct ProgressDisplay {
+    bar: Option<ProgressBar>,
+    started: Instant,
+    shown: AtomicBool,
+    show_lock: Mutex<()>,
+}
+
+impl ProgressDisplay {
+    fn new(wanted: bool) -> Self {
+        let bar = (wanted && std::io::stderr().is_terminal()).then(|| {
+            let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden());
+            if let Ok(style) =
+                ProgressStyle::with_template("sampling {bar:40} {percent}% ({eta} left)")
+            {
+                bar.set_style(style);
+            }
+            bar
+        });
+        Self {
+            bar,
+            started: Instant::now(),
+            shown: AtomicBool::new(false),
+            show_lock: Mutex::new(()),
+        }
+    }
+
+    fn update(&self, event: Progress) {
+        let Some(bar) = &self.bar else {
+            return;
+        };
+        match event {
+            Progress::Regions(total) => bar.set_length(total),
+            Progress::RegionDone => bar.inc(1),
+        }
+        if !self.shown.load(Ordering::Relaxed) && self.started.elapsed() > PROGRESS_DELAY {
+            let _guard = self.show_lock.lock();
+            if !self.shown.swap(true, Ordering::Relaxed) {
+                bar.set_draw_target(ProgressDrawTarget::stderr());
+            }
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// Prints the diagnostics: JSON on standard output when it is free (standard error otherwise),
+/// human-readable on standard error.
+fn print_diagnostics(analysis: &Analysis, common: &CommonArgs, stdout_free: bool) {
+    let shown: Vec<&Diagnostic> = analysis
+        .diagnostics
+        .iter()
+        .filter(|d| !common.quiet || d.is_error())
+        .collect();
+    if common.format == DiagnosticFormat::Json {
+        let elements: Vec<_> = shown
+            .iter()
+            .map(|d| crate::json::JsonDiagnostic::new(&analysis.sources, d))
+            .collect();
+        let text = crate::json::array_text(&elements);
+        if stdout_free {
+            print!("{text}");
+        } else {
+            eprint!("{text}");
+        }
+        return;
+    }
+    program::print_human(analysis, common.quiet);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn radius_is_a_length_or_a_percentage() {
+        assert_eq!(parse_radius("0.1"), Ok(RadiusArg::Absolute(0.1)));
+        assert_eq!(parse_radius("2.5%"), Ok(RadiusArg::OfDiagonal(0.025)));
+        for bad in ["0", "-1", "abc", "%", "1%%", "inf", "nan", "0%"] {
+            assert!(parse_radius(bad).is_err(), "{bad}");
+        }
+    }
+}
