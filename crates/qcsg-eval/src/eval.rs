@@ -3,8 +3,13 @@
 //! A scope is evaluated as OpenSCAD does: its `include`s are spliced in, its definitions are
 //! visible throughout, its assignments run first and in order (a variable assigned twice keeps
 //! the position of its first assignment and the value of its last), then its instantiations run
-//! in order. The first runtime error stops the evaluation (as OpenSCAD's errors do); warnings and
-//! `echo` output are collected on the way. Deep recursion runs on a growing stack (`stacker`)
+//! in order. Errors come in two kinds, as in OpenSCAD. A crossed limit or a failed `assert` is
+//! fatal: it stops the evaluation (OpenSCAD stops there too). Any other runtime error stands where
+//! OpenSCAD would print a warning and go on with `undef`: it abandons only the assignment (which
+//! then holds `undef`) or the statement it occurred in, and evaluation continues, so that one run
+//! reports all of them. An error repeated at the same span (in a loop, say) is reported once, and
+//! the evaluation stops after [`MAX_ERRORS`] distinct ones. Warnings and `echo` output are
+//! collected on the way. Deep recursion runs on a growing stack (`stacker`)
 //! and every limit is checked before the work it bounds.
 
 use std::collections::{HashMap, HashSet};
@@ -26,9 +31,28 @@ use crate::transforms;
 use crate::value::{Range, Value};
 use crate::{EvalOptions, color, ops, printer};
 
-/// An error has been reported; the evaluation stops.
+/// An error has been reported: the statement (or assignment) it occurred in is abandoned, and,
+/// when it is fatal, the whole evaluation.
 #[derive(Debug)]
-pub(crate) struct Stop;
+pub(crate) struct Stop {
+    fatal: bool,
+}
+
+/// The most distinct runtime errors reported before the evaluation stops.
+pub(crate) const MAX_ERRORS: usize = 50;
+
+/// Whether an error of this code stops the evaluation (OpenSCAD 2021.01 stops on these too);
+/// other errors stop only their statement, where OpenSCAD warns and continues with `undef`.
+fn is_fatal(code: &str) -> bool {
+    matches!(
+        code,
+        codes::RECURSION_LIMIT
+            | codes::ITERATION_LIMIT
+            | codes::VECTOR_LIMIT
+            | codes::INSTANCE_LIMIT
+            | codes::ASSERTION_FAILED
+    )
+}
 
 type R<T> = Result<T, Stop>;
 
@@ -82,6 +106,8 @@ pub(crate) struct Evaluator<'a> {
     include_stack: Vec<FileId>,
     /// The node each instantiation statement produced, once per distinct pair.
     pub instantiations: HashSet<(Source, NodeId)>,
+    /// The errors reported so far, to report each (code, place) once.
+    reported: HashSet<(&'static str, FileId, Span)>,
 }
 
 impl<'a> Evaluator<'a> {
@@ -107,6 +133,7 @@ impl<'a> Evaluator<'a> {
             used_frames: HashMap::new(),
             include_stack: Vec::new(),
             instantiations: HashSet::new(),
+            reported: HashSet::new(),
         }
     }
 
@@ -119,9 +146,27 @@ impl<'a> Evaluator<'a> {
         file: FileId,
         span: Span,
     ) -> Stop {
-        self.diagnostics
-            .push(Diagnostic::error(code, message, file, span));
-        Stop
+        let mut fatal = is_fatal(code);
+        if self.reported.insert((code, file, span)) {
+            let mut diagnostic = Diagnostic::error(code, message, file, span);
+            if self.reported.len() >= MAX_ERRORS {
+                diagnostic = diagnostic.with_help(format!(
+                    "evaluation stopped after {MAX_ERRORS} errors; fix these and run it again"
+                ));
+                fatal = true;
+            }
+            self.diagnostics.push(diagnostic);
+        }
+        Stop { fatal }
+    }
+
+    /// `result`, with a non-fatal error turned into `Ok(None)`: the caller goes on without it.
+    fn recover<T>(result: R<T>) -> R<Option<T>> {
+        match result {
+            Ok(value) => Ok(Some(value)),
+            Err(Stop { fatal: false }) => Ok(None),
+            Err(stop) => Err(stop),
+        }
     }
 
     fn warn(&mut self, code: &'static str, message: impl Into<String>, file: FileId, span: Span) {
@@ -326,8 +371,8 @@ impl<'a> Evaluator<'a> {
                     frame: frame.clone(),
                     file,
                 },
-            )?;
-            frame.set(name, value);
+            );
+            frame.set(name, Self::recover(value)?.unwrap_or(Value::Undef));
         }
         Ok(())
     }
@@ -338,13 +383,14 @@ impl<'a> Evaluator<'a> {
         self.assign(items, frame)?;
         let mut edges = Vec::new();
         for &(file, stmt) in &items.items {
-            if let Some(edge) = self.eval_stmt(
+            let made = self.eval_stmt(
                 stmt,
                 &Cx {
                     frame: frame.clone(),
                     file,
                 },
-            )? {
+            );
+            if let Some(Some(edge)) = Self::recover(made)? {
                 edges.push(edge);
             }
         }

@@ -5,7 +5,11 @@
 //! with `include`d files spliced in and `use`d files' definitions imported, applies `-D`
 //! overrides ([`EvalOptions::defines`]), and returns the DAG and the diagnostics: `echo` output
 //! (information [`codes::ECHO`], formatted exactly like OpenSCAD's `ECHO: …` lines), warnings,
-//! and at most one runtime error (the first one stops evaluation, as OpenSCAD's errors do).
+//! and runtime errors. A crossed limit or a failed `assert` stops the evaluation, as it stops
+//! OpenSCAD; any other runtime error (where OpenSCAD warns and goes on with `undef`) abandons
+//! only its assignment (the variable is then `undef`) or statement, so one run reports them all
+//! (each place once, at most 50). With errors the DAG is partial: tools may show it, nothing may
+//! build a solid from it.
 //!
 //! Semantics follow OpenSCAD 2021.01, checked against it (see `tests/eval/`):
 //! - Values: numbers (f64), booleans, strings, `undef`, vectors, ranges, functions. Where

@@ -150,3 +150,73 @@ fn defines_override_top_level_variables() {
     let e = eval_with("a = 1;\n", &options);
     assert!(codes(&e).contains(&c::BAD_DEFINE));
 }
+
+/// The spans of the errors of an evaluation, as source text.
+fn error_texts<'t>(text: &'t str, e: &qcsg_eval::Evaluation) -> Vec<(&'static str, &'t str)> {
+    e.diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| (d.code, &text[d.span.range()]))
+        .collect()
+}
+
+#[test]
+fn errors_where_openscad_warns_do_not_stop_the_evaluation() {
+    // OpenSCAD warns about each of these and goes on with `undef`: so does the evaluation here,
+    // reporting every one (a loop's error once) and still running what comes after.
+    let text = "x = [1, 2];\ny = x[5] + 1;\nz = x[6] - 1;\n\
+                for (i = [0 : 3]) echo(i * x[7]);\necho(\"after\", y);\ncube(1);\n";
+    let e = eval(text);
+    assert_eq!(
+        error_texts(text, &e),
+        [
+            (c::OPERATOR_TYPE, "x[5] + 1"),
+            (c::OPERATOR_TYPE, "x[6] - 1"),
+            (c::OPERATOR_TYPE, "i * x[7]"),
+        ],
+        "{:?}",
+        e.diagnostics
+    );
+    assert_eq!(e.echo_lines(), ["ECHO: \"after\", undef"]);
+}
+
+#[test]
+fn failed_assertions_and_limits_stop_the_evaluation() {
+    let text = "x = [1, 2];\ny = x[5] + 1;\nassert(y == 3);\necho(\"never\");\n";
+    let e = eval(text);
+    assert_eq!(
+        codes(&e)
+            .into_iter()
+            .filter(|code| code.starts_with('E'))
+            .collect::<Vec<_>>(),
+        [c::OPERATOR_TYPE, c::ASSERTION_FAILED]
+    );
+    assert!(e.echo_lines().is_empty());
+    let e = quick(|| {
+        eval_with(
+            "function f(n) = f(n + 1) + 1;\na = f(0);\necho(\"never\");\n",
+            &small(),
+        )
+    });
+    assert_eq!(
+        codes(&e)
+            .into_iter()
+            .filter(|code| code.starts_with('E'))
+            .collect::<Vec<_>>(),
+        [c::RECURSION_LIMIT]
+    );
+    assert!(e.echo_lines().is_empty());
+}
+
+#[test]
+fn a_flood_of_errors_stops_after_the_cap() {
+    let mut text = String::from("x = [1, 2];\n");
+    for i in 0..80 {
+        text.push_str(&format!("echo(x[5] + {i});\n"));
+    }
+    let e = eval(&text);
+    let errors: Vec<_> = e.diagnostics.iter().filter(|d| d.is_error()).collect();
+    assert_eq!(errors.len(), 50);
+    assert!(errors[49].help.is_some(), "{:?}", errors[49]);
+    assert!(e.echo_lines().is_empty());
+}
