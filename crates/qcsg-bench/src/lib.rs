@@ -1,0 +1,25 @@
+//! Measurements of qcsg, shared by the stability suite (`tests/stability.rs` over
+//! `tests/stability/*.qcsg` at the repository root) and the report binary (`qcsg-bench`, which
+//! writes `docs/report.md`).
+//!
+//! - [`pipeline`]: source text to the DNF, as `qcsg` does it, keeping every diagnostic;
+//! - [`reference`]: reference points on the exact CSG surface by ray casting the DNF,
+//!   independently of the sampler;
+//! - [`metrics`]: coverage error (k-d trees of samples per quadric), on-surface error, samples
+//!   off the CSG surface, non-finite output;
+//! - [`measure`]: one timed sampling with all its errors;
+//! - [`image`]: the ray tracer's frame and a CPU model of splat rendering to compare with it;
+//! - [`mesh`]: STL meshes of a mesh-based peer and their Hausdorff distance to the exact surface;
+//! - [`openscad`]: OpenSCAD's CGAL export, the mesh-based peer, run when installed;
+//! - [`plot`]: log-log SVG plots and power-law fits for the report;
+//! - [`stability`]: the stability cases' header format (`// expect: …`) and running one case.
+
+pub mod image;
+pub mod measure;
+pub mod mesh;
+pub mod metrics;
+pub mod openscad;
+pub mod pipeline;
+pub mod plot;
+pub mod reference;
+pub mod stability;

@@ -1,0 +1,1073 @@
+//! `qcsg-bench`: regenerates `docs/report.md` and its plots in `docs/report/` — error against
+//! run time for the benchmark scenes (`crates/qcsg-bench/scenes/`), the OpenSCAD comparison,
+//! throughput beside paper 000's Tables 1 and 2, scaling with fitted exponents, what pruning
+//! left out, and the stability suite's measured errors.
+//!
+//! Run it with `cargo run --release -p qcsg-bench` (add `--quick` for smaller sweeps).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use clap::Parser;
+use peak_alloc::PeakAlloc;
+use qcsg_bench::image::{Agreement, camera_for, ray_traced, splat};
+use qcsg_bench::measure::{Measured, References, measure};
+use qcsg_bench::mesh::{mesh_distance, parse_stl};
+use qcsg_bench::openscad::{Export, export_stl, find};
+use qcsg_bench::pipeline::{compile_file, compile_source};
+use qcsg_bench::plot::{Plot, Series, power_law};
+use qcsg_bench::reference::diagonal;
+use qcsg_bench::stability::{self, run_case};
+use qcsg_csg::{Dnf, DnfOptions};
+use qcsg_render::ImageSize;
+use qcsg_sample::{SampleError, Sampling, sample};
+
+#[global_allocator]
+static PEAK: PeakAlloc = PeakAlloc;
+
+/// Regenerates docs/report.md and docs/report/*.svg.
+#[derive(Parser, Debug)]
+#[command(name = "qcsg-bench", version)]
+struct Args {
+    /// Smaller sweeps and fewer reference points (about a minute; for checking the report
+    /// still builds, not for publishing).
+    #[arg(long)]
+    quick: bool,
+    /// The repository root (default: the checkout this crate was built from).
+    #[arg(long)]
+    root: Option<PathBuf>,
+    /// Leave out the OpenSCAD comparison even when `openscad` is installed.
+    #[arg(long)]
+    no_openscad: bool,
+}
+
+/// The sweeps of one run.
+struct Config {
+    /// Sample radii relative to the scene's diagonal, largest first.
+    radii: Vec<f64>,
+    /// Render resolutions.
+    sizes: Vec<(u32, u32)>,
+    /// Random lines for surface reference points, and for feature-curve points.
+    rays: (usize, usize),
+    /// `$fn` values for OpenSCAD.
+    fns: Vec<u32>,
+    /// Primitive counts for the scaling sweep.
+    counts: Vec<usize>,
+    /// Radii (relative) for the scaling sweep against radius.
+    scaling_radii: Vec<f64>,
+}
+
+impl Config {
+    fn new(quick: bool) -> Self {
+        if quick {
+            Self {
+                radii: vec![0.1, 0.04, 0.016],
+                sizes: vec![(160, 120)],
+                rays: (600, 150),
+                fns: vec![8, 16],
+                counts: vec![1, 4, 16],
+                scaling_radii: vec![0.1, 0.05, 0.025],
+            }
+        } else {
+            Self {
+                radii: vec![0.1, 0.05, 0.025, 0.0125, 0.00625],
+                sizes: vec![(160, 120), (320, 240)],
+                rays: (3000, 600),
+                fns: vec![8, 16, 32, 64],
+                counts: vec![1, 2, 4, 8, 16, 32, 64],
+                scaling_radii: vec![0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125],
+            }
+        }
+    }
+}
+
+/// The benchmark scenes: file name and what it shows.
+const SCENES: [(&str, &str); 4] = [
+    (
+        "three_spheres.scad",
+        "(A ∩ B) ∪ C of three balls (3 quadrics)",
+    ),
+    (
+        "steinmetz.scad",
+        "a ball ∩ three cylinders, minus a ball (5 quadrics)",
+    ),
+    (
+        "drilled_block.scad",
+        "a block with holes, a counterbore and a chamfer",
+    ),
+    (
+        "wheel.scad",
+        "a wheel with bolt holes from a loop and spokes",
+    ),
+];
+
+fn main() {
+    let args = Args::parse();
+    if let Err(err) = run(&args) {
+        eprintln!("qcsg-bench: {err}");
+        std::process::exit(1);
+    }
+}
+
+/// Runs `f` on a one-thread rayon pool (paper 000 measures on one core).
+fn one_thread<T: Send>(f: impl FnOnce() -> T + Send) -> Result<T, String> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|e| e.to_string())?;
+    Ok(pool.install(f))
+}
+
+/// A compiled benchmark scene.
+struct Scene {
+    name: String,
+    about: String,
+    path: PathBuf,
+    dnf: Dnf,
+    diag: f64,
+    refs: References,
+}
+
+/// One radius of one scene: the sampling, its errors, and the images at every resolution.
+struct Row {
+    m: Measured,
+    images: Vec<ImageRow>,
+}
+
+struct ImageRow {
+    size: (u32, u32),
+    ray_trace: Duration,
+    splat: Duration,
+    agreement: Agreement,
+}
+
+/// One OpenSCAD export and its distance to the exact surface.
+struct PeerRow {
+    fn_value: u32,
+    outcome: String,
+    time: Duration,
+    triangles: usize,
+    surface_to_mesh: f64,
+    mesh_to_surface: f64,
+}
+
+fn secs(d: Duration) -> f64 {
+    d.as_secs_f64()
+}
+
+fn ms(d: Duration) -> String {
+    format!("{:.2}", d.as_secs_f64() * 1e3)
+}
+
+fn sci(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else if v.is_finite() {
+        format!("{v:.2e}")
+    } else {
+        "∞".into()
+    }
+}
+
+fn run(args: &Args) -> Result<(), String> {
+    let started = Instant::now();
+    let cfg = Config::new(args.quick);
+    let root = args
+        .root
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../.."));
+    let out_dir = root.join("docs/report");
+    std::fs::create_dir_all(&out_dir)
+        .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
+    let scene_dir = root.join("crates/qcsg-bench/scenes");
+    let threads = rayon::current_num_threads();
+    let mut md = String::new();
+    let mut plots: Vec<String> = Vec::new();
+
+    // Scenes.
+    let mut scenes = Vec::new();
+    for (file, about) in SCENES {
+        let path = scene_dir.join(file);
+        let compiled = compile_file(&path, &DnfOptions::default())?;
+        let codes = compiled.error_codes();
+        let Some(dnf) = compiled.dnf else {
+            return Err(format!("{}: errors {codes:?}", path.display()));
+        };
+        let diag = diagonal(&dnf);
+        let refs = References::find(&dnf, cfg.rays.0, cfg.rays.1);
+        eprintln!(
+            "{file}: {} quadrics, {} terms, {} reference points",
+            dnf.quadrics.len(),
+            dnf.terms.len(),
+            refs.surface.len() + refs.edges.len()
+        );
+        scenes.push(Scene {
+            name: file.trim_end_matches(".scad").to_owned(),
+            about: about.to_owned(),
+            path,
+            dnf,
+            diag,
+            refs,
+        });
+    }
+
+    // (a) error against run time.
+    let mut rows: Vec<Vec<Row>> = Vec::new();
+    for scene in &scenes {
+        let mut frames = Vec::new();
+        for &(w, h) in &cfg.sizes {
+            let size = ImageSize::new(w, h).map_err(|e| e.to_string())?;
+            let camera = camera_for(&scene.dnf, size).ok_or("no camera")?;
+            let (frame, time) = ray_traced(&scene.dnf, &camera, size);
+            frames.push((size, camera, frame, time));
+        }
+        let mut scene_rows = Vec::new();
+        for &rel in &cfg.radii {
+            let m = one_thread(|| measure(&scene.dnf, rel * scene.diag, &scene.refs))?
+                .map_err(|e: SampleError| e.to_string())?;
+            let mut images = Vec::new();
+            for (size, camera, frame, rt) in &frames {
+                let start = Instant::now();
+                let drawn = splat(&scene.dnf, &m.sampling.samples, camera, *size);
+                let time = start.elapsed();
+                images.push(ImageRow {
+                    size: (size.width(), size.height()),
+                    ray_trace: *rt,
+                    splat: time,
+                    agreement: Agreement::compare(frame, &drawn.pixels, 1e-6 * scene.diag),
+                });
+            }
+            eprintln!(
+                "{} r = {rel}: {} samples in {:.3} s",
+                scene.name,
+                m.sampling.samples.len(),
+                secs(m.time)
+            );
+            scene_rows.push(Row { m, images });
+        }
+        rows.push(scene_rows);
+    }
+
+    // (b) OpenSCAD.
+    let peer = if args.no_openscad { None } else { find() };
+    let mut peer_rows: Vec<Vec<PeerRow>> = Vec::new();
+    if let Some((program, _)) = &peer {
+        let work = std::env::temp_dir().join(format!("qcsg-bench-{}", std::process::id()));
+        std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
+        for scene in &scenes {
+            let mut list = Vec::new();
+            for &f in &cfg.fns {
+                let export = export_stl(program, &scene.path, f, &work, Duration::from_secs(90));
+                let row = match export {
+                    Export::Done(bytes, time) => match parse_stl(&bytes) {
+                        Ok(mesh) => {
+                            let d = mesh_distance(
+                                &scene.dnf,
+                                &mesh,
+                                &scene.refs.surface,
+                                scene.diag / 400.0,
+                            );
+                            PeerRow {
+                                fn_value: f,
+                                outcome: "ok".into(),
+                                time,
+                                triangles: mesh.triangles.len(),
+                                surface_to_mesh: d.surface_to_mesh,
+                                mesh_to_surface: d.mesh_to_surface,
+                            }
+                        }
+                        Err(e) => failed_peer(f, time, e),
+                    },
+                    Export::TimedOut(time) => failed_peer(f, time, "timed out".into()),
+                    Export::Failed(e) => failed_peer(f, Duration::ZERO, e),
+                };
+                eprintln!(
+                    "openscad {} $fn={f}: {} in {:.2} s",
+                    scene.name,
+                    row.outcome,
+                    secs(row.time)
+                );
+                let stop = row.outcome == "timed out";
+                list.push(row);
+                if stop {
+                    break;
+                }
+            }
+            peer_rows.push(list);
+        }
+        let _ = std::fs::remove_dir_all(&work);
+    }
+
+    // Header.
+    let _ = writeln!(md, "# qcsg: error against run time\n");
+    let _ = writeln!(
+        md,
+        "Generated by `cargo run --release -p qcsg-bench{}` in {{TOTAL}} on a machine with {threads} \
+         rayon threads (shared with other work, so absolute times are noisy; ratios within one \
+         table come from one run). Sampling is timed on **one thread**, as paper 000 does; the \
+         ray tracer and the CPU splat model use all threads. Errors are measured against the \
+         exact surface, independently of the sampler (`crates/qcsg-bench/src/reference.rs`): \
+         reference points are exact intersections of random lines with the DNF's quadrics where \
+         the solid changes across them, plus points on the feature curves found by bisection.\n",
+        if args.quick { " -- --quick" } else { "" }
+    );
+    let _ = writeln!(md, "Benchmark scenes (`crates/qcsg-bench/scenes/`):\n");
+    let _ = writeln!(
+        md,
+        "| scene | quadrics | terms | literals | diagonal | reference points (surface + edges) | what |"
+    );
+    let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---|");
+    for s in &scenes {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.3} | {} + {} | {} |",
+            s.name,
+            s.dnf.quadrics.len(),
+            s.dnf.terms.len(),
+            s.dnf.literal_count(),
+            s.diag,
+            s.refs.surface.len(),
+            s.refs.edges.len(),
+            s.about
+        );
+    }
+
+    // (a) section.
+    let _ = writeln!(md, "\n## 1. Error against run time\n");
+    let _ = writeln!(
+        md,
+        "For each scene, over a sweep of sample radii `r` (relative to the scene's diagonal): \
+         the sampling time and\n\n\
+         - **coverage error**: the largest distance from a reference point (surface or feature \
+         curve) to its nearest sample *on the same quadric*; the guarantee is coverage ≤ r;\n\
+         - **on-surface error**: the largest first-order distance `|Q(p)| / ‖∇Q(p)‖` of a sample \
+         to its quadric, relative to the diagonal;\n\
+         - **image disagreement**: pixels where an image drawn from the samples differs from the \
+         exact ray tracer's (a hole, a pixel drawn outside the solid, or a different quadric in \
+         front), over the pixels that see the solid.\n\n\
+         The image from samples is the CPU model of splat rendering in \
+         `crates/qcsg-bench/src/image.rs` (each sample a disc of its radius, the pixel's ray \
+         intersected exactly with the sample's quadric, kept within the radius and where the solid \
+         changes across it). The GPU splat renderer (`crates/qcsg-splat`) was not yet part of the \
+         committed workspace when this report was written, so its times are not here; the splat \
+         model's time is a CPU time, not comparable to the paper's GPU times.\n"
+    );
+    for (scene, scene_rows) in scenes.iter().zip(&rows) {
+        let _ = writeln!(md, "### {}\n", scene.name);
+        let mut head = String::from(
+            "| r / diag | samples | sampling ms | coverage / r | coverage / diag | on-surface / diag | unresolved |",
+        );
+        let mut rule = String::from("|---:|---:|---:|---:|---:|---:|---:|");
+        for &(w, h) in &cfg.sizes {
+            let _ = write!(head, " {w}×{h} splat ms | {w}×{h} disagreement |");
+            rule.push_str("---:|---:|");
+        }
+        let _ = writeln!(md, "{head}\n{rule}");
+        for (rel, row) in cfg.radii.iter().zip(scene_rows) {
+            let m = &row.m;
+            let cov = m.coverage.max_distance.max(m.edge_coverage.max_distance);
+            let _ = write!(
+                md,
+                "| {rel} | {} | {} | {:.3} | {} | {} | {} |",
+                m.sampling.samples.len(),
+                ms(m.time),
+                cov / m.radius,
+                sci(cov / scene.diag),
+                sci(m.on_surface),
+                m.sampling.stats.subdivision.unresolved
+            );
+            for img in &row.images {
+                let _ = write!(
+                    md,
+                    " {} | {:.4} |",
+                    ms(img.splat),
+                    img.agreement.disagreement()
+                );
+            }
+            let _ = writeln!(md);
+        }
+        let rt: Vec<String> = scene_rows
+            .first()
+            .map(|r| {
+                r.images
+                    .iter()
+                    .map(|i| format!("{}×{} in {} ms", i.size.0, i.size.1, ms(i.ray_trace)))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let _ = writeln!(md, "\nReference ray tracer: {}.\n", rt.join(", "));
+
+        let mut error_plot = Plot {
+            title: format!("{}: error against time", scene.name),
+            x_label: "time (s)".into(),
+            y_label: "error / diagonal".into(),
+            series: vec![
+                Series {
+                    name: "qcsg coverage error (sampling time)".into(),
+                    points: scene_rows
+                        .iter()
+                        .map(|r| {
+                            let cov =
+                                r.m.coverage
+                                    .max_distance
+                                    .max(r.m.edge_coverage.max_distance);
+                            (secs(r.m.time), cov / scene.diag)
+                        })
+                        .collect(),
+                },
+                Series {
+                    name: "qcsg radius r (the guaranteed bound)".into(),
+                    points: scene_rows
+                        .iter()
+                        .map(|r| (secs(r.m.time), r.m.radius / scene.diag))
+                        .collect(),
+                },
+            ],
+        };
+        if let Some(list) = peer_rows.get(
+            scenes
+                .iter()
+                .position(|s| s.name == scene.name)
+                .unwrap_or(0),
+        ) {
+            error_plot.series.push(Series {
+                name: "OpenSCAD Hausdorff distance (export time)".into(),
+                points: list
+                    .iter()
+                    .filter(|p| p.outcome == "ok")
+                    .map(|p| {
+                        (
+                            secs(p.time),
+                            p.surface_to_mesh.max(p.mesh_to_surface) / scene.diag,
+                        )
+                    })
+                    .collect(),
+            });
+        }
+        let file = format!("error_{}.svg", scene.name);
+        if error_plot.write_svg(&out_dir.join(&file))? {
+            let _ = writeln!(md, "![{}](report/{file})\n", error_plot.title);
+            plots.push(file);
+        }
+        let mut image_plot = Plot {
+            title: format!("{}: image disagreement against time", scene.name),
+            x_label: "sampling + splat time (s)".into(),
+            y_label: "disagreeing pixels / solid pixels".into(),
+            series: Vec::new(),
+        };
+        for (k, &(w, h)) in cfg.sizes.iter().enumerate() {
+            image_plot.series.push(Series {
+                name: format!("{w}×{h}"),
+                points: scene_rows
+                    .iter()
+                    .map(|r| {
+                        let i = &r.images[k];
+                        (secs(r.m.time + i.splat), i.agreement.disagreement())
+                    })
+                    .collect(),
+            });
+        }
+        let file = format!("image_{}.svg", scene.name);
+        if image_plot.write_svg(&out_dir.join(&file))? {
+            let _ = writeln!(
+                md,
+                "![{}](report/{file})\n\n(Zero disagreement cannot be drawn on a log axis; the \
+                 table has every value.)\n",
+                image_plot.title
+            );
+            plots.push(file);
+        }
+    }
+
+    // (b) section.
+    let _ = writeln!(md, "## 2. A mesh-based peer: OpenSCAD's CGAL export\n");
+    match &peer {
+        None => {
+            let _ = writeln!(
+                md,
+                "OpenSCAD is not installed (or `--no-openscad` was given): no comparison.\n"
+            );
+        }
+        Some((_, version)) => {
+            let _ = writeln!(
+                md,
+                "{version}, `openscad -o scene.stl -D '$fn=N' scene.scad` on the same scene files, \
+                 timed from start to exit (one process per export, 90 s limit). The Hausdorff \
+                 distance of the mesh to the exact surface is measured both ways: from every \
+                 surface reference point to the mesh (exact point-triangle distances), and from \
+                 points spread over every triangle at most diag/400 apart to the exact surface \
+                 (projection onto the quadrics, kept where the solid changes across the \
+                 projection; else the nearest reference point). The plots in section 1 draw it on \
+                 the same axes as qcsg's coverage error; note they are different measures: the \
+                 mesh's distance to the surface against the samples' coverage of it.\n"
+            );
+            for (scene, list) in scenes.iter().zip(&peer_rows) {
+                let _ = writeln!(md, "### {}\n", scene.name);
+                let _ = writeln!(
+                    md,
+                    "| $fn | outcome | export ms | triangles | surface → mesh / diag | mesh → surface / diag | Hausdorff / diag |"
+                );
+                let _ = writeln!(md, "|---:|---|---:|---:|---:|---:|---:|");
+                for p in list {
+                    let _ = writeln!(
+                        md,
+                        "| {} | {} | {} | {} | {} | {} | {} |",
+                        p.fn_value,
+                        p.outcome,
+                        ms(p.time),
+                        p.triangles,
+                        sci(p.surface_to_mesh / scene.diag),
+                        sci(p.mesh_to_surface / scene.diag),
+                        sci(p.surface_to_mesh.max(p.mesh_to_surface) / scene.diag)
+                    );
+                }
+                let _ = writeln!(md);
+            }
+        }
+    }
+
+    // (c) throughput.
+    throughput(&mut md, &scenes, &rows, &cfg)?;
+
+    // (d) scaling.
+    scaling(&mut md, &mut plots, &out_dir, &cfg, &scenes)?;
+
+    // (e) pruning.
+    pruning(&mut md, &scenes, &cfg)?;
+
+    // Stability.
+    stability_section(&mut md, &root)?;
+
+    let total = started.elapsed();
+    let md = md.replace("{TOTAL}", &format!("{:.0} s", secs(total)));
+    let path = root.join("docs/report.md");
+    std::fs::write(&path, md).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    // Plots of earlier runs that this run did not draw would be stale: remove them.
+    if let Ok(entries) = std::fs::read_dir(&out_dir) {
+        for entry in entries.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if name.ends_with(".svg") && !plots.contains(&name) {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
+    }
+    eprintln!(
+        "wrote {} and {} plots in {:.0} s",
+        path.display(),
+        plots.len(),
+        secs(total)
+    );
+    Ok(())
+}
+
+fn failed_peer(fn_value: u32, time: Duration, why: String) -> PeerRow {
+    PeerRow {
+        fn_value,
+        outcome: why.replace('|', "/"),
+        time,
+        triangles: 0,
+        surface_to_mesh: f64::INFINITY,
+        mesh_to_surface: f64::INFINITY,
+    }
+}
+
+/// Paper 000, Table 2: quadrics, splat size, samples, distance queries, clip indices, sampling
+/// ms (one 4.8 GHz core), render ms (RTX 2080 Ti, 1920×1080).
+const PAPER_TABLE_2: [(u32, &str, u64, u64, u64, f64, f64); 18] = [
+    (3, "large", 5454, 22372, 2, 1.51, 0.34),
+    (3, "medium", 23452, 47336, 2, 3.39, 0.23),
+    (3, "small", 249014, 100398, 2, 8.51, 0.27),
+    (5, "large", 8112, 103296, 52, 7.63, 0.27),
+    (5, "medium", 35904, 215040, 23, 16.45, 0.18),
+    (5, "small", 329856, 576048, 17, 66.87, 0.26),
+    (5, "large", 9465, 52578, 52, 4.38, 0.31),
+    (5, "medium", 27882, 103908, 31, 8.71, 0.28),
+    (5, "small", 205075, 254592, 25, 23.47, 0.26),
+    (21, "large", 7134, 30802, 78, 6.26, 0.45),
+    (21, "medium", 31940, 85744, 37, 18.01, 0.39),
+    (21, "small", 104972, 171958, 31, 37.91, 0.33),
+    (31, "large", 28432, 196298, 51, 36.63, 0.96),
+    (31, "medium", 91895, 325705, 34, 62.23, 0.87),
+    (31, "small", 184533, 415847, 29, 83.36, 0.69),
+    (80, "large", 10176, 194024, 299, 94.47, 0.32),
+    (80, "medium", 141200, 558582, 244, 292.35, 0.34),
+    (80, "small", 655727, 1182464, 236, 623.92, 0.47),
+];
+
+fn throughput(
+    md: &mut String,
+    scenes: &[Scene],
+    rows: &[Vec<Row>],
+    cfg: &Config,
+) -> Result<(), String> {
+    let _ = writeln!(md, "## 3. Throughput beside paper 000\n");
+    // Table 1: a single quadric, and the scenes.
+    let ball = compile_source("ball.scad", "sphere(1);".into(), &DnfOptions::default());
+    let ball = ball.dnf.ok_or("the single ball did not compile")?;
+    let diag = diagonal(&ball);
+    let mut single = Vec::new();
+    for &rel in &cfg.radii {
+        let (s, t) = one_thread(|| timed_sample(&ball, rel * diag))??;
+        single.push((
+            rel,
+            s.samples.len(),
+            s.stats.subdivision.distance_queries,
+            t,
+        ));
+    }
+    let _ = writeln!(
+        md,
+        "Paper 000 Table 1 (one 4.8 GHz core) beside this run (one thread of this machine). \
+         Throughput is samples per second of sampling time.\n"
+    );
+    let _ = writeln!(md, "| case | paper 000 | qcsg (this run) |");
+    let _ = writeln!(md, "|---|---:|---|");
+    let rate = |n: usize, t: Duration| n as f64 / secs(t).max(1e-9);
+    let span = |v: &[f64]| {
+        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().copied().fold(0.0, f64::max);
+        format!("{:.2}–{:.2} M/s", lo / 1e6, hi / 1e6)
+    };
+    let single_rates: Vec<f64> = single.iter().map(|&(_, n, _, t)| rate(n, t)).collect();
+    let _ = writeln!(
+        md,
+        "| single quadric, with subdivision (a ball) | 40–70 M/s (14–25 ns/sample) | {} over r/diag {:?} |",
+        span(&single_rates),
+        cfg.radii
+    );
+    let simple: Vec<f64> = rows
+        .first()
+        .map(|r| {
+            r.iter()
+                .map(|r| rate(r.m.sampling.samples.len(), r.m.time))
+                .collect()
+        })
+        .unwrap_or_default();
+    let _ = writeln!(
+        md,
+        "| simple CSG surface (paper Fig. 9; here three_spheres) | 10–50 M/s (20–100 ns/sample) | {} |",
+        span(&simple)
+    );
+    let complex: Vec<f64> = rows
+        .iter()
+        .skip(1)
+        .flat_map(|r| r.iter().map(|r| rate(r.m.sampling.samples.len(), r.m.time)))
+        .collect();
+    let _ = writeln!(
+        md,
+        "| complex CSG surface (paper Fig. 1; here the other scenes) | 0.5–2 M/s (500–2000 ns/sample) | {} |\n",
+        span(&complex)
+    );
+
+    let _ = writeln!(
+        md,
+        "Paper 000 Table 2 (sampling on one 4.8 GHz core; rendering on an RTX 2080 Ti at \
+         1920×1080) beside this run's scenes at the largest, a middle and the smallest radius of \
+         the sweep. The paper does not give its splat sizes numerically, so rows are matched by \
+         size class only; our \"render\" column is the CPU splat model at the largest resolution \
+         of the sweep, not a GPU time.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| source | quadrics | splat size | samples | dist. queries | clip indices | sampling ms | ns/sample | render ms |"
+    );
+    let _ = writeln!(md, "|---|---:|---|---:|---:|---:|---:|---:|---:|");
+    for p in PAPER_TABLE_2 {
+        let _ = writeln!(
+            md,
+            "| paper 000 | {} | {} | {} | {} | {} | {:.2} | {:.1} | {:.2} (GPU) |",
+            p.0,
+            p.1,
+            p.2,
+            p.3,
+            p.4,
+            p.5,
+            p.5 * 1e6 / p.2 as f64,
+            p.6
+        );
+    }
+    let picks = [0, cfg.radii.len() / 2, cfg.radii.len() - 1];
+    for (scene, scene_rows) in scenes.iter().zip(rows) {
+        for (k, &i) in picks.iter().enumerate() {
+            let Some(row) = scene_rows.get(i) else {
+                continue;
+            };
+            let st = &row.m.sampling.stats;
+            let n = row.m.sampling.samples.len();
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} (r = {} diag) | {} | {} | {} | {} | {:.1} | {} (CPU) |",
+                scene.name,
+                scene.dnf.quadrics.len(),
+                ["large", "medium", "small"][k],
+                cfg.radii[i],
+                n,
+                st.subdivision.distance_queries,
+                st.clip_indices,
+                ms(row.m.time),
+                secs(row.m.time) * 1e9 / n.max(1) as f64,
+                row.images
+                    .last()
+                    .map_or_else(String::new, |img| ms(img.splat)),
+            );
+        }
+    }
+    let _ = writeln!(md);
+    Ok(())
+}
+
+/// Samples on the current pool, timed.
+fn timed_sample(dnf: &Dnf, radius: f64) -> Result<(Sampling, Duration), String> {
+    let start = Instant::now();
+    let s = sample(dnf, radius).map_err(|e| e.to_string())?;
+    Ok((s, start.elapsed()))
+}
+
+/// Samples on one thread, with its time and the peak of heap memory above what was in use
+/// before.
+fn sample_with_memory(dnf: &Dnf, radius: f64) -> Result<(Sampling, Duration, usize), String> {
+    let base = PEAK.current_usage();
+    PEAK.reset_peak_usage();
+    let (s, t) = one_thread(|| timed_sample(dnf, radius))??;
+    let peak = PEAK.peak_usage().saturating_sub(base);
+    Ok((s, t, peak))
+}
+
+/// `N` balls of radius 1 in a cubic grid 1.5 apart, united (neighbours overlap).
+fn ball_grid(n: usize) -> String {
+    let side = (n as f64).cbrt().ceil() as usize;
+    let mut text = String::new();
+    for i in 0..n {
+        let (x, y, z) = (i % side, (i / side) % side, i / (side * side));
+        let _ = writeln!(
+            text,
+            "translate([{}, {}, {}]) sphere(1);",
+            1.5 * x as f64,
+            1.5 * y as f64,
+            1.5 * z as f64
+        );
+    }
+    text
+}
+
+fn fit_text(points: &[(f64, f64)]) -> String {
+    match power_law(points) {
+        Some((k, _)) => format!("{k:.2}"),
+        None => "–".into(),
+    }
+}
+
+fn scaling(
+    md: &mut String,
+    plots: &mut Vec<String>,
+    out_dir: &Path,
+    cfg: &Config,
+    scenes: &[Scene],
+) -> Result<(), String> {
+    let _ = writeln!(md, "## 4. Scaling\n");
+    let _ = writeln!(
+        md,
+        "Time (one thread) and peak heap memory of sampling (measured by a counting global \
+         allocator, above what was in use before), against the number of primitives (`N` unit \
+         balls in a grid 1.5 apart, united, sample radius 0.1 in world units) and against the \
+         radius (three_spheres). Exponents are least-squares fits of `y = c·x^k` on log-log \
+         axes.\n"
+    );
+    let mut by_count = Vec::new();
+    for &n in &cfg.counts {
+        let compiled = compile_source("grid.scad", ball_grid(n), &DnfOptions::default());
+        let dnf = compiled.dnf.ok_or("the ball grid did not compile")?;
+        let (s, t, mem) = sample_with_memory(&dnf, 0.1)?;
+        eprintln!(
+            "scaling N = {n}: {} samples in {:.3} s",
+            s.samples.len(),
+            secs(t)
+        );
+        by_count.push((
+            n,
+            dnf.terms.len(),
+            dnf.literal_count(),
+            s.samples.len(),
+            s.stats.subdivision.distance_queries,
+            t,
+            mem,
+        ));
+    }
+    let _ = writeln!(
+        md,
+        "| balls N | terms | literals | samples | distance queries | sampling ms | peak memory MiB |"
+    );
+    let _ = writeln!(md, "|---:|---:|---:|---:|---:|---:|---:|");
+    for r in &by_count {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {:.2} |",
+            r.0,
+            r.1,
+            r.2,
+            r.3,
+            r.4,
+            ms(r.5),
+            r.6 as f64 / (1 << 20) as f64
+        );
+    }
+    let t_n: Vec<(f64, f64)> = by_count.iter().map(|r| (r.0 as f64, secs(r.5))).collect();
+    let m_n: Vec<(f64, f64)> = by_count.iter().map(|r| (r.0 as f64, r.6 as f64)).collect();
+    let q_n: Vec<(f64, f64)> = by_count.iter().map(|r| (r.0 as f64, r.4 as f64)).collect();
+    let s_n: Vec<(f64, f64)> = by_count.iter().map(|r| (r.0 as f64, r.3 as f64)).collect();
+    let _ = writeln!(
+        md,
+        "\nFitted exponents against N: time {}, memory {}, distance queries {}, samples {}.\n",
+        fit_text(&t_n),
+        fit_text(&m_n),
+        fit_text(&q_n),
+        fit_text(&s_n)
+    );
+    let plot = Plot {
+        title: "sampling against primitive count".into(),
+        x_label: "balls N".into(),
+        y_label: "value / value at N = 1".into(),
+        series: [
+            ("time", &t_n),
+            ("peak memory", &m_n),
+            ("distance queries", &q_n),
+            ("samples", &s_n),
+        ]
+        .iter()
+        .map(|(name, pts)| normalised(name, pts))
+        .collect(),
+    };
+    if plot.write_svg(&out_dir.join("scaling_count.svg"))? {
+        let _ = writeln!(
+            md,
+            "![scaling against primitive count](report/scaling_count.svg)\n"
+        );
+        plots.push("scaling_count.svg".into());
+    }
+
+    let scene = scenes.first().ok_or("no scenes")?;
+    let mut by_radius = Vec::new();
+    for &rel in &cfg.scaling_radii {
+        let (s, t, mem) = sample_with_memory(&scene.dnf, rel * scene.diag)?;
+        by_radius.push((
+            rel,
+            s.samples.len(),
+            s.stats.subdivision.distance_queries,
+            t,
+            mem,
+        ));
+    }
+    let _ = writeln!(
+        md,
+        "| r / diag ({}) | samples | distance queries | sampling ms | peak memory MiB |",
+        scene.name
+    );
+    let _ = writeln!(md, "|---:|---:|---:|---:|---:|");
+    for r in &by_radius {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.2} |",
+            r.0,
+            r.1,
+            r.2,
+            ms(r.3),
+            r.4 as f64 / (1 << 20) as f64
+        );
+    }
+    let t_r: Vec<(f64, f64)> = by_radius.iter().map(|r| (r.0, secs(r.3))).collect();
+    let m_r: Vec<(f64, f64)> = by_radius.iter().map(|r| (r.0, r.4 as f64)).collect();
+    let q_r: Vec<(f64, f64)> = by_radius.iter().map(|r| (r.0, r.2 as f64)).collect();
+    let s_r: Vec<(f64, f64)> = by_radius.iter().map(|r| (r.0, r.1 as f64)).collect();
+    let _ = writeln!(
+        md,
+        "\nFitted exponents against r: time {}, memory {}, distance queries {}, samples {} \
+         (samples of a surface grow as r⁻²; distance queries follow the feature curves, r⁻¹).\n",
+        fit_text(&t_r),
+        fit_text(&m_r),
+        fit_text(&q_r),
+        fit_text(&s_r)
+    );
+    let plot = Plot {
+        title: format!("{}: sampling against radius", scene.name),
+        x_label: "r / diagonal".into(),
+        y_label: "value / value at the largest r".into(),
+        series: [
+            ("time", &t_r),
+            ("peak memory", &m_r),
+            ("distance queries", &q_r),
+            ("samples", &s_r),
+        ]
+        .iter()
+        .map(|(name, pts)| normalised(name, pts))
+        .collect(),
+    };
+    if plot.write_svg(&out_dir.join("scaling_radius.svg"))? {
+        let _ = writeln!(md, "![scaling against radius](report/scaling_radius.svg)\n");
+        plots.push("scaling_radius.svg".into());
+    }
+    Ok(())
+}
+
+/// A series divided by its first value.
+fn normalised(name: &str, points: &[(f64, f64)]) -> Series {
+    let first = points.first().map_or(1.0, |p| p.1);
+    Series {
+        name: format!("{name} (k = {})", fit_text(points)),
+        points: points.iter().map(|&(x, y)| (x, y / first)).collect(),
+    }
+}
+
+fn pruning(md: &mut String, scenes: &[Scene], cfg: &Config) -> Result<(), String> {
+    let _ = writeln!(md, "## 5. What pruning left out\n");
+    let _ = writeln!(
+        md,
+        "The DNF builder prunes while it builds (terms outside an operand's box, empty boxes, \
+         terms outside a literal, duplicates and subsumed terms, literals that cannot matter) and \
+         then runs passes over the finished DNF. The construction-time pruning cannot be turned \
+         off; the final passes can (`DnfOptions::prune`), together. Per pass, the terms and \
+         literals it removed; then sampling at r = {} diag with and without the final passes.\n",
+        cfg.radii[cfg.radii.len() / 2]
+    );
+    let _ = writeln!(
+        md,
+        "| scene | dropped while building (outside operand box / empty box / outside a literal / duplicate / subsumed terms; literals inside / duplicate) | peak terms |"
+    );
+    let _ = writeln!(md, "|---|---|---:|");
+    for s in scenes {
+        let c = &s.dnf.stats.construction;
+        let _ = writeln!(
+            md,
+            "| {} | {} / {} / {} / {} / {}; {} / {} | {} |",
+            s.name,
+            c.terms_outside_operand_bounds,
+            c.terms_empty_bounds,
+            c.terms_outside_literal,
+            c.terms_duplicate,
+            c.terms_subsumed,
+            c.literals_inside,
+            c.literals_duplicate,
+            c.peak_terms
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\n| scene | pass | terms before → after | literals before → after | quadrics before → after |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|");
+    for s in scenes {
+        for p in &s.dnf.stats.passes {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} → {} | {} → {} | {} → {} |",
+                s.name,
+                p.pass,
+                p.terms_before,
+                p.terms_after,
+                p.literals_before,
+                p.literals_after,
+                p.quadrics_before,
+                p.quadrics_after
+            );
+        }
+    }
+    let _ = writeln!(
+        md,
+        "\n| scene | final passes | terms | literals | quadrics | samples | distance queries | sampling ms |"
+    );
+    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|");
+    let rel = cfg.radii[cfg.radii.len() / 2];
+    for s in scenes {
+        for prune in [true, false] {
+            let options = DnfOptions {
+                prune,
+                ..DnfOptions::default()
+            };
+            let compiled = compile_file(&s.path, &options)?;
+            let dnf = compiled.dnf.ok_or("did not compile")?;
+            let (sampling, t) = one_thread(|| timed_sample(&dnf, rel * s.diag))??;
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} | {} | {} | {} |",
+                s.name,
+                if prune { "on" } else { "off" },
+                dnf.terms.len(),
+                dnf.literal_count(),
+                dnf.quadrics.len(),
+                sampling.samples.len(),
+                sampling.stats.subdivision.distance_queries,
+                ms(t)
+            );
+        }
+    }
+    let _ = writeln!(md);
+    Ok(())
+}
+
+fn stability_section(md: &mut String, root: &Path) -> Result<(), String> {
+    let dir = root.join("tests/stability");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map_err(|e| format!("cannot list {}: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "qcsg" || e == "scad"))
+        .collect();
+    files.sort();
+    let _ = writeln!(md, "## 6. Stability cases\n");
+    let _ = writeln!(
+        md,
+        "The {} scenes of `tests/stability/`, as `cargo test -p qcsg-bench --test stability` runs \
+         them (the test checks each outcome against the `// expect:` line of its file). Coverage \
+         is over surface and feature-curve reference points, in units of the radius (≤ 1 is \
+         the guarantee); on-surface error relative to the diagonal (limit {:.0e}, plus 8 ulps of the \
+         largest coordinate for scenes far from the origin).\n",
+        files.len(),
+        qcsg_bench::measure::ON_SURFACE_LIMIT
+    );
+    let _ = writeln!(
+        md,
+        "| case | expect | as expected | failed checks | samples | r / diag | coverage / r | on-surface / diag | reference points | sampling ms | stresses |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---:|---:|---:|---:|---:|---:|---|");
+    for path in &files {
+        let name = path
+            .file_stem()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let start = Instant::now();
+        let result = run_case(path)?;
+        eprintln!("stability {name}: {:.2} s", secs(start.elapsed()));
+        let expect = match &result.header.expect {
+            stability::Expect::Ok => "ok".to_owned(),
+            stability::Expect::Empty => "empty".to_owned(),
+            stability::Expect::Error(c) => format!("error {c}"),
+            stability::Expect::KnownFailure(c) => format!("known-failure {}", stability::names(c)),
+        };
+        let verdict = match result.verdict() {
+            Ok(()) => "yes".to_owned(),
+            Err(why) => format!("**no**: {}", why.replace('|', "/")),
+        };
+        let (samples, cov, on, time) = match &result.measured {
+            Some(m) => (
+                m.sampling.samples.len().to_string(),
+                format!("{:.3}", m.coverage_over_radius()),
+                sci(m.on_surface),
+                ms(m.time),
+            ),
+            None => ("–".into(), "–".into(), "–".into(), "–".into()),
+        };
+        let _ = writeln!(
+            md,
+            "| {name} | {expect} | {verdict} | {} | {samples} | {} | {cov} | {on} | {} + {} | {time} | {} |",
+            if result.failed.is_empty() {
+                "–".into()
+            } else {
+                stability::names(&result.failed)
+            },
+            result.header.relative_radius,
+            result.reference_counts.0,
+            result.reference_counts.1,
+            result.header.stresses.replace('|', "/")
+        );
+    }
+    let _ = writeln!(md);
+    Ok(())
+}
