@@ -6,6 +6,7 @@
 //! which is how OpenSCAD lets `$fn` set at a call reach everything the callee instantiates.
 
 use std::cell::RefCell;
+use std::collections::HashMap;
 use std::rc::Rc;
 
 use qcsg_diag::FileId;
@@ -46,10 +47,53 @@ pub struct Children<'a> {
     pub env: Rc<Frame<'a>>,
 }
 
+/// Scopes with more variables than this look names up through a hash index; smaller ones (the
+/// frames of most calls) scan their list, which costs less than building the index.
+const INDEX_FROM: usize = 16;
+
+/// The variables of one scope: each name once, in order of first assignment.
+#[derive(Debug, Default)]
+struct Vars<'a> {
+    list: Vec<(&'a str, Value<'a>)>,
+    /// Position in `list` of each name, once `list` has grown past [`INDEX_FROM`].
+    index: HashMap<&'a str, usize>,
+}
+
+impl<'a> Vars<'a> {
+    fn position(&self, name: &str) -> Option<usize> {
+        if self.list.len() > INDEX_FROM {
+            self.index.get(name).copied()
+        } else {
+            self.list.iter().position(|(n, _)| *n == name)
+        }
+    }
+
+    fn set(&mut self, name: &'a str, value: Value<'a>) {
+        match self.position(name) {
+            Some(i) => self.list[i].1 = value,
+            None => {
+                self.list.push((name, value));
+                if self.list.len() > INDEX_FROM {
+                    if self.index.is_empty() {
+                        self.index = self
+                            .list
+                            .iter()
+                            .enumerate()
+                            .map(|(i, (n, _))| (*n, i))
+                            .collect();
+                    } else {
+                        self.index.insert(name, self.list.len() - 1);
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// One scope.
 #[derive(Debug, Default)]
 pub struct Frame<'a> {
-    vars: RefCell<Vec<(&'a str, Value<'a>)>>,
+    vars: RefCell<Vars<'a>>,
     functions: RefCell<Vec<(&'a str, Rc<FunctionDef<'a>>)>>,
     modules: RefCell<Vec<(&'a str, Rc<ModuleDef<'a>>)>>,
     /// The enclosing scope in the source.
@@ -96,17 +140,12 @@ impl<'a> Frame<'a> {
 
     /// Sets (or replaces) a variable of this scope.
     pub fn set(&self, name: &'a str, value: Value<'a>) {
-        let mut vars = self.vars.borrow_mut();
-        if let Some(slot) = vars.iter_mut().find(|(n, _)| *n == name) {
-            slot.1 = value;
-        } else {
-            vars.push((name, value));
-        }
+        self.vars.borrow_mut().set(name, value);
     }
 
     /// The variables of this scope, in assignment order.
     pub fn locals(&self) -> Vec<(&'a str, Value<'a>)> {
-        self.vars.borrow().clone()
+        self.vars.borrow().list.clone()
     }
 
     /// The functions defined in this scope itself.
@@ -121,12 +160,8 @@ impl<'a> Frame<'a> {
 
     /// The variable of this scope alone.
     pub fn get_local(&self, name: &str) -> Option<Value<'a>> {
-        self.vars
-            .borrow()
-            .iter()
-            .rev()
-            .find(|(n, _)| *n == name)
-            .map(|(_, v)| v.clone())
+        let vars = self.vars.borrow();
+        vars.position(name).map(|i| vars.list[i].1.clone())
     }
 
     /// Looks a variable up: `$`-names along the dynamic chain, others along the lexical chain.
@@ -219,5 +254,27 @@ mod tests {
         assert_eq!(callee.lookup("a").and_then(|v| v.as_number()), Some(1.0));
         assert_eq!(callee.lookup("$s").and_then(|v| v.as_number()), Some(2.0));
         assert!(callee.lookup("b").is_none());
+    }
+
+    #[test]
+    fn large_scopes_keep_one_value_per_name_in_order() {
+        let frame = Frame::root();
+        let names: Vec<String> = (0..3 * INDEX_FROM).map(|i| format!("v{i}")).collect();
+        for round in 0..2 {
+            for (i, name) in names.iter().enumerate() {
+                frame.set(name, Value::Number((i + round * 1000) as f64));
+            }
+        }
+        let locals = frame.locals();
+        assert_eq!(locals.len(), names.len());
+        for (i, (name, value)) in locals.iter().enumerate() {
+            assert_eq!(*name, names[i]);
+            assert_eq!(value.as_number(), Some((i + 1000) as f64));
+            assert_eq!(
+                frame.get_local(name).and_then(|v| v.as_number()),
+                Some((i + 1000) as f64)
+            );
+        }
+        assert!(frame.get_local("v999").is_none());
     }
 }

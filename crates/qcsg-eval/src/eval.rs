@@ -78,6 +78,43 @@ struct ScopeItems<'a> {
     definitions: Vec<(FileId, &'a Stmt)>,
     uses: Vec<FileId>,
     items: Vec<(FileId, &'a Stmt)>,
+    /// Position of each name in `assignments`, once there are more than [`INDEX_FROM`].
+    assignment_index: HashMap<&'a str, usize>,
+}
+
+/// Scopes with more assignments than this find a reassigned name through a hash index; smaller
+/// ones (most bodies, collected at every call) scan, which costs less than building the index.
+const INDEX_FROM: usize = 16;
+
+impl<'a> ScopeItems<'a> {
+    /// Records `name = value`: a name assigned again keeps its first position, takes the last
+    /// value.
+    fn assign(&mut self, name: &'a str, value: &'a Expr, file: FileId) {
+        let position = if self.assignments.len() > INDEX_FROM {
+            self.assignment_index.get(name).copied()
+        } else {
+            self.assignments.iter().position(|(n, _, _)| *n == name)
+        };
+        match position {
+            Some(i) => self.assignments[i] = (name, value, file),
+            None => {
+                self.assignments.push((name, value, file));
+                if self.assignments.len() > INDEX_FROM {
+                    if self.assignment_index.is_empty() {
+                        self.assignment_index = self
+                            .assignments
+                            .iter()
+                            .enumerate()
+                            .map(|(i, (n, _, _))| (*n, i))
+                            .collect();
+                    } else {
+                        self.assignment_index
+                            .insert(name, self.assignments.len() - 1);
+                    }
+                }
+            }
+        }
+    }
 }
 
 /// What evaluating a function body in tail position produced.
@@ -229,16 +266,7 @@ impl<'a> Evaluator<'a> {
             self.collect(main, &tree.stmts, &mut items);
         }
         for (name, expr) in self.defines {
-            match items
-                .assignments
-                .iter_mut()
-                .find(|(n, _, _)| *n == name.as_str())
-            {
-                Some(slot) => *slot = (name.as_str(), expr, self.define_file),
-                None => items
-                    .assignments
-                    .push((name.as_str(), expr, self.define_file)),
-            }
+            items.assign(name.as_str(), expr, self.define_file);
         }
         let edges = self.eval_scope(&items, &root)?;
         let source = Source::new(main, Span::default());
@@ -261,12 +289,7 @@ impl<'a> Evaluator<'a> {
                     modifier: Modifier::Disable,
                     ..
                 } => {}
-                StmtKind::Assign { name, value } => {
-                    match out.assignments.iter_mut().find(|(n, _, _)| *n == name.name) {
-                        Some(slot) => *slot = (&name.name, value, file),
-                        None => out.assignments.push((&name.name, value, file)),
-                    }
-                }
+                StmtKind::Assign { name, value } => out.assign(&name.name, value, file),
                 StmtKind::ModuleDef { .. } | StmtKind::FunctionDef { .. } => {
                     out.definitions.push((file, stmt))
                 }
@@ -997,21 +1020,21 @@ impl<'a> Evaluator<'a> {
         let items = ScopeItems {
             assignments: children.assignments.clone(),
             definitions: children.definitions.clone(),
-            uses: Vec::new(),
-            items: Vec::new(),
+            ..ScopeItems::default()
         };
         self.define(&items, &frame)?;
         self.assign(&items, &frame)?;
         let mut edges = Vec::new();
         for i in indices {
             let (file, stmt) = children.items[i];
-            if let Some(edge) = self.eval_stmt(
+            let made = self.eval_stmt(
                 stmt,
                 &Cx {
                     frame: frame.clone(),
                     file,
                 },
-            )? {
+            );
+            if let Some(Some(edge)) = Self::recover(made)? {
                 edges.push(edge);
             }
         }
