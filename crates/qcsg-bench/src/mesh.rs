@@ -5,9 +5,11 @@
 //! directions: from every exact reference point to the mesh (exact point-triangle distances,
 //! triangles found through a uniform grid), and from points spread over every triangle (its
 //! vertices, edge midpoints and centroid, subdivided until no more than `spacing` apart) to the
-//! exact surface (projected onto the nearest quadrics and kept where the projection is on the
-//! CSG surface, or else the nearest reference point). Both directions are upper bounds on the
-//! true directed distances up to the density of the points used, which the report states.
+//! exact surface (projected onto the quadrics and kept where the projection is on the CSG
+//! surface; else bisected along the quadric to the feature curve between the projection and
+//! the quadric's nearest reference point; or the nearest reference point). Both directions
+//! are upper bounds on the true directed distances up to the density of the points used, which
+//! the report states.
 
 use std::collections::HashMap;
 
@@ -15,7 +17,7 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use qcsg_csg::Dnf;
 use qcsg_quadric::DVec3;
 
-use crate::reference::{SurfacePoint, side_step};
+use crate::reference::{SurfacePoint, on_csg_surface, project, side_step};
 
 /// A triangle soup.
 #[derive(Clone, Debug, Default)]
@@ -239,16 +241,60 @@ fn triangle_points(t: &[DVec3; 3], spacing: f64, out: &mut Vec<DVec3>) {
     }
 }
 
-/// The distance from `p` to the exact CSG surface: the nearest point on a quadric's surface
-/// along the gradient that lies on the CSG surface, or the nearest reference point.
-fn distance_to_surface(dnf: &Dnf, p: DVec3, refs: &ImmutableKdTree<f64, 3>, eps: f64) -> f64 {
+/// The reference points of each quadric in a k-d tree (with the points themselves).
+struct RefsByQuadric {
+    trees: Vec<Option<(ImmutableKdTree<f64, 3>, Vec<DVec3>)>>,
+}
+
+impl RefsByQuadric {
+    fn new(dnf: &Dnf, refs: &[SurfacePoint]) -> Self {
+        let mut lists: Vec<Vec<DVec3>> = vec![Vec::new(); dnf.quadrics.len()];
+        for r in refs {
+            if let Some(list) = lists.get_mut(r.quadric as usize) {
+                list.push(r.position);
+            }
+        }
+        let trees = lists
+            .into_iter()
+            .map(|list| {
+                let array: Vec<[f64; 3]> = list.iter().map(|p| p.to_array()).collect();
+                ImmutableKdTree::new_from_slice(&array)
+                    .ok()
+                    .map(|tree| (tree, list))
+            })
+            .collect();
+        Self { trees }
+    }
+
+    /// The reference point of quadric `q` nearest to `p`.
+    fn nearest(&self, q: usize, p: DVec3) -> Option<DVec3> {
+        let (tree, points) = self.trees.get(q)?.as_ref()?;
+        let found = tree
+            .query(&p.to_array())
+            .nearest_one::<SquaredEuclidean<f64>>()
+            .execute();
+        points.get(found.item as usize).copied()
+    }
+}
+
+/// The distance from `p` to the exact CSG surface (an upper bound): over every quadric, the
+/// foot of the normal through `p` when the solid changes across it; otherwise the feature
+/// curve found by bisection along the quadric between that foot and the quadric's nearest
+/// reference point; and the nearest reference point of all.
+fn distance_to_surface(
+    dnf: &Dnf,
+    p: DVec3,
+    refs: &ImmutableKdTree<f64, 3>,
+    by_quadric: &RefsByQuadric,
+    eps: f64,
+) -> f64 {
     let mut best = refs
         .query(&p.to_array())
         .nearest_one::<SquaredEuclidean<f64>>()
         .execute()
         .distance
         .sqrt();
-    for entry in &dnf.quadrics {
+    for (index, entry) in dnf.quadrics.iter().enumerate() {
         let q = &entry.quadric;
         let Some(n) = q.normal(p) else { continue };
         for t in q.intersect_line(p, n).roots() {
@@ -256,9 +302,28 @@ fn distance_to_surface(dnf: &Dnf, p: DVec3, refs: &ImmutableKdTree<f64, 3>, eps:
                 continue;
             }
             let x = p + t * n;
-            let Some(m) = q.normal(x) else { continue };
-            if dnf.contains(x - eps * m) != dnf.contains(x + eps * m) {
-                best = t.abs();
+            match on_csg_surface(dnf, q, x, eps) {
+                Some(true) => best = t.abs(),
+                Some(false) => {
+                    // Off the CSG surface: walk along the quadric towards a reference point of
+                    // it, keeping the last point on the surface.
+                    let Some(target) = by_quadric.nearest(index, x) else {
+                        continue;
+                    };
+                    let (mut on, mut off) = (target, x);
+                    for _ in 0..40 {
+                        let Some(m) = project(q, 0.5 * (on + off)) else {
+                            break;
+                        };
+                        match on_csg_surface(dnf, q, m, eps) {
+                            Some(true) => on = m,
+                            Some(false) => off = m,
+                            None => break,
+                        }
+                    }
+                    best = best.min((p - on).length());
+                }
+                None => {}
             }
         }
     }
@@ -287,6 +352,7 @@ pub fn mesh_distance(dnf: &Dnf, mesh: &Mesh, refs: &[SurfacePoint], spacing: f64
         return result;
     };
     let eps = side_step(dnf);
+    let by_quadric = RefsByQuadric::new(dnf, refs);
     let mut points = Vec::new();
     for t in &mesh.triangles {
         triangle_points(t, spacing, &mut points);
@@ -295,7 +361,7 @@ pub fn mesh_distance(dnf: &Dnf, mesh: &Mesh, refs: &[SurfacePoint], spacing: f64
     use rayon::prelude::*;
     result.mesh_to_surface = points
         .par_iter()
-        .map(|&p| distance_to_surface(dnf, p, &tree, eps))
+        .map(|&p| distance_to_surface(dnf, p, &tree, &by_quadric, eps))
         .reduce(|| 0.0, f64::max);
     result
 }

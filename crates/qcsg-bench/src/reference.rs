@@ -126,13 +126,13 @@ pub fn reference_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<SurfacePoint> 
 }
 
 /// Whether the solid changes across quadric `q` at `x` (`±eps` along its normal).
-fn on_csg_surface(dnf: &Dnf, q: &Quadric, x: DVec3, eps: f64) -> Option<bool> {
+pub fn on_csg_surface(dnf: &Dnf, q: &Quadric, x: DVec3, eps: f64) -> Option<bool> {
     let n = q.normal(x)?;
     Some(dnf.contains(x - eps * n) != dnf.contains(x + eps * n))
 }
 
 /// The point of `q` nearest to `x` along the normal at `x` (a projection for nearby points).
-fn project(q: &Quadric, x: DVec3) -> Option<DVec3> {
+pub fn project(q: &Quadric, x: DVec3) -> Option<DVec3> {
     let n = q.normal(x)?;
     let t = q
         .intersect_line(x, n)
