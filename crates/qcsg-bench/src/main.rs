@@ -761,6 +761,15 @@ fn ball_grid(n: usize) -> String {
     text
 }
 
+/// A count that may be astronomically large.
+fn count(x: f64) -> String {
+    if x < 1e9 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
 fn fit_text(points: &[(f64, f64)]) -> String {
     match power_law(points) {
         Some((k, _)) => format!("{k:.2}"),
@@ -945,8 +954,9 @@ fn pruning(
     for (name, path) in &cases {
         let c = compile_file(path, &DnfOptions::default())?;
         let codes = c.error_codes();
+        let unpruned = c.unpruned;
         let dnf = c.dnf.ok_or_else(|| format!("{name}: errors {codes:?}"))?;
-        compiled.push((name.clone(), path.clone(), dnf));
+        compiled.push((name.clone(), path.clone(), dnf, unpruned));
     }
     let _ = writeln!(md, "## 5. What pruning left out\n");
     let _ = writeln!(
@@ -955,15 +965,38 @@ fn pruning(
          terms outside a literal, duplicates and subsumed terms, literals that cannot matter) and \
          then runs passes over the finished DNF. The construction-time pruning cannot be turned \
          off; the final passes can (`DnfOptions::prune`), together. Per pass, the terms and \
-         literals it removed; then sampling at r = {} diag with and without the final passes.\n",
+         literals it removed; then sampling at r = {} diag with and without the final passes. \
+         The size of the DNF multiplied out with no pruning at all (De Morgan and distribution \
+         over the evaluated DAG) is counted, not built: `qcsg-csg` has no switch for its \
+         construction-time pruning, so distance queries and samples without it are not \
+         measured.\n",
         cfg.radii[cfg.radii.len() / 2]
     );
+    let _ = writeln!(
+        md,
+        "| scene | multiplied out, no pruning: terms | literals | built: terms | literals | \
+         quadrics |"
+    );
+    let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|");
+    for (name, _, dnf, unpruned) in &compiled {
+        let (t, l) = unpruned.map_or(("–".into(), "–".into()), |u| {
+            (count(u.terms), count(u.literals))
+        });
+        let _ = writeln!(
+            md,
+            "| {name} | {t} | {l} | {} | {} | {} |",
+            dnf.terms.len(),
+            dnf.literal_count(),
+            dnf.quadrics.len()
+        );
+    }
+    let _ = writeln!(md);
     let _ = writeln!(
         md,
         "| scene | dropped while building (outside operand box / empty box / outside a literal / duplicate / subsumed terms; literals inside / duplicate) | peak terms |"
     );
     let _ = writeln!(md, "|---|---|---:|");
-    for (name, _, dnf) in &compiled {
+    for (name, _, dnf, _) in &compiled {
         let c = &dnf.stats.construction;
         let _ = writeln!(
             md,
@@ -984,7 +1017,7 @@ fn pruning(
         "\n| scene | pass | terms before → after | literals before → after | quadrics before → after |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|");
-    for (name, _, dnf) in &compiled {
+    for (name, _, dnf, _) in &compiled {
         for p in &dnf.stats.passes {
             let _ = writeln!(
                 md,
@@ -1006,7 +1039,7 @@ fn pruning(
     );
     let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|");
     let rel = cfg.radii[cfg.radii.len() / 2];
-    for (name, path, pruned) in &compiled {
+    for (name, path, pruned, _) in &compiled {
         let diag = diagonal(pruned);
         for prune in [true, false] {
             let options = DnfOptions {
