@@ -309,6 +309,27 @@ impl Camera {
         self.projection
     }
 
+    /// The size of one pixel in world units: on the plane at `distance` in front of the eye for
+    /// perspective cameras, anywhere for orthographic ones.
+    pub fn pixel_footprint(&self, distance: f64, size: ImageSize) -> f64 {
+        let pixel = 2.0 * self.half_height / f64::from(size.height());
+        match self.projection {
+            Projection::Perspective => pixel * distance,
+            Projection::Orthographic => pixel,
+        }
+    }
+
+    /// Half the visible height: at unit distance (perspective) or in world units
+    /// (orthographic).
+    pub fn half_height(&self) -> f64 {
+        self.half_height
+    }
+
+    /// Width over height of the image the camera was made for.
+    pub fn aspect(&self) -> f64 {
+        self.aspect
+    }
+
     /// The ray through the point `(x, y)` of the image, in pixels from the top left corner
     /// (pixel centres at half-integers), with a unit direction; its parameter is the distance
     /// from the eye (perspective) or from the eye's plane (orthographic).

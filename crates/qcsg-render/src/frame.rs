@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 
 use crate::camera::{Camera, ImageSize};
-use crate::raytrace::{Hit, Scratch, trace};
+use crate::raytrace::{Hit, Ray, Scratch, trace};
 use crate::scene::{Layer, Scene};
 use crate::shade::{self, Rgb};
 
@@ -149,66 +149,138 @@ fn render_row(
     };
     for x in 0..size.width() {
         let ray = camera.ray(f64::from(x) + 0.5, f64::from(y) + 0.5, size);
-        let mut color = options.background;
-        let mut depth = f64::INFINITY;
-        let mut id = PixelId::MISS;
-        if let Some(solid) = &scene.solid
-            && let Some(hit) = trace_layer(solid, &ray, scratch)
-        {
-            let quadric = hit
-                .quadric
-                .and_then(|q| solid.dnf().quadrics.get(q as usize));
-            let mut base = quadric
-                .and_then(|q| q.color)
-                .map_or(options.default_color, |c| [c[0], c[1], c[2]]);
-            if quadric.is_some_and(|q| q.highlight) {
-                base = shade::blend(base, options.highlight_color, options.highlight_alpha);
-            }
-            color = shade::shade(base, hit.normal, ray.direction, camera);
-            depth = hit.t;
-            id = PixelId {
-                quadric: hit.quadric.unwrap_or(PixelId::NONE),
-                term: hit.term,
-            };
-        }
-        // Translucent layers in front of the solid, the farther one first.
-        let layers = [
-            (
-                &scene.backgrounds,
-                options.background_part_color,
-                options.background_part_alpha,
-            ),
-            (
-                &scene.highlights,
-                options.highlight_color,
-                options.highlight_alpha,
-            ),
-        ];
-        let mut overlays: [Option<(f64, Rgb, f64)>; 2] = [None, None];
-        for (slot, (layer, tint, alpha)) in overlays.iter_mut().zip(layers) {
-            if let Some(layer) = layer
-                && let Some(hit) = trace_layer(layer, &ray, scratch)
-                && hit.t < depth
-            {
-                *slot = Some((
-                    hit.t,
-                    shade::shade(tint, hit.normal, ray.direction, camera),
-                    alpha,
-                ));
-            }
-        }
-        let mut overlays: Vec<_> = overlays.into_iter().flatten().collect();
-        overlays.sort_by(|a, b| b.0.total_cmp(&a.0));
-        for (_, over, alpha) in overlays {
-            color = shade::blend(color, over, alpha);
-        }
-        row.rgb.extend(shade::to_rgb8(color));
-        row.depth.push(depth);
-        row.ids.push(id);
+        let hits = LayerHits {
+            solid: scene
+                .solid
+                .as_ref()
+                .and_then(|layer| trace_layer(layer, &ray, scratch)),
+            highlight: scene
+                .highlights
+                .as_ref()
+                .and_then(|layer| trace_layer(layer, &ray, scratch)),
+            background: scene
+                .backgrounds
+                .as_ref()
+                .and_then(|layer| trace_layer(layer, &ray, scratch)),
+        };
+        let pixel = shade_pixel(scene, camera, options, &ray, &hits);
+        row.rgb.extend(pixel.rgb);
+        row.depth.push(pixel.depth);
+        row.ids.push(pixel.id);
     }
     row
 }
 
-fn trace_layer(layer: &Layer, ray: &crate::raytrace::Ray, scratch: &mut Scratch) -> Option<Hit> {
+/// What one pixel's ray meets first in each layer of a scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LayerHits {
+    /// The solid's visible surface.
+    pub solid: Option<Hit>,
+    /// The first surface of the highlighted parts.
+    pub highlight: Option<Hit>,
+    /// The first surface of the background parts.
+    pub background: Option<Hit>,
+}
+
+/// One finished pixel: its colour, and the depth and id of the solid there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pixel {
+    /// 8-bit RGB.
+    pub rgb: [u8; 3],
+    /// The solid's ray parameter, infinite for a miss.
+    pub depth: f64,
+    /// The solid's quadric and term.
+    pub id: PixelId,
+}
+
+/// Shades one pixel from what its `ray` met in each layer: the solid lit with its colour, then
+/// the translucent layers that lie in front of it blended over, the farther one first. Every
+/// renderer shades through this function, so that images of the same hits agree exactly.
+pub fn shade_pixel(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    ray: &Ray,
+    hits: &LayerHits,
+) -> Pixel {
+    let mut color = options.background;
+    let mut depth = f64::INFINITY;
+    let mut id = PixelId::MISS;
+    if let (Some(solid), Some(hit)) = (&scene.solid, hits.solid) {
+        let quadric = hit
+            .quadric
+            .and_then(|q| solid.dnf().quadrics.get(q as usize));
+        let mut base = quadric
+            .and_then(|q| q.color)
+            .map_or(options.default_color, |c| [c[0], c[1], c[2]]);
+        if quadric.is_some_and(|q| q.highlight) {
+            base = shade::blend(base, options.highlight_color, options.highlight_alpha);
+        }
+        color = shade::shade(base, hit.normal, ray.direction, camera);
+        depth = hit.t;
+        id = PixelId {
+            quadric: hit.quadric.unwrap_or(PixelId::NONE),
+            term: hit.term,
+        };
+    }
+    // Translucent layers in front of the solid, the farther one first.
+    let layers = [
+        (
+            hits.background,
+            options.background_part_color,
+            options.background_part_alpha,
+        ),
+        (
+            hits.highlight,
+            options.highlight_color,
+            options.highlight_alpha,
+        ),
+    ];
+    let mut overlays: [Option<(f64, Rgb, f64)>; 2] = [None, None];
+    for (slot, (hit, tint, alpha)) in overlays.iter_mut().zip(layers) {
+        if let Some(hit) = hit
+            && hit.t < depth
+        {
+            *slot = Some((
+                hit.t,
+                shade::shade(tint, hit.normal, ray.direction, camera),
+                alpha,
+            ));
+        }
+    }
+    let mut overlays: Vec<_> = overlays.into_iter().flatten().collect();
+    overlays.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for (_, over, alpha) in overlays {
+        color = shade::blend(color, over, alpha);
+    }
+    Pixel {
+        rgb: shade::to_rgb8(color),
+        depth,
+        id,
+    }
+}
+
+/// Builds a frame from a function of the pixel coordinates, rows in parallel (rayon) and
+/// collected in order, so the result does not depend on the number of threads.
+pub fn frame_from_pixels(size: ImageSize, pixel: &(dyn Fn(u32, u32) -> Pixel + Sync)) -> Frame {
+    let rows: Vec<Vec<Pixel>> = (0..size.height())
+        .into_par_iter()
+        .map(|y| (0..size.width()).map(|x| pixel(x, y)).collect())
+        .collect();
+    let mut frame = Frame {
+        size,
+        rgb: Vec::with_capacity(3 * size.pixel_count()),
+        depth: Vec::with_capacity(size.pixel_count()),
+        ids: Vec::with_capacity(size.pixel_count()),
+    };
+    for pixel in rows.into_iter().flatten() {
+        frame.rgb.extend(pixel.rgb);
+        frame.depth.push(pixel.depth);
+        frame.ids.push(pixel.id);
+    }
+    frame
+}
+
+fn trace_layer(layer: &Layer, ray: &Ray, scratch: &mut Scratch) -> Option<Hit> {
     trace(layer.dnf(), layer.boxes(), ray, 0.0, scratch)
 }

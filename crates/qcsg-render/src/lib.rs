@@ -40,6 +40,8 @@ pub mod scene;
 pub mod shade;
 
 pub use camera::{Camera, CameraError, ImageSize, Projection, View};
-pub use frame::{Frame, PixelId, RenderOptions, render};
+pub use frame::{
+    Frame, LayerHits, Pixel, PixelId, RenderOptions, frame_from_pixels, render, shade_pixel,
+};
 pub use raytrace::{Hit, Ray, trace};
 pub use scene::Scene;

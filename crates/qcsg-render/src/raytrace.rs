@@ -76,6 +76,24 @@ pub struct Hit {
     pub term: u32,
 }
 
+impl Hit {
+    /// The hit of `ray` on the surface of `quadric` (an index into `dnf`'s quadrics) at
+    /// parameter `t`, for renderers that find `t` by other means: the point and the normal are
+    /// computed here in f64, exactly as the ray tracer computes them. `None` if the quadric does
+    /// not exist.
+    pub fn on_quadric(dnf: &Dnf, ray: &Ray, t: f64, quadric: u32, term: u32) -> Option<Self> {
+        let surface = &dnf.quadrics.get(quadric as usize)?.quadric;
+        let point = ray.at(t);
+        Some(Self {
+            t,
+            point,
+            normal: surface.normal(point).unwrap_or(-ray.direction),
+            quadric: Some(quadric),
+            term,
+        })
+    }
+}
+
 /// Buffers reused from ray to ray, so that tracing allocates nothing in the steady state.
 #[derive(Clone, Debug, Default)]
 pub struct Scratch {
