@@ -313,6 +313,7 @@ fn run(args: &Args) -> Result<(), String> {
          the solid changes across them, plus points on the feature curves found by bisection.\n",
         if args.quick { " -- --quick" } else { "" }
     );
+    let _ = writeln!(md, "{{SUMMARY}}");
     let _ = writeln!(md, "Benchmark scenes (`crates/qcsg-bench/scenes/`):\n");
     let _ = writeln!(
         md,
@@ -547,10 +548,13 @@ fn run(args: &Args) -> Result<(), String> {
     pruning(&mut md, &scenes, &cfg, &scene_dir)?;
 
     // Stability.
-    stability_section(&mut md, &root)?;
+    let stable = stability_section(&mut md, &root)?;
+    let summary = summary(&scenes, &rows, &peer_rows, stable);
 
     let total = started.elapsed();
-    let md = md.replace("{TOTAL}", &format!("{:.0} s", secs(total)));
+    let md = md
+        .replace("{TOTAL}", &format!("{:.0} s", secs(total)))
+        .replace("{SUMMARY}\n", &summary);
     let path = root.join("docs/report.md");
     std::fs::write(&path, md).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     // Plots of earlier runs that this run did not draw would be stale: remove them.
@@ -569,6 +573,85 @@ fn run(args: &Args) -> Result<(), String> {
         secs(total)
     );
     Ok(())
+}
+
+/// The summary at the top of the report, from the measurements.
+fn summary(
+    scenes: &[Scene],
+    rows: &[Vec<Row>],
+    peer_rows: &[Vec<PeerRow>],
+    stable: (usize, usize, usize),
+) -> String {
+    let all = || rows.iter().flatten();
+    let worst_cover = all()
+        .map(|r| r.m.coverage_over_radius())
+        .fold(0.0, f64::max);
+    let worst_on = all().map(|r| r.m.on_surface).fold(0.0, f64::max);
+    let beyond: usize = all()
+        .map(|r| r.m.coverage.beyond_reach + r.m.edge_coverage.beyond_reach)
+        .sum();
+    let wrong: usize = all()
+        .flat_map(|r| r.images.iter())
+        .map(|i| i.agreement.holes + i.agreement.spill + i.agreement.wrong_quadric)
+        .sum();
+    let images = all().map(|r| r.images.len()).sum::<usize>();
+    let unresolved = all()
+        .filter(|r| r.m.sampling.stats.subdivision.unresolved > 0)
+        .count();
+    let measurements = all().count();
+    let mut text = String::from("## Summary\n\n");
+    let _ = writeln!(
+        text,
+        "- Coverage: over {measurements} samplings of {} scenes, the farthest reference point \
+         from a sample of its quadric was {worst_cover:.3} r ({beyond} points beyond r); the \
+         largest on-surface error {} of the diagonal.",
+        scenes.len(),
+        sci(worst_on)
+    );
+    let _ = writeln!(
+        text,
+        "- In {unresolved} of the {measurements} samplings the sampler gave up rectangles it \
+         could not prove covered (\"unresolved\"), although the reference points found no hole."
+    );
+    let _ = writeln!(
+        text,
+        "- Images from the samples (CPU splat model) against the ray tracer: {wrong} differing \
+         pixels over {images} images."
+    );
+    let peer_best: Vec<String> = scenes
+        .iter()
+        .zip(peer_rows)
+        .filter_map(|(s, list)| {
+            let best = list.iter().filter(|p| p.outcome == "ok").min_by(|a, b| {
+                let (x, y) = (
+                    a.surface_to_mesh.max(a.mesh_to_surface),
+                    b.surface_to_mesh.max(b.mesh_to_surface),
+                );
+                x.total_cmp(&y)
+            })?;
+            Some(format!(
+                "{} {} of the diagonal at $fn = {} in {} ms",
+                s.name,
+                sci(best.surface_to_mesh.max(best.mesh_to_surface) / s.diag),
+                best.fn_value,
+                ms(best.time)
+            ))
+        })
+        .collect();
+    if !peer_best.is_empty() {
+        let _ = writeln!(
+            text,
+            "- OpenSCAD's closest meshes (Hausdorff distance to the exact surface): {}.",
+            peer_best.join("; ")
+        );
+    }
+    let _ = writeln!(
+        text,
+        "- Stability: {} cases, {} as their headers expect, {} keeping every guarantee \
+         (the rest are recorded known failures, an expected error or an empty result).\n",
+        stable.0, stable.1, stable.2
+    );
+    text
 }
 
 fn failed_peer(fn_value: u32, time: Duration, why: String) -> PeerRow {
@@ -1067,7 +1150,9 @@ fn pruning(
     Ok(())
 }
 
-fn stability_section(md: &mut String, root: &Path) -> Result<(), String> {
+/// Writes the stability table; returns (cases, as expected, keeping every guarantee).
+fn stability_section(md: &mut String, root: &Path) -> Result<(usize, usize, usize), String> {
+    let mut counts = (0, 0, 0);
     let dir = root.join("tests/stability");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .map_err(|e| format!("cannot list {}: {e}", dir.display()))?
@@ -1104,8 +1189,15 @@ fn stability_section(md: &mut String, root: &Path) -> Result<(), String> {
             stability::Expect::Error(c) => format!("error {c}"),
             stability::Expect::KnownFailure(c) => format!("known-failure {}", stability::names(c)),
         };
+        counts.0 += 1;
+        if result.failed.is_empty() {
+            counts.2 += 1;
+        }
         let verdict = match result.verdict() {
-            Ok(()) => "yes".to_owned(),
+            Ok(()) => {
+                counts.1 += 1;
+                "yes".to_owned()
+            }
             Err(why) => format!("**no**: {}", why.replace('|', "/")),
         };
         let (samples, cov, on, time) = match &result.measured {
@@ -1132,5 +1224,5 @@ fn stability_section(md: &mut String, root: &Path) -> Result<(), String> {
         );
     }
     let _ = writeln!(md);
-    Ok(())
+    Ok(counts)
 }
