@@ -207,6 +207,11 @@ fn openscad_stl(scene: &Path) -> Result<String, String> {
         .arg(&partial)
         .arg(scene)
         .env_remove("DISPLAY")
+        // Export needs no display; without this Qt may still look for one.
+        .env(
+            "QT_QPA_PLATFORM",
+            std::env::var("QT_QPA_PLATFORM").unwrap_or_else(|_| "offscreen".to_owned()),
+        )
         .output()
         .map_err(|e| format!("cannot run `{openscad}` (install OpenSCAD 2021.01): {e}"))?;
     if !output.status.success() {
