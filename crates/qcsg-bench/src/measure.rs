@@ -9,7 +9,7 @@ use qcsg_sample::{SampleError, Sampling, sample};
 use crate::metrics::{
     Coverage, SampleIndex, coverage, non_finite_samples, on_surface_error, samples_off_csg_surface,
 };
-use crate::reference::{SurfacePoint, diagonal, edge_points, reference_points};
+use crate::reference::{SurfacePoint, diagonal, edge_points, quadric_points, reference_points};
 
 /// Slack allowed beyond the radius for rounding, relative to the diagonal (reference points
 /// and samples are both only accurate to rounding).
@@ -33,6 +33,9 @@ pub fn on_surface_limit(dnf: &Dnf) -> f64 {
     }
 }
 
+/// Lines cast through each quadric's origin for reference points ([`quadric_points`]).
+pub const QUADRIC_LINES: usize = 48;
+
 /// Reference points of a scene: on its surfaces and on its feature curves.
 #[derive(Clone, Debug, Default)]
 pub struct References {
@@ -43,10 +46,13 @@ pub struct References {
 }
 
 impl References {
-    /// Reference points from `rays` random lines, and feature-curve points from `edge_rays`.
+    /// Reference points from `rays` random lines and [`QUADRIC_LINES`] lines through each
+    /// quadric's origin, and feature-curve points from `edge_rays`.
     pub fn find(dnf: &Dnf, rays: usize, edge_rays: usize) -> Self {
+        let mut surface = reference_points(dnf, rays, 99);
+        surface.extend(quadric_points(dnf, QUADRIC_LINES, 5));
         Self {
-            surface: reference_points(dnf, rays, 99),
+            surface,
             edges: if edge_rays == 0 {
                 Vec::new()
             } else {

@@ -1,6 +1,7 @@
 //! Reference points on the CSG surface, found independently of the sampler: every quadric of the
-//! DNF is intersected exactly with random lines through the scene's box, and a root is kept when
-//! the solid changes across it (membership tested just before and just after it on the line).
+//! DNF is intersected exactly with random lines through the scene's box (and with lines through
+//! its own origin, so that small features are found too), and a root is kept when the solid
+//! changes across it (membership tested just before and just after it on the line).
 //! Points on the feature curves, where coverage is hardest to achieve, are found by bisection
 //! along a quadric between a surface hit and a nearby hit of the same quadric off the surface.
 
@@ -123,6 +124,41 @@ pub fn ray_hits(dnf: &Dnf, rays: usize, seed: u64) -> (Vec<SurfacePoint>, Vec<Su
 /// Reference points on the CSG surface from `rays` random lines.
 pub fn reference_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<SurfacePoint> {
     ray_hits(dnf, rays, seed).0
+}
+
+/// Reference points aimed at every quadric: `lines` random lines through each quadric's origin
+/// (its centre for central quadrics) when that lies in the DNF's box, keeping that quadric's
+/// roots where the solid changes across them. Random lines through the whole box rarely meet a
+/// feature a millionth of its size (a dent of radius 1 in a ball of radius 1e6); these do.
+pub fn quadric_points(dnf: &Dnf, lines: usize, seed: u64) -> Vec<SurfacePoint> {
+    let mut out = Vec::new();
+    if !dnf.bounds.is_bounded() || dnf.bounds.is_empty() {
+        return out;
+    }
+    let eps = side_step(dnf);
+    let mut rng = Rng::new(seed);
+    for (index, entry) in dnf.quadrics.iter().enumerate() {
+        let origin = entry.quadric.origin();
+        if !dnf.bounds.contains(origin) {
+            continue;
+        }
+        for _ in 0..lines {
+            let v = rng.direction();
+            for t in entry.quadric.intersect_line(origin, v).roots() {
+                let x = origin + t * v;
+                if x.is_finite()
+                    && dnf.bounds.contains(x)
+                    && dnf.contains(x - eps * v) != dnf.contains(x + eps * v)
+                {
+                    out.push(SurfacePoint {
+                        quadric: index as u32,
+                        position: x,
+                    });
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Whether the solid changes across quadric `q` at `x` (`±eps` along its normal).
