@@ -145,17 +145,17 @@ pub fn diagonal(dnf: &Dnf) -> f64 {
     (dnf.bounds.max - dnf.bounds.min).length()
 }
 
-/// `|Q(p)| / ‖∇Q(p)‖`: first-order distance to the surface.
+/// `|Q(p)| / ‖∇Q(p)‖`, first-order distance to the surface, counting only the part of `|Q(p)|`
+/// beyond the rigorous bound on its rounding error ([`Quadric::value_with_error`]): next to a
+/// cone's apex, where `∇Q` vanishes, the rounding of `Q` alone would exceed any tolerance.
 pub fn surface_residual(q: &Quadric, p: DVec3) -> f64 {
+    let (value, error) = q.value_with_error(p);
+    let beyond = (value.abs() - error).max(0.0);
     let g = q.gradient(p).length();
     if g == 0.0 {
-        return if q.value(p) == 0.0 {
-            0.0
-        } else {
-            f64::INFINITY
-        };
+        return if beyond == 0.0 { 0.0 } else { f64::INFINITY };
     }
-    q.value(p).abs() / g
+    beyond / g
 }
 
 /// First-order signed distance `Q(p) / ‖∇Q(p)‖`.
@@ -406,4 +406,238 @@ pub fn cone_with_apex() -> Dnf {
         Aabb::new(DVec3::new(-0.5, -0.5, -0.7), DVec3::new(0.5, 0.5, 0.7)),
     );
     finish(dag, both.into())
+}
+
+/// How strict [`check_guarantee`] is on one scene.
+#[derive(Clone, Copy, Debug)]
+pub struct Strictness {
+    /// Rays cast for reference points on the surface.
+    pub rays: usize,
+    /// Rays whose hits seed the feature-curve points.
+    pub edge_rays: usize,
+    /// At least this many reference points must be found (the check would be vacuous otherwise).
+    pub min_refs: usize,
+    /// Region rectangles given up around points of undefined distortion (a cone's apex seen
+    /// from the side) are allowed; the coverage checks still apply there.
+    pub allow_unresolved_regions: bool,
+    /// Every given-up rectangle must be proven covered (`unresolved == 0`). Off where eq. 22
+    /// only touches zero along a curve or on a coincident face (the quadric meets the solid's
+    /// boundary without bounding it there), where no local bound can classify the rectangles
+    /// next to it; the coverage checks still apply.
+    pub require_proof: bool,
+}
+
+impl Default for Strictness {
+    fn default() -> Self {
+        Self {
+            rays: 4000,
+            edge_rays: 1500,
+            min_refs: 2000,
+            allow_unresolved_regions: false,
+            require_proof: true,
+        }
+    }
+}
+
+/// What [`check_guarantee`] found on a scene that passed.
+#[derive(Clone, Copy, Debug)]
+pub struct Checked {
+    pub samples: usize,
+    pub refs: usize,
+    pub edges: usize,
+}
+
+/// The position tolerance of a scene: `1e-9` of its diagonal, or a few ulps of its coordinates
+/// where those are coarser (a part of size 1 at 10⁹ has positions only to 1.2e-7).
+pub fn position_tolerance(dnf: &Dnf) -> f64 {
+    let magnitude = dnf.bounds.min.abs().max(dnf.bounds.max.abs()).max_element();
+    (1e-9 * diagonal(dnf)).max(8.0 * f64::EPSILON * magnitude)
+}
+
+/// The guarantee on one sampling of `dnf` with radius `r`: (a) every sample on its quadric
+/// (`|Q(p)| / ‖∇Q(p)‖` within [`position_tolerance`]) and on the CSG surface, with a radius in
+/// `(0, r]` and a unit normal, and no unproven rectangle; (b) reference points found by ray
+/// casting the DNF independently of the sampler, and points on the feature curves found by
+/// bisection, each within `r` of a sample on the same quadric.
+pub fn check_guarantee(
+    dnf: &Dnf,
+    sampling: &qcsg_sample::Sampling,
+    r: f64,
+    strictness: Strictness,
+) -> Result<Checked, String> {
+    let diag = diagonal(dnf);
+    let stats = sampling.stats;
+    let tol = position_tolerance(dnf);
+    let (_, off) = check_samples(dnf, &sampling.samples, tol);
+    // Within `APEX_REACH` of a cone's apex the heightfield point can be off by more than `tol`
+    // (the square root cancels and Newton converges only linearly there): a looser, still
+    // checked, tolerance. Everywhere else: `tol`.
+    const APEX_REACH: f64 = 1e-3;
+    const APEX_TOLERANCE: f64 = 1e-6;
+    let apices: Vec<Option<DVec3>> = dnf.quadrics.iter().map(|q| cone_apex(&q.quadric)).collect();
+    for s in &sampling.samples {
+        let q = &dnf.quadrics[s.quadric as usize].quadric;
+        let residual = surface_residual(q, s.position);
+        let near_apex = apices[s.quadric as usize]
+            .is_some_and(|a| (s.position - a).length() <= APEX_REACH * diag);
+        let allowed = if near_apex {
+            APEX_TOLERANCE * diag
+        } else {
+            tol
+        };
+        if residual > allowed {
+            return Err(format!(
+                "a sample is {:e} × diagonal off its quadric (tolerance {:e}): {:?} at {:?}",
+                residual / diag,
+                allowed / diag,
+                q.kind(),
+                s.position
+            ));
+        }
+    }
+    if off != 0 {
+        return Err(format!("{off} samples not on the CSG surface"));
+    }
+    for s in &sampling.samples {
+        if !(s.radius > 0.0 && s.radius <= r) {
+            return Err(format!("sample radius {} outside (0, {r}]", s.radius));
+        }
+        if (s.normal.length() - 1.0).abs() >= 1e-9 {
+            return Err(format!("normal of length {}", s.normal.length()));
+        }
+    }
+    let slack = 4.0 * tol;
+    let refs = reference_points(dnf, strictness.rays, 99);
+    if refs.len() < strictness.min_refs {
+        return Err(format!("only {} reference points", refs.len()));
+    }
+    if !refs.is_empty() && sampling.samples.is_empty() {
+        return Err("no samples".into());
+    }
+    // A surface shared by several quadrics (a plane that is the face of two parts) is one
+    // surface: a reference point on it may be covered by a sample of any quadric through it.
+    let missing = uncovered_on_any(dnf, &sampling.samples, &refs, r, slack);
+    if !missing.is_empty() {
+        return Err(format!(
+            "{} of {} reference points have no sample within r = {r}, e.g. {:?}; {stats:?}",
+            missing.len(),
+            refs.len(),
+            &missing[..missing.len().min(3)]
+        ));
+    }
+    let edges = edge_points(dnf, strictness.edge_rays, 7);
+    let missing = uncovered_on_any(dnf, &sampling.samples, &edges, r, slack);
+    if !missing.is_empty() {
+        return Err(format!(
+            "{} of {} feature-curve points have no sample within r = {r}, e.g. {:?}",
+            missing.len(),
+            edges.len(),
+            &missing[..missing.len().min(3)]
+        ));
+    }
+    if stats.subdivision.unresolved != 0 && strictness.require_proof {
+        return Err(format!(
+            "{} unproven rectangles",
+            stats.subdivision.unresolved
+        ));
+    }
+    if stats.regions.unresolved != 0 && !strictness.allow_unresolved_regions {
+        return Err(format!(
+            "{} unresolved region rectangles",
+            stats.regions.unresolved
+        ));
+    }
+    Ok(Checked {
+        samples: sampling.samples.len(),
+        refs: refs.len(),
+        edges: edges.len(),
+    })
+}
+
+/// The workspace root (for `examples/` and `tests/`).
+pub fn workspace_root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Checks, evaluates and converts a program to its DNF with default options; `Err` with the
+/// error diagnostics' messages.
+pub fn compile_file(path: &std::path::Path) -> Result<Dnf, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read: {e}"))?;
+    compile_text(&path.to_string_lossy(), text)
+}
+
+/// [`compile_file`] for program text; `name` resolves relative includes.
+pub fn compile_text(name: &str, text: String) -> Result<Dnf, String> {
+    let analysis = qcsg_sema::check_file(
+        name,
+        text,
+        &qcsg_sema::CheckOptions::default(),
+        &qcsg_sema::FsLoader,
+    );
+    let errors = |diagnostics: &[qcsg_diag::Diagnostic]| -> Vec<String> {
+        diagnostics
+            .iter()
+            .filter(|d| d.is_error())
+            .map(|d| d.message.clone())
+            .collect()
+    };
+    let found = errors(&analysis.diagnostics);
+    if !found.is_empty() {
+        return Err(found.join("; "));
+    }
+    let evaluation = qcsg_eval::evaluate(&analysis, &qcsg_eval::EvalOptions::default());
+    let found = errors(&evaluation.diagnostics);
+    if !found.is_empty() {
+        return Err(found.join("; "));
+    }
+    build_dnf(&evaluation.dag, &DnfOptions::default()).map_err(|e| errors(&e).join("; "))
+}
+
+/// The `.qcsg` and `.scad` files of a directory of the workspace, sorted.
+pub fn programs_in(directory: &str) -> Vec<std::path::PathBuf> {
+    let mut files: Vec<_> = std::fs::read_dir(workspace_root().join(directory))
+        .expect("directory")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "qcsg" || e == "scad"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// [`uncovered`], where a sample of any quadric passing through the reference point (within
+/// `slack`) counts as a sample of the reference point's quadric.
+pub fn uncovered_on_any(
+    dnf: &Dnf,
+    samples: &[Sample],
+    refs: &[(u32, DVec3)],
+    r: f64,
+    slack: f64,
+) -> Vec<(u32, DVec3, f64)> {
+    let mut missing = Vec::new();
+    for (q, p, distance) in uncovered(samples, refs, r, slack) {
+        let through: Vec<u32> = (0..dnf.quadrics.len() as u32)
+            .filter(|&j| j != q && surface_residual(&dnf.quadrics[j as usize].quadric, p) <= slack)
+            .collect();
+        let again: Vec<(u32, DVec3)> = through.iter().map(|&j| (j, p)).collect();
+        if through.is_empty() || uncovered(samples, &again, r, slack).len() == again.len() {
+            missing.push((q, p, distance));
+        }
+    }
+    missing
+}
+
+/// The apex of a cone (where its gradient vanishes); `None` for other kinds.
+pub fn cone_apex(q: &Quadric) -> Option<DVec3> {
+    if q.kind() != qcsg_quadric::QuadricKind::Cone {
+        return None;
+    }
+    // The gradient is affine, `∇Q(p) = M p + c`: solve `M p = −∇Q(o)` about the origin `o`.
+    let o = q.origin();
+    let g0 = q.gradient(o);
+    let [x, y, z] = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| q.gradient(o + e) - g0);
+    let m = DMat4::from_cols_array(&[
+        x.x, x.y, x.z, 0.0, y.x, y.y, y.z, 0.0, z.x, z.y, z.z, 0.0, 0.0, 0.0, 0.0, 1.0,
+    ]);
+    let apex = o + m.inverse().transform_vector3(-g0);
+    apex.is_finite().then_some(apex)
 }
