@@ -1,10 +1,18 @@
 //! `qcsg render FILE -o OUT.png`: a preview image of the program's solid.
 //!
 //! The program is checked and evaluated, its DAG turned into the DNF of the solid plus the
-//! translucent `#` and `%` parts, and every pixel ray traced exactly on the CPU. The PNG is
-//! written through a temporary file and a rename, so a failed run leaves no partial file.
-//! The splat renderer (`--renderer splat`, `--device gpu`) does not exist yet: asking for it is
-//! a usage error rather than a silent fallback.
+//! translucent `#` and `%` parts, and rendered by one of two renderers that show the same
+//! image: the exact CPU ray tracer (`qcsg-render`) or the splat renderer on a GPU
+//! (`qcsg-splat`). The PNG is written through a temporary file and a rename, so a failed run
+//! leaves no partial file.
+//!
+//! Choosing the renderer ([`Choice`]): `--device auto` (the default) uses the splat renderer
+//! when a *hardware* GPU adapter exists and the CPU ray tracer otherwise; a software adapter
+//! (Mesa's lavapipe or llvmpipe) does not count, since rasterising splats on the CPU is slower
+//! than ray tracing there. `--device gpu` insists on a hardware adapter; `--renderer splat`
+//! takes any adapter, and with `--device cpu` a software one. `--renderer raytrace` runs on the
+//! CPU only. A request that cannot be met is a usage error, never a silent fallback; the
+//! renderer and device used are said on standard error.
 
 use std::io::{IsTerminal, Write};
 use std::path::Path;
@@ -17,6 +25,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use qcsg_diag::Diagnostic;
 use qcsg_render::{Camera, ImageSize, Projection, RenderOptions, Scene, View};
 use qcsg_sema::Analysis;
+use qcsg_splat::{AdapterRequirement, SplatRenderer};
 
 use crate::compile::LimitArgs;
 use crate::program;
@@ -49,11 +58,14 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = ProjectionArg::Perspective)]
     projection: ProjectionArg,
 
-    /// The renderer: the exact CPU ray tracer, or the splat renderer (not available yet).
+    /// The renderer: splats on a GPU adapter, or the exact CPU ray tracer. Unset, `--device`
+    /// decides.
     #[arg(long, value_enum)]
     renderer: Option<Renderer>,
 
-    /// Where to render: `auto` picks the best available, today the CPU.
+    /// Where to render: `auto` uses splats on a hardware GPU when there is one and the CPU ray
+    /// tracer otherwise; `gpu` requires a hardware GPU; `cpu` the CPU (the ray tracer, or with
+    /// `--renderer splat` a software adapter such as Mesa's lavapipe).
     #[arg(long, value_enum, default_value_t = Device::Auto)]
     device: Device,
 
@@ -85,12 +97,47 @@ enum Renderer {
 /// `--device`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum Device {
-    /// The best available.
+    /// A hardware GPU when there is one, the CPU otherwise.
     Auto,
-    /// The GPU.
+    /// A hardware GPU.
     Gpu,
     /// The CPU.
     Cpu,
+}
+
+/// The renderer a run uses, with the reason for a fallback.
+enum Choice {
+    /// The CPU ray tracer; for `auto`, why no GPU was used.
+    RayTracer { fallback: Option<String> },
+    /// The splat renderer on an open adapter.
+    Splats(Box<SplatRenderer>),
+}
+
+/// Resolves `--renderer` and `--device` (see the module docs); `Err` is a usage error.
+fn choose(renderer: Option<Renderer>, device: Device) -> Result<Choice, String> {
+    let open = |requirement| SplatRenderer::new(requirement).map(|r| Choice::Splats(Box::new(r)));
+    match (renderer, device) {
+        (Some(Renderer::Raytrace), Device::Gpu) => {
+            Err("the ray tracer runs on the CPU only; use `--renderer splat` for the GPU".into())
+        }
+        (Some(Renderer::Raytrace), _) | (None, Device::Cpu) => {
+            Ok(Choice::RayTracer { fallback: None })
+        }
+        (None, Device::Auto) => {
+            Ok(
+                open(AdapterRequirement::Hardware).unwrap_or_else(|error| Choice::RayTracer {
+                    fallback: Some(error.to_string()),
+                }),
+            )
+        }
+        (_, Device::Gpu) => open(AdapterRequirement::Hardware).map_err(|e| e.to_string()),
+        (Some(Renderer::Splat), Device::Auto) => {
+            open(AdapterRequirement::Any).map_err(|e| e.to_string())
+        }
+        (Some(Renderer::Splat), Device::Cpu) => {
+            open(AdapterRequirement::Software).map_err(|e| e.to_string())
+        }
+    }
 }
 
 fn parse_size(text: &str) -> Result<ImageSize, String> {
@@ -103,13 +150,6 @@ fn parse_view(text: &str) -> Result<View, String> {
 
 /// Runs `qcsg render` and returns the process exit status.
 pub fn run(args: RenderArgs) -> u8 {
-    if args.renderer == Some(Renderer::Splat) || args.device == Device::Gpu {
-        eprintln!(
-            "error: the splat renderer (GPU) is not available yet; use `--renderer raytrace` \
-             or `--device cpu` (the CPU ray tracer)"
-        );
-        return EXIT_USAGE;
-    }
     let (name, text) = match program::read(&args.file) {
         Ok(input) => input,
         Err(message) => {
@@ -147,17 +187,48 @@ pub fn run(args: RenderArgs) -> u8 {
     };
 
     let started = Instant::now();
-    let progress = Progress::new(args.size.height(), !args.common.quiet);
-    let frame = pool.install(|| {
-        qcsg_render::render(
-            &scene,
-            &camera,
-            args.size,
-            &RenderOptions::default(),
-            &|_| progress.row_done(),
-        )
-    });
-    progress.finish();
+    let choice = match choose(args.renderer, args.device) {
+        Ok(choice) => choice,
+        Err(message) => {
+            eprintln!("error: {message}");
+            return EXIT_USAGE;
+        }
+    };
+    let options = RenderOptions::default();
+    let (frame, how) = match &choice {
+        Choice::RayTracer { fallback } => {
+            let progress = Progress::new(args.size.height(), !args.common.quiet);
+            let frame = pool.install(|| {
+                qcsg_render::render(&scene, &camera, args.size, &options, &|_| {
+                    progress.row_done()
+                })
+            });
+            progress.finish();
+            let why = fallback
+                .as_ref()
+                .map_or(String::new(), |why| format!("; {why}"));
+            let how = format!(
+                "with the CPU ray tracer (device: cpu, {} threads{why})",
+                pool.current_num_threads()
+            );
+            (frame, how)
+        }
+        Choice::Splats(renderer) => {
+            match pool.install(|| renderer.render(&scene, &camera, args.size, &options)) {
+                Ok(frame) => {
+                    let adapter = renderer.adapter();
+                    let device = if adapter.software { "cpu" } else { "gpu" };
+                    let how =
+                        format!("with the splat renderer (device: {device}, adapter: {adapter})");
+                    (frame, how)
+                }
+                Err(error) => {
+                    eprintln!("error: the splat renderer failed: {error}");
+                    return EXIT_USAGE;
+                }
+            }
+        }
+    };
     let png = match qcsg_render::png::encode(&frame) {
         Ok(png) => png,
         Err(error) => {
@@ -179,10 +250,9 @@ pub fn run(args: RenderArgs) -> u8 {
     }
     if !args.common.quiet {
         eprintln!(
-            "rendered {}x{} with the CPU ray tracer (device: cpu, {} threads, {} quadrics) in {:.2} s",
+            "rendered {}x{} {how}, {} quadrics, in {:.2} s",
             args.size.width(),
             args.size.height(),
-            pool.current_num_threads(),
             scene.quadric_count(),
             started.elapsed().as_secs_f64()
         );

@@ -1,5 +1,7 @@
 //! End-to-end tests of `qcsg render`: a PNG on success, exit codes, no file after a failure,
-//! standard input and output, and the refusal of the not-yet-available splat renderer.
+//! standard input and output, and the choice of renderer and device (`--renderer`, `--device`).
+//! The splat cases need a GPU adapter; a software one (Mesa's lavapipe, which CI installs) is
+//! enough, and without one they fail.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -61,26 +63,37 @@ fn renders_a_png_and_says_how() {
     assert_eq!(run.status, 0, "{}", run.stderr);
     let png = std::fs::read(&out).expect("the PNG");
     assert!(png.starts_with(b"\x89PNG"));
-    assert!(run.stderr.contains("CPU ray tracer"), "{}", run.stderr);
-    // Quiet runs say nothing; the image does not depend on the thread count.
-    let again = dir.join("again.png");
-    let quiet = qcsg(
-        &[
+    // `auto` says which renderer it used: splats on a hardware GPU, else the CPU ray tracer.
+    assert!(
+        run.stderr.contains("with the CPU ray tracer (device: cpu")
+            || run.stderr.contains("with the splat renderer (device: gpu"),
+        "{}",
+        run.stderr
+    );
+    // Quiet runs say nothing; the ray tracer's image does not depend on the thread count. (On
+    // the CPU: probing GPU adapters may print to standard error from inside the driver, e.g.
+    // Mesa's device-select layer without XDG_RUNTIME_DIR.)
+    let traced = |name: &str, flags: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
             "render",
             "-",
             "-o",
-            again.to_str().unwrap(),
+            out.to_str().unwrap(),
             "--size",
             "40,30",
-            "-q",
-            "--threads",
-            "1",
-        ],
-        SCENE,
-    );
+        ];
+        args.extend(flags);
+        args.extend(["--device", "cpu"]);
+        let run = qcsg(&args, SCENE);
+        (run, std::fs::read(&out).ok())
+    };
+    let (many, png) = traced("many.png", &[]);
+    assert_eq!(many.status, 0, "{}", many.stderr);
+    let (quiet, again) = traced("again.png", &["-q", "--threads", "1"]);
     assert_eq!(quiet.status, 0);
     assert!(quiet.stderr.is_empty(), "{}", quiet.stderr);
-    assert_eq!(std::fs::read(&again).unwrap(), png);
+    assert_eq!(again, png);
     // Standard output.
     let piped = qcsg(
         &[
@@ -93,18 +106,92 @@ fn renders_a_png_and_says_how() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The RGB pixels of a PNG.
+fn pixels(png: &[u8]) -> Vec<[u8; 3]> {
+    let image = image::load_from_memory(png).expect("a PNG").to_rgb8();
+    image.pixels().map(|p| p.0).collect()
+}
+
 #[test]
-fn the_splat_renderer_is_refused_until_it_exists() {
-    let dir = scratch_dir("splat");
-    let out = dir.join("out.png");
-    for flags in [["--renderer", "splat"], ["--device", "gpu"]] {
-        let mut args = vec!["render", "-", "-o", out.to_str().unwrap()];
+fn renderer_and_device_choose_what_renders() {
+    let dir = scratch_dir("choice");
+    let render = |name: &str, flags: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render",
+            "-",
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "80,60",
+        ];
         args.extend(flags);
         let run = qcsg(&args, SCENE);
-        assert_eq!(run.status, 2);
-        assert!(run.stderr.contains("not available yet"), "{}", run.stderr);
-        assert!(!out.exists());
+        let png = std::fs::read(&out).ok();
+        (run, png)
+    };
+
+    let (traced, reference) = render("cpu.png", &["--device", "cpu"]);
+    assert_eq!(traced.status, 0, "{}", traced.stderr);
+    assert!(
+        traced
+            .stderr
+            .contains("with the CPU ray tracer (device: cpu")
+    );
+    let reference = pixels(&reference.expect("the ray-traced PNG"));
+
+    // Splats on any adapter, and on a software one: the same picture up to silhouette pixels.
+    for (name, flags, says) in [
+        (
+            "splat.png",
+            &["--renderer", "splat"][..],
+            "with the splat renderer",
+        ),
+        (
+            "software.png",
+            &["--renderer", "splat", "--device", "cpu"][..],
+            "software)",
+        ),
+    ] {
+        let (run, png) = render(name, flags);
+        assert_eq!(run.status, 0, "{flags:?}: {}", run.stderr);
+        assert!(run.stderr.contains(says), "{flags:?}: {}", run.stderr);
+        let splats = pixels(&png.expect("the splat PNG"));
+        assert_eq!(splats.len(), reference.len());
+        let differing = splats
+            .iter()
+            .zip(&reference)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(
+            differing * 20 < reference.len(),
+            "{flags:?}: {differing} of {} pixels differ from the ray tracer's",
+            reference.len()
+        );
     }
+
+    // `--device gpu` wants a hardware GPU: it renders splats or refuses, never falls back.
+    let (run, png) = render("gpu.png", &["--device", "gpu"]);
+    if run.status == 0 {
+        assert!(run.stderr.contains("with the splat renderer (device: gpu"));
+    } else {
+        assert_eq!(run.status, 2, "{}", run.stderr);
+        assert!(
+            run.stderr.contains("no hardware GPU adapter"),
+            "{}",
+            run.stderr
+        );
+        assert!(png.is_none());
+    }
+
+    // The ray tracer does not run on a GPU.
+    let (run, png) = render(
+        "nonsense.png",
+        &["--renderer", "raytrace", "--device", "gpu"],
+    );
+    assert_eq!(run.status, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("CPU only"), "{}", run.stderr);
+    assert!(png.is_none());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -106,18 +106,22 @@ fn is_software(info: &wgpu::AdapterInfo) -> bool {
 impl Gpu {
     /// Opens the most preferred adapter that meets `requirement` and can run the pipeline.
     /// The backends searched are those of the `WGPU_BACKEND` environment variable when set
-    /// (e.g. `vulkan`, `gl`), otherwise all that wgpu was built with.
+    /// (e.g. `vulkan`, `gl`), otherwise Vulkan (Metal, DX12) and then, except for
+    /// [`AdapterRequirement::Hardware`], GL.
     pub(crate) fn open(requirement: AdapterRequirement) -> Result<Self, SplatError> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        // Vulkan, Metal and DX12 first; GL only when they offer nothing usable (probing GL's
-        // platforms is slow and, without a display, noisy).
+        // Vulkan, Metal and DX12 first; GL only when they offer nothing usable, and never for
+        // a hardware GPU (every current hardware driver offers one of the others, and probing
+        // GL's platforms without a display is slow and prints to standard error).
         let rounds = match wgpu::Backends::from_env() {
             Some(backends) => vec![backends],
+            None if requirement == AdapterRequirement::Hardware => vec![wgpu::Backends::PRIMARY],
             None => vec![wgpu::Backends::PRIMARY, wgpu::Backends::SECONDARY],
         };
         let mut rejected = Vec::new();
         for backends in rounds {
+            let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+            descriptor.backends = backends;
+            let instance = wgpu::Instance::new(descriptor);
             let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
             adapters.sort_by_key(|adapter| std::cmp::Reverse(preference(&adapter.get_info())));
             for adapter in adapters {
