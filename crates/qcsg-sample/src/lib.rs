@@ -22,6 +22,19 @@
 //!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint and counted when given up
 //!   ([`subdivide::SubdivisionStats::unresolved`]).
 //!
+//! Known limits, found by the program and random-scene tests (`tests/scenes.rs`), which check the
+//! guarantee against ray-cast reference points and pass:
+//! - where eq. 22 only touches zero without changing sign — along a curve where a quadric meets
+//!   the solid's boundary without bounding it (a slab's plane along another term's ellipsoid),
+//!   or across coincident faces (parts sharing a face) — no corner bound classifies the
+//!   rectangles beside it: they are split down to the cutoff and counted as unresolved although
+//!   no surface of that quadric is there. The counter is then not zero, and the cost is high
+//!   (`examples/chess_bishop.qcsg` at `r` = 4 % of the diagonal: 7.3 M distance queries, 0.75 M
+//!   unresolved rectangles). A test that `d ≥ 0` on both sides of such a zero would remove both;
+//! - positions come from the heightfields unrefined: on a slab of half-width `1e-6`
+//!   (`tests/stability/hyperboloid_two_sheets_gap.qcsg`) samples lie `1.2e-7` of the diagonal off
+//!   the quadric, and next to a cone's apex about `6e-8`, above the `1e-9` asked for.
+//!
 //! Every sample carries its clip list (§6): the other literals of its term that come within its
 //! radius, deduplicated into one indirection buffer ([`clip`]).
 //!
