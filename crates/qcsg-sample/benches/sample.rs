@@ -183,7 +183,7 @@ fn scenes() -> Vec<Scene> {
     assert_eq!(rods, 30, "a dodecahedron has 30 edges");
     programs.push((
         "dodecahedral cage",
-        "20 balls joined by 30 rods".into(),
+        "20 balls joined by 30 rods (80 quadrics, 77 distinct: parallel rods share slabs)".into(),
         cage,
     ));
     programs
