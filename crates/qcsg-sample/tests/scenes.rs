@@ -144,18 +144,24 @@ fn cheap_programs() {
     check_programs(&files, RELATIVE_RADIUS);
 }
 
+/// Fails today: holes on coincident faces in `customizer_box.qcsg` and `openscad_bracket.scad`
+/// (see the crate docs' known limits).
 #[test]
 #[ignore = "minutes in a debug build: cargo test --release -p qcsg-sample --test scenes -- --ignored"]
 fn every_example() {
     check_programs(&programs_in("examples"), RELATIVE_RADIUS);
 }
 
+/// Fails today: `hyperboloid_two_sheets_gap.qcsg`, samples `1.2e-7` of the diagonal off a thin
+/// slab (see the crate docs' known limits).
 #[test]
 #[ignore = "minutes in a debug build: cargo test --release -p qcsg-sample --test scenes -- --ignored"]
 fn every_stability_scene() {
     check_programs(&programs_in("tests/stability"), RELATIVE_RADIUS);
 }
 
+/// Fails today: a hole on the coincident faces of `coincident_faces.qcsg` (see the crate docs'
+/// known limits).
 #[test]
 #[ignore = "minutes in a debug build: cargo test --release -p qcsg-sample --test scenes -- --ignored"]
 fn every_splat_renderer_scene() {
