@@ -530,18 +530,19 @@ fn run(args: &Args) -> Result<(), String> {
                     let hausdorff = p.surface_to_mesh.max(p.mesh_to_surface);
                     let matched = scene_rows
                         .iter()
-                        .filter(|r| {
+                        .zip(&cfg.radii)
+                        .filter(|(r, _)| {
                             r.m.coverage
                                 .max_distance
                                 .max(r.m.edge_coverage.max_distance)
                                 <= hausdorff
                         })
-                        .min_by(|a, b| a.m.time.cmp(&b.m.time));
+                        .min_by(|a, b| a.0.m.time.cmp(&b.0.m.time));
                     let (qr, qt, ratio) = match matched {
-                        Some(r) if p.outcome == "ok" => (
-                            format!("{}", r.m.radius / scene.diag),
+                        Some((r, rel)) if p.outcome == "ok" => (
+                            rel.to_string(),
                             ms(r.m.time),
-                            format!("{:.0}", secs(p.time) / secs(r.m.time).max(1e-9)),
+                            format!("{:.2}", secs(p.time) / secs(r.m.time).max(1e-9)),
                         ),
                         _ => ("–".into(), "–".into(), "–".into()),
                     };
