@@ -1,5 +1,6 @@
-//! The splat renderer against the reference ray tracer: on every example in `examples/` and
-//! every stiff scene in `tests/scenes/`, from two views, the two frames must agree in coverage
+//! The splat renderer against the reference ray tracer: on every example in `examples/`, every
+//! stiff scene in `tests/scenes/` and every scene of the stability suite (`tests/stability/`)
+//! that the pipeline is expected to handle, from two views, the two frames must agree in coverage
 //! and primitive (quadric) on at least 99.9 % of the pixels outside a one-pixel band around the
 //! reference's silhouettes and creases, with depths within 1e-4 of the view's depth range
 //! ([`qcsg_splat::compare`]).
@@ -38,15 +39,31 @@ fn scene_of(path: &Path) -> Scene {
 fn scene_files() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
-    for dir in [root.join("../../examples"), root.join("tests/scenes")] {
+    let stability = root.join("../../tests/stability");
+    for dir in [
+        root.join("../../examples"),
+        root.join("tests/scenes"),
+        stability.clone(),
+    ] {
         for entry in std::fs::read_dir(&dir).unwrap() {
             let path = entry.unwrap().path();
-            if matches!(
+            if !matches!(
                 path.extension().and_then(|e| e.to_str()),
                 Some("qcsg" | "scad")
             ) {
-                files.push(path);
+                continue;
             }
+            // The stability suite's scenes that the pipeline handles (`// expect: ok`); the
+            // others are errors, empty, or known sampler failures.
+            if dir == stability
+                && !std::fs::read_to_string(&path)
+                    .unwrap()
+                    .lines()
+                    .any(|line| line.trim() == "// expect: ok")
+            {
+                continue;
+            }
+            files.push(path);
         }
     }
     files.sort();
@@ -87,6 +104,9 @@ fn splats_agree_with_the_ray_tracer_on_every_scene() {
             prepared.sample_count(),
             started.elapsed().as_secs_f64()
         );
+        // A scene seen edge-on (a plate from the front, a thin rod across) may show nothing in
+        // one view, but every scene must show something in some view.
+        let mut shown = false;
         for (view, projection) in views {
             let camera = Camera::fit(&view, projection, &scene.bounds(), size).unwrap();
             let options = RenderOptions::default();
@@ -115,9 +135,13 @@ fn splats_agree_with_the_ray_tracer_on_every_scene() {
                 splatted.as_secs_f64(),
             );
             eprintln!("{line}");
-            if agreement.fraction() < REQUIRED_AGREEMENT || reference.hit_count() == 0 {
+            shown |= reference.hit_count() > 0;
+            if agreement.fraction() < REQUIRED_AGREEMENT {
                 failures.push(line);
             }
+        }
+        if !shown {
+            failures.push(format!("{}: no view shows the solid", file.display()));
         }
     }
     assert!(
