@@ -462,6 +462,33 @@ fn report(
             );
         }
     }
+    // Calibrated time per sample over the paper's, per row (the mean of the paper's rows with
+    // that quadric count and size).
+    let mut per_sample_ratios = Vec::new();
+    for (index, _) in scenes.iter().enumerate() {
+        let wanted = [3usize, 5, 21, 31, 80][index.min(4)];
+        for k in 0..RADII.len() {
+            let row = &rows[index * RADII.len() + k];
+            let ours = row.one * 1e9 / row.stats.samples.max(1) as f64 / ratio;
+            let papers: Vec<f64> = PAPER
+                .iter()
+                .filter(|p| p.0 == wanted)
+                .map(|p| p.1[k].3 * 1e6 / p.1[k].0 as f64)
+                .collect();
+            per_sample_ratios.push(ours / (papers.iter().sum::<f64>() / papers.len() as f64));
+        }
+    }
+    let low = per_sample_ratios
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let high = per_sample_ratios.iter().copied().fold(0.0, f64::max);
+    let _ = writeln!(
+        out,
+        "\nPer sample, after calibration, this sampler takes {low:.1}× to {high:.1}× the paper's \
+         time on one core (row by row against the paper's rows of the same quadric count and \
+         size), and it needs more distance queries per sample on most rows."
+    );
     let total_one: f64 = rows.iter().map(|r| r.one).sum();
     let total_two: f64 = rows.iter().map(|r| r.two).sum();
     let _ = writeln!(

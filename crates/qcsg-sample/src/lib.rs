@@ -36,9 +36,11 @@
 //!   `examples/openscad_bracket.scad` and 3 of 9,572 of the splat renderer's
 //!   `coincident_faces.qcsg` have no sample within `r` (the ignored tests of `tests/scenes.rs`).
 //!   Treating a face shared by two literals as one surface, sampled once, would remove both;
-//! - positions come from the heightfields unrefined: on a slab of half-width `1e-6`
-//!   (`tests/stability/hyperboloid_two_sheets_gap.qcsg`) samples lie `1.2e-7` of the diagonal off
-//!   the quadric, and next to a cone's apex about `6e-8`, above the `1e-9` asked for.
+//! - positions come from the heightfields, moved onto the quadric by up to two Newton steps
+//!   (which bring samples on a slab of half-width `1e-6` from `1.2e-7` of the diagonal off the
+//!   quadric to within `1e-9`); cones are left unrefined, because a step next to the apex can
+//!   cross the literal that bounds the tip, and there samples lie up to about `6e-8` of the
+//!   diagonal off (`examples/quadric_primitives.qcsg`), above the `1e-9` asked for.
 //!
 //! Every sample carries its clip list (§6): the other literals of its term that come within its
 //! radius, deduplicated into one indirection buffer ([`clip`]).

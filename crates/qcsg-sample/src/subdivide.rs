@@ -335,6 +335,7 @@ fn emit(
     let Some(position) = region_point(ctx.frame, &region.heightfield, region.sheet, x, y) else {
         return;
     };
+    let position = snap_to_surface(ctx.quadric, position);
     let axis = ctx.frame.axes[region.heightfield.normal_axis];
     let normal = ctx.quadric.normal(position).unwrap_or(axis * region.sheet);
     out.push(Sample {
@@ -345,4 +346,41 @@ fn emit(
         radius,
         clip_list: 0,
     });
+}
+
+/// Most Newton steps that move a sample onto its quadric ([`snap_to_surface`]).
+const SNAP_STEPS: usize = 2;
+
+/// `p` moved onto the quadric by Newton steps along the gradient, each kept only while it lowers
+/// `|Q| / ‖∇Q‖` (at most [`SNAP_STEPS`]). The heightfield point can be off by more than the
+/// required `1e-9` of the scene where its square root cancels (a slab of half-width `1e-6`); the
+/// move is of that size, far below any sample radius. Cones are left alone: next to the apex,
+/// where the gradient vanishes, a step can cross the bounding literal at the tip.
+fn snap_to_surface(q: &Quadric, mut p: DVec3) -> DVec3 {
+    if q.kind() == qcsg_quadric::QuadricKind::Cone {
+        return p;
+    }
+    let residual = |p: DVec3| {
+        let g = q.gradient(p).length();
+        if g > 0.0 {
+            q.value(p).abs() / g
+        } else {
+            f64::INFINITY
+        }
+    };
+    let mut current = residual(p);
+    for _ in 0..SNAP_STEPS {
+        if current == 0.0 || !current.is_finite() {
+            break;
+        }
+        let g = q.gradient(p);
+        let next = p - (q.value(p) / g.length_squared()) * g;
+        let after = residual(next);
+        if !(next.is_finite() && after < current) {
+            break;
+        }
+        p = next;
+        current = after;
+    }
+    p
 }

@@ -36,8 +36,7 @@ const CHEAP: &[&str] = &[
     "tests/stability/huge_csg.qcsg",
     "tests/stability/huge_sphere.qcsg",
     "tests/stability/hyperboloid_neck.qcsg",
-    // Not "tests/stability/hyperboloid_two_sheets_gap.qcsg": a known defect, samples on its
-    // slab of half-width 1e-6 lie 1.2e-7 of the diagonal off the quadric (heightfield rounding).
+    "tests/stability/hyperboloid_two_sheets_gap.qcsg",
     "tests/stability/near_degenerate_ellipsoid.qcsg",
     "tests/stability/near_degenerate_tilted.qcsg",
     "tests/stability/nested_spheres_shell.qcsg",
@@ -152,8 +151,6 @@ fn every_example() {
     check_programs(&programs_in("examples"), RELATIVE_RADIUS);
 }
 
-/// Fails today: `hyperboloid_two_sheets_gap.qcsg`, samples `1.2e-7` of the diagonal off a thin
-/// slab (see the crate docs' known limits).
 #[test]
 #[ignore = "minutes in a debug build: cargo test --release -p qcsg-sample --test scenes -- --ignored"]
 fn every_stability_scene() {
