@@ -37,7 +37,8 @@ pub fn run(args: CheckArgs) -> u8 {
         .threads
         .or_else(|| std::thread::available_parallelism().ok())
         .unwrap_or(NonZeroUsize::MIN);
-    let analyses = check_all(&inputs, &options, threads);
+    let eval_options = args.limits.eval_options(&args.common.defines);
+    let analyses = check_all(&inputs, &options, &eval_options, threads);
 
     let mut unreadable = false;
     for input in &inputs {
@@ -109,7 +110,12 @@ fn read_input(file: &str) -> Input {
 }
 
 /// Checks every readable input on up to `threads` threads; the result is in input order.
-fn check_all(inputs: &[Input], options: &CheckOptions, threads: NonZeroUsize) -> Vec<Analysis> {
+fn check_all(
+    inputs: &[Input],
+    options: &CheckOptions,
+    eval_options: &qcsg_eval::EvalOptions,
+    threads: NonZeroUsize,
+) -> Vec<Analysis> {
     let jobs: Vec<(&str, &str)> = inputs
         .iter()
         .filter_map(|input| match input {
@@ -117,13 +123,9 @@ fn check_all(inputs: &[Input], options: &CheckOptions, threads: NonZeroUsize) ->
             Input::Unreadable(_) => None,
         })
         .collect();
-    let eval_options = qcsg_eval::EvalOptions {
-        defines: options.defines.clone(),
-        ..qcsg_eval::EvalOptions::default()
-    };
     let check = |(name, text): (&str, &str)| {
         let mut analysis = qcsg_sema::check_file(name, text.to_owned(), options, &FsLoader);
-        crate::program::evaluate_checked(&mut analysis, &eval_options);
+        crate::program::evaluate_checked(&mut analysis, eval_options);
         analysis
     };
     let workers = threads.get().min(jobs.len());

@@ -45,9 +45,9 @@ pub struct CompileArgs {
     limits: LimitArgs,
 }
 
-/// Evaluation limits (a program crossing one gets a diagnostic, never a hang).
+/// Evaluation limits (a program crossing one gets a diagnostic at a span, never a hang).
 #[derive(Debug, Args)]
-pub struct LimitArgs {
+pub struct EvalLimitArgs {
     /// Deepest nesting of module and function calls (tail calls do not nest).
     #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_RECURSION)]
     max_recursion: usize,
@@ -63,13 +63,9 @@ pub struct LimitArgs {
     /// Most primitive instances.
     #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_INSTANCES)]
     max_instances: u64,
-
-    /// Most terms of the disjunctive normal form.
-    #[arg(long, value_name = "N", default_value_t = qcsg_csg::DEFAULT_TERM_LIMIT)]
-    max_terms: usize,
 }
 
-impl LimitArgs {
+impl EvalLimitArgs {
     /// The evaluator's options: these limits and the `-D` overrides.
     pub fn eval_options(&self, defines: &[(String, String)]) -> EvalOptions {
         EvalOptions {
@@ -79,6 +75,24 @@ impl LimitArgs {
             max_vector_len: self.max_vector_len,
             max_instances: self.max_instances,
         }
+    }
+}
+
+/// The evaluation limits and the DNF's term limit, for commands that build the DNF.
+#[derive(Debug, Args)]
+pub struct LimitArgs {
+    #[command(flatten)]
+    eval: EvalLimitArgs,
+
+    /// Most terms of the disjunctive normal form.
+    #[arg(long, value_name = "N", default_value_t = qcsg_csg::DEFAULT_TERM_LIMIT)]
+    max_terms: usize,
+}
+
+impl LimitArgs {
+    /// The evaluator's options: these limits and the `-D` overrides.
+    pub fn eval_options(&self, defines: &[(String, String)]) -> EvalOptions {
+        self.eval.eval_options(defines)
     }
 
     /// The DNF builder's options: the term limit.

@@ -59,6 +59,9 @@ struct CheckArgs {
 
     #[command(flatten)]
     common: CommonArgs,
+
+    #[command(flatten)]
+    limits: compile::EvalLimitArgs,
 }
 
 /// Flags every command accepts.

@@ -290,3 +290,28 @@ fn several_files_report_in_argument_order_for_any_thread_count() {
     );
     assert_eq!(run_with("3").stdout, one.stdout);
 }
+
+#[test]
+fn check_takes_the_evaluation_limit_flags() {
+    let program = "for (i = [0 : 99]) translate([i, 0, 0]) cube(1);\n";
+    let default = qcsg(&["check", "--format", "json", "-"], program);
+    assert_eq!(default.status, 0, "{}", default.stderr);
+
+    let limited = qcsg(
+        &["check", "--format", "json", "--max-instances", "10", "-"],
+        program,
+    );
+    assert_eq!(limited.status, 1, "{}", limited.stderr);
+    let diagnostics = json(&limited);
+    let limit = diagnostics
+        .iter()
+        .find(|d| d["code"] == "E0559")
+        .unwrap_or_else(|| panic!("no instance limit diagnostic: {diagnostics:?}"));
+    // At the primitive that crossed the limit, on the program's only line.
+    assert_eq!(limit["range"]["start"]["line"], 0);
+    assert!(
+        limit["help"]
+            .as_str()
+            .is_some_and(|h| h.contains("--max-instances"))
+    );
+}

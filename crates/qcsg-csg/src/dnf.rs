@@ -168,7 +168,8 @@ pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, 
                     source.span,
                 )
                 .with_help(
-                    "raise the term limit, or split the operation so that fewer parts overlap",
+                    "raise the limit with `--max-terms N` on the command line, or split the \
+                     operation so that fewer parts overlap",
                 ),
             ]);
         }

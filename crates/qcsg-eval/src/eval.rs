@@ -54,6 +54,17 @@ fn is_fatal(code: &str) -> bool {
     )
 }
 
+/// The command-line flag that raises the limit an error of this code reports.
+fn limit_flag(code: &str) -> Option<&'static str> {
+    match code {
+        codes::RECURSION_LIMIT => Some("--max-recursion"),
+        codes::ITERATION_LIMIT => Some("--max-iterations"),
+        codes::VECTOR_LIMIT => Some("--max-vector-len"),
+        codes::INSTANCE_LIMIT => Some("--max-instances"),
+        _ => None,
+    }
+}
+
 type R<T> = Result<T, Stop>;
 
 /// Where code runs: the scope and the file whose spans it uses.
@@ -186,6 +197,11 @@ impl<'a> Evaluator<'a> {
         let mut fatal = is_fatal(code);
         if self.reported.insert((code, file, span)) {
             let mut diagnostic = Diagnostic::error(code, message, file, span);
+            if let Some(flag) = limit_flag(code) {
+                diagnostic = diagnostic.with_help(format!(
+                    "if the program is right, raise the limit with `{flag} N` on the command line"
+                ));
+            }
             if self.reported.len() >= MAX_ERRORS {
                 diagnostic = diagnostic.with_help(format!(
                     "evaluation stopped after {MAX_ERRORS} errors; fix these and run it again"
