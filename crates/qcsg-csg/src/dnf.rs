@@ -27,6 +27,7 @@ use crate::codes;
 use crate::dag::{Dag, Edge, NodeId, NodeKind, Rgba, Source};
 use crate::polyhedron::{HalfSpace, half_spaces, polyhedron_bounds};
 use crate::prune;
+pub use crate::prune::Pruning;
 use crate::quadric_box::{
     BoxClass, classify, clip_outside_interval, excluded_interval, solid_bounds,
 };
@@ -45,8 +46,11 @@ pub struct DnfOptions {
     pub region: Option<Aabb>,
     /// The most terms the DNF (or any intermediate stage of it) may have.
     pub term_limit: usize,
-    /// Run the pruning passes over the finished DNF (pruning during construction always runs).
+    /// Run the pruning passes over the finished DNF (those `pruning` leaves on); false turns
+    /// all of them off at once.
     pub prune: bool,
+    /// Which pruning rules run, during construction and in the final passes (all by default).
+    pub pruning: Pruning,
 }
 
 impl Default for DnfOptions {
@@ -55,6 +59,7 @@ impl Default for DnfOptions {
             region: None,
             term_limit: DEFAULT_TERM_LIMIT,
             prune: true,
+            pruning: Pruning::all(),
         }
     }
 }
@@ -200,7 +205,14 @@ pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, 
         stats: DnfStats::default(),
         warnings: builder.warnings,
     };
-    prune::finish(&mut dnf, &own_boxes, region, options.prune, &mut stats);
+    prune::finish(
+        &mut dnf,
+        &own_boxes,
+        region,
+        options.prune,
+        &options.pruning,
+        &mut stats,
+    );
     if options.region.is_none() {
         let errors = unbounded_diagnostics(&dnf, &own_boxes_after(&dnf), dag, root);
         if !errors.is_empty() {
@@ -348,6 +360,7 @@ struct ShapeGroup {
 struct Builder<'a> {
     dag: &'a Dag,
     term_limit: usize,
+    pruning: Pruning,
     literals: Vec<Literal>,
     literal_index: HashMap<LiteralKey, Option<u32>>,
     /// Literal ids grouped by [`shape_key`], to find equal quadrics.
@@ -373,6 +386,7 @@ impl<'a> Builder<'a> {
         Self {
             dag,
             term_limit: options.term_limit,
+            pruning: options.pruning,
             literals: Vec::new(),
             literal_index: HashMap::new(),
             shape_groups: HashMap::new(),
@@ -407,7 +421,9 @@ impl<'a> Builder<'a> {
 
         // Region of interest: X only matters where it meets a term's box.
         let mut untouched = Vec::new();
-        if ctx.negated {
+        if !self.pruning.operand_bounds {
+            // Every term meets X.
+        } else if ctx.negated {
             // ¬X holds on every term that misses X's box: those pass through unchanged.
             let (hit, miss): (Vec<Term>, Vec<Term>) = acc
                 .into_iter()
@@ -476,7 +492,9 @@ impl<'a> Builder<'a> {
             for term in &mut result {
                 term.bounds = term.bounds.intersection(&world_box);
             }
-            result.retain(|t| !t.bounds.is_empty());
+            if self.pruning.empty_bounds {
+                result.retain(|t| !t.bounds.is_empty());
+            }
             self.stats.terms_empty_bounds += before - result.len();
         }
         if !untouched.is_empty() {
@@ -520,7 +538,7 @@ impl<'a> Builder<'a> {
                     };
                     // Copy only the terms a non-negated operand can meet (the rest would be
                     // dropped on entry anyway): a wide union then costs no quadratic copying.
-                    let input: Vec<Term> = if negated {
+                    let input: Vec<Term> = if negated || !self.pruning.operand_bounds {
                         acc.clone()
                     } else {
                         let reach = self.world_bounds(edge, &ctx.matrix);
@@ -539,6 +557,8 @@ impl<'a> Builder<'a> {
                 self.stats.peak_terms = self.stats.peak_terms.max(result.len());
                 prune::simplify_terms(
                     &mut result,
+                    self.pruning.duplicate_terms,
+                    self.pruning.subsumed_terms,
                     prune::INCREMENTAL_SUBSUMPTION_LIMIT,
                     &mut self.stats,
                 );
@@ -591,6 +611,7 @@ impl<'a> Builder<'a> {
         };
         let literal = &self.literals[id as usize];
         let (quadric, own_box, excluded) = (literal.quadric, literal.own_box, literal.excluded);
+        let pruning = self.pruning;
         acc.retain_mut(|term| {
             let position = match term.literals.binary_search(&id) {
                 Ok(_) => {
@@ -603,22 +624,28 @@ impl<'a> Builder<'a> {
             if let Some((axis, low, high)) = excluded {
                 bounds = clip_outside_interval(&bounds, axis, low, high);
             }
-            if bounds.is_empty() {
+            if pruning.empty_bounds && bounds.is_empty() {
                 self.stats.terms_empty_bounds += 1;
                 return false;
             }
             // The term will lie in `bounds ∩ enclosing`: a literal false there ends it.
             let outer = bounds.intersection(&ctx.enclosing);
-            if outer.is_empty() {
+            if pruning.empty_bounds && outer.is_empty() {
                 self.stats.terms_empty_bounds += 1;
                 return false;
             }
-            if classify(&quadric, &outer) == BoxClass::Outside {
+            if pruning.outside_literal
+                && !outer.is_empty()
+                && classify(&quadric, &outer) == BoxClass::Outside
+            {
                 self.stats.terms_outside_literal += 1;
                 return false;
             }
             // The term so far lies in its own box: a literal true there adds nothing.
-            if classify(&quadric, &term.bounds) == BoxClass::Inside {
+            if pruning.inside_literal
+                && !term.bounds.is_empty()
+                && classify(&quadric, &term.bounds) == BoxClass::Inside
+            {
                 self.stats.literals_inside += 1;
                 return true;
             }
@@ -666,7 +693,12 @@ impl<'a> Builder<'a> {
             highlight: ctx.highlight,
         };
         let group = self.shape_groups.entry(group_key).or_default();
-        for &candidate in group.iter() {
+        let candidates: &[u32] = if self.pruning.merged_literals {
+            group
+        } else {
+            &[]
+        };
+        for &candidate in candidates {
             if self.literals[candidate as usize]
                 .quadric
                 .approx_eq_up_to_scale(&world, DUPLICATE_TOLERANCE)

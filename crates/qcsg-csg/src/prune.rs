@@ -12,6 +12,10 @@
 //! 4. `duplicate_terms`: terms with the same literal set (their boxes are intersected);
 //! 5. `subsumed_terms`: terms whose literal set contains another term's (they lie inside it);
 //! 6. `unused_quadrics`: quadrics no term uses, with the rest renumbered in order.
+//!
+//! Every rule but the renumbering can be turned off on its own through [`Pruning`] (in
+//! [`crate::DnfOptions::pruning`]), to measure what it saves; the DNF means the same solid
+//! with any of them off, only larger.
 
 use std::collections::HashMap;
 
@@ -19,6 +23,118 @@ use crate::bounds::Aabb;
 use crate::dnf::{DUPLICATE_TOLERANCE, Dnf, Term, shape_key};
 use crate::quadric_box::{BoxClass, classify};
 use crate::stats::{ConstructionStats, DnfStats, PassStats};
+
+/// Which pruning rules run, one switch per rule: the construction-time rules of
+/// [`crate::dnf`] and the final passes of [`finish`]. The default runs all of them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pruning {
+    /// Construction: terms whose box misses an operand's box skip it (region of interest: a
+    /// union member or intersected operand away from the term drops it, a subtracted one
+    /// leaves it untouched).
+    pub operand_bounds: bool,
+    /// Construction: terms whose box became empty are dropped.
+    pub empty_bounds: bool,
+    /// Construction: terms with a literal provably false over their box are dropped.
+    pub outside_literal: bool,
+    /// Construction: literals provably true over their term's box are not added.
+    pub inside_literal: bool,
+    /// Construction: quadrics equal up to a positive factor (same colour and highlight) share
+    /// one literal.
+    pub merged_literals: bool,
+    /// Construction: exact duplicate terms of a union are merged.
+    pub duplicate_terms: bool,
+    /// Construction: terms of a union that contain another term's literals are dropped.
+    pub subsumed_terms: bool,
+    /// Final pass `empty_bounds`.
+    pub final_empty_bounds: bool,
+    /// Final pass `literal_bounds`.
+    pub final_literal_bounds: bool,
+    /// Final pass `duplicate_literals`.
+    pub final_duplicate_literals: bool,
+    /// Final pass `duplicate_terms`.
+    pub final_duplicate_terms: bool,
+    /// Final pass `subsumed_terms`.
+    pub final_subsumed_terms: bool,
+}
+
+impl Default for Pruning {
+    fn default() -> Self {
+        Self::all()
+    }
+}
+
+impl Pruning {
+    /// The names of the rules, in the order of [`Pruning::set`]: construction rules first,
+    /// then the final passes (prefixed `final_`).
+    pub const RULES: [&'static str; 12] = [
+        "operand_bounds",
+        "empty_bounds",
+        "outside_literal",
+        "inside_literal",
+        "merged_literals",
+        "duplicate_terms",
+        "subsumed_terms",
+        "final_empty_bounds",
+        "final_literal_bounds",
+        "final_duplicate_literals",
+        "final_duplicate_terms",
+        "final_subsumed_terms",
+    ];
+
+    /// Every rule on (the default).
+    pub fn all() -> Self {
+        Self {
+            operand_bounds: true,
+            empty_bounds: true,
+            outside_literal: true,
+            inside_literal: true,
+            merged_literals: true,
+            duplicate_terms: true,
+            subsumed_terms: true,
+            final_empty_bounds: true,
+            final_literal_bounds: true,
+            final_duplicate_literals: true,
+            final_duplicate_terms: true,
+            final_subsumed_terms: true,
+        }
+    }
+
+    /// Every rule off: the DNF multiplied out, with only unused quadrics renumbered away.
+    pub fn none() -> Self {
+        let mut p = Self::all();
+        for name in Self::RULES {
+            p.set(name, false);
+        }
+        p
+    }
+
+    /// Every rule on but `name` (see [`Pruning::RULES`]); `None` for an unknown name.
+    pub fn without(name: &str) -> Option<Self> {
+        let mut p = Self::all();
+        p.set(name, false).then_some(p)
+    }
+
+    /// Turns the rule `name` on or off; false when there is no such rule.
+    pub fn set(&mut self, name: &str, on: bool) -> bool {
+        let switch = match name {
+            "operand_bounds" => &mut self.operand_bounds,
+            "empty_bounds" => &mut self.empty_bounds,
+            "outside_literal" => &mut self.outside_literal,
+            "inside_literal" => &mut self.inside_literal,
+            "merged_literals" => &mut self.merged_literals,
+            "duplicate_terms" => &mut self.duplicate_terms,
+            "subsumed_terms" => &mut self.subsumed_terms,
+            "final_empty_bounds" => &mut self.final_empty_bounds,
+            "final_literal_bounds" => &mut self.final_literal_bounds,
+            "final_duplicate_literals" => &mut self.final_duplicate_literals,
+            "final_duplicate_terms" => &mut self.final_duplicate_terms,
+            "final_subsumed_terms" => &mut self.final_subsumed_terms,
+            _ => return false,
+        };
+        *switch = on;
+        true
+    }
+}
 
 /// Most terms on which subsumption is tried during construction (quadratic in the worst case).
 pub const INCREMENTAL_SUBSUMPTION_LIMIT: usize = 20_000;
@@ -29,12 +145,16 @@ pub const FINAL_SUBSUMPTION_LIMIT: usize = 200_000;
 /// Removes exact duplicate terms (intersecting their boxes) and, when there are at most
 /// `subsumption_limit` terms, terms whose literal set contains another's. Keeps the order of
 /// the survivors.
+/// `duplicates` and `subsume` turn either removal off.
 pub fn simplify_terms(
     terms: &mut Vec<Term>,
+    duplicates: bool,
+    subsume: bool,
     subsumption_limit: usize,
     stats: &mut ConstructionStats,
 ) {
-    let (duplicates, subsumed) = remove_duplicates_and_subsumed(terms, true, subsumption_limit);
+    let (duplicates, subsumed) =
+        remove_duplicates_and_subsumed(terms, duplicates, subsume, subsumption_limit);
     stats.terms_duplicate += duplicates;
     stats.terms_subsumed += subsumed;
 }
@@ -42,10 +162,11 @@ pub fn simplify_terms(
 /// Returns (duplicates removed, subsumed removed).
 fn remove_duplicates_and_subsumed(
     terms: &mut Vec<Term>,
+    dedup: bool,
     subsume: bool,
     subsumption_limit: usize,
 ) -> (usize, usize) {
-    if terms.len() < 2 {
+    if terms.len() < 2 || !(dedup || subsume) {
         return (0, 0);
     }
     // Sort indices by (length, literals): duplicates become neighbours, and a term can only be
@@ -62,7 +183,7 @@ fn remove_duplicates_and_subsumed(
     let mut duplicates = 0;
     for pair in order.windows(2) {
         let (first, second) = (pair[0], pair[1]);
-        if terms[first].literals == terms[second].literals {
+        if dedup && terms[first].literals == terms[second].literals {
             // Keep the earlier term (the sort is stable by index), with both boxes' facts.
             let (keep_index, drop_index) = if keep[first] {
                 (first, second)
@@ -164,29 +285,41 @@ fn is_subset(a: &[u32], b: &[u32]) -> bool {
     true
 }
 
-/// Runs the final passes (when `run_passes`) and always the renumbering of unused quadrics.
-/// `own_boxes[i]` contains the solid of quadric `i`; `region` is all of space without one.
+/// Runs the final passes (when `run_passes`, each as far as `pruning` lets it) and always the
+/// renumbering of unused quadrics. `own_boxes[i]` contains the solid of quadric `i`; `region`
+/// is all of space without one.
 pub fn finish(
     dnf: &mut Dnf,
     own_boxes: &[Aabb],
     region: Aabb,
     run_passes: bool,
+    pruning: &Pruning,
     stats: &mut DnfStats,
 ) {
     if run_passes {
-        run_pass(dnf, stats, "empty_bounds", |dnf| {
-            pass_empty_bounds(dnf, own_boxes)
-        });
-        run_pass(dnf, stats, "literal_bounds", |dnf| {
-            pass_literal_bounds(dnf, own_boxes, region)
-        });
-        run_pass(dnf, stats, "duplicate_literals", pass_duplicate_literals);
-        run_pass(dnf, stats, "duplicate_terms", |dnf| {
-            remove_duplicates_and_subsumed(&mut dnf.terms, false, 0);
-        });
-        run_pass(dnf, stats, "subsumed_terms", |dnf| {
-            remove_duplicates_and_subsumed(&mut dnf.terms, true, FINAL_SUBSUMPTION_LIMIT);
-        });
+        if pruning.final_empty_bounds {
+            run_pass(dnf, stats, "empty_bounds", |dnf| {
+                pass_empty_bounds(dnf, own_boxes)
+            });
+        }
+        if pruning.final_literal_bounds {
+            run_pass(dnf, stats, "literal_bounds", |dnf| {
+                pass_literal_bounds(dnf, own_boxes, region)
+            });
+        }
+        if pruning.final_duplicate_literals {
+            run_pass(dnf, stats, "duplicate_literals", pass_duplicate_literals);
+        }
+        if pruning.final_duplicate_terms {
+            run_pass(dnf, stats, "duplicate_terms", |dnf| {
+                remove_duplicates_and_subsumed(&mut dnf.terms, true, false, 0);
+            });
+        }
+        if pruning.final_subsumed_terms {
+            run_pass(dnf, stats, "subsumed_terms", |dnf| {
+                remove_duplicates_and_subsumed(&mut dnf.terms, true, true, FINAL_SUBSUMPTION_LIMIT);
+            });
+        }
     }
     run_pass(dnf, stats, "unused_quadrics", pass_unused_quadrics);
 }
@@ -319,7 +452,7 @@ mod tests {
             bounds: Aabb::EVERYTHING,
         };
         let mut terms = vec![term(&[1, 2, 3]), term(&[1, 2]), term(&[4]), term(&[1, 2])];
-        let (d, s) = remove_duplicates_and_subsumed(&mut terms, true, 100);
+        let (d, s) = remove_duplicates_and_subsumed(&mut terms, true, true, 100);
         assert_eq!((d, s), (1, 1));
         assert_eq!(terms, vec![term(&[1, 2]), term(&[4])]);
     }

@@ -1,12 +1,14 @@
 //! The DNF means what the DAG means: for random scenes and random points, membership by direct
 //! evaluation of the DAG equals membership by the DNF (points within rounding distance of any
-//! surface are skipped, where the two may legitimately differ).
+//! surface are skipped, where the two may legitimately differ). The same holds with every
+//! pruning rule off and with each rule off alone.
 
 mod common;
 
 use common::{cube, cylinder, sphere, src};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
+use qcsg_csg::dnf::Pruning;
 use qcsg_csg::{Aabb, Dag, DnfOptions, Edge, NodeId, build_dnf};
 use qcsg_quadric::{DMat4, DVec3, Quadric};
 
@@ -234,4 +236,46 @@ proptest! {
         let region = Aabb::new(min, min + DVec3::splat(4.0));
         check_scene(seed, 200, &DnfOptions { region: Some(region), ..DnfOptions::default() })?;
     }
+}
+
+/// All pruning off, then each rule off alone: a smaller term limit keeps the multiplied-out
+/// scenes cheap (those over it are skipped like any scene over the limit).
+fn switch_sets() -> Vec<(&'static str, Pruning)> {
+    let mut sets = vec![("none", Pruning::none())];
+    for name in Pruning::RULES {
+        sets.push((name, Pruning::without(name).unwrap()));
+    }
+    sets
+}
+
+proptest! {
+    #![proptest_config(config(40))]
+
+    #[test]
+    fn every_pruning_switch_keeps_the_meaning(seed in any::<u64>()) {
+        for (name, pruning) in switch_sets() {
+            let options = DnfOptions { term_limit: 5_000, pruning, ..DnfOptions::default() };
+            check_scene(seed, 60, &options).map_err(|e| {
+                TestCaseError::fail(format!("pruning off: {name}: {e}"))
+            })?;
+        }
+    }
+}
+
+#[test]
+fn pruning_names_round_trip() {
+    assert_eq!(Pruning::default(), Pruning::all());
+    for name in Pruning::RULES {
+        let off = Pruning::without(name).unwrap();
+        assert_ne!(off, Pruning::all(), "{name}");
+        let mut back = off;
+        assert!(back.set(name, true));
+        assert_eq!(back, Pruning::all(), "{name}");
+    }
+    assert!(Pruning::without("no_such_rule").is_none());
+    let mut none = Pruning::none();
+    for name in Pruning::RULES {
+        assert!(none.set(name, true));
+    }
+    assert_eq!(none, Pruning::all());
 }

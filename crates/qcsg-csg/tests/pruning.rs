@@ -4,6 +4,7 @@
 mod common;
 
 use common::{cube, sphere, src};
+use qcsg_csg::dnf::Pruning;
 use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, build_dnf, build_dnf_of, codes};
 use qcsg_quadric::{DVec3, Quadric};
 
@@ -188,6 +189,76 @@ fn subtracted_parts_away_from_the_left_side_are_skipped() {
         &dnf,
         Aabb::new(DVec3::splat(-1.0), DVec3::new(11.0, 2.0, 2.0)),
     );
+}
+
+#[test]
+fn switching_a_rule_off_stops_only_that_rule() {
+    let mut dag = Dag::new();
+    let block = cube(&mut dag, DVec3::new(10.0, 1.0, 1.0), 0);
+    let mut children = vec![block.into()];
+    for i in 0..4 {
+        let hole = sphere(&mut dag, 0.3, 1);
+        let x = if i < 2 {
+            0.5 + i as f64
+        } else {
+            100.0 + i as f64
+        };
+        children.push(
+            dag.translated(hole.into(), DVec3::new(x, 0.5, 0.5))
+                .unwrap(),
+        );
+    }
+    let d = dag.difference(children, src(2));
+    dag.set_root(d.into());
+    let build = |pruning: Pruning| {
+        build_dnf(
+            &dag,
+            &DnfOptions {
+                pruning,
+                ..DnfOptions::default()
+            },
+        )
+        .unwrap()
+    };
+    // Without region-of-interest pruning the far holes reach the leaf, where their
+    // complements hold over the whole block and are not added.
+    let dnf = build(Pruning::without("operand_bounds").unwrap());
+    assert_eq!(dnf.stats.construction.operands_skipped, 0);
+    assert_eq!(dnf.stats.construction.literals_inside, 2);
+    assert_eq!(dnf.literal_count(), 3 + 2);
+    // With neither, they stay in the term.
+    let mut pruning = Pruning::none();
+    pruning.final_literal_bounds = true;
+    let dnf = build(Pruning::none());
+    assert_eq!(dnf.stats.passes.len(), 1, "only the renumbering runs");
+    assert_eq!(dnf.literal_count(), 3 + 4);
+    assert_same_meaning(
+        &dag,
+        &dnf,
+        Aabb::new(DVec3::splat(-1.0), DVec3::new(11.0, 2.0, 2.0)),
+    );
+    // The final literal pass alone removes them again.
+    let dnf = build(pruning);
+    assert_eq!(dnf.literal_count(), 3 + 2);
+}
+
+#[test]
+fn multiplied_out_grid_stops_at_the_term_limit() {
+    let dag = block_minus_grid(0.0);
+    let start = std::time::Instant::now();
+    let result = build_dnf(
+        &dag,
+        &DnfOptions {
+            term_limit: 10_000,
+            pruning: Pruning::none(),
+            ..DnfOptions::default()
+        },
+    );
+    match result {
+        Ok(dnf) => panic!("{}", dnf.stats),
+        Err(errors) => assert_eq!(errors[0].code, codes::TERM_LIMIT),
+    }
+    assert!(start.elapsed().as_secs_f64() < 10.0);
 }
 
 #[test]
