@@ -14,26 +14,30 @@ pub(crate) const INSTANCE_BYTES: usize = 80;
 /// Bytes per quadric in the quadric buffer: four `vec4<f32>`.
 pub(crate) const QUADRIC_BYTES: usize = 64;
 
-/// The splat radius in pixels at the scene's centre: large enough that few samples are needed,
-/// small enough that overdraw stays low (paper §7: a few hundred thousand samples are a good
-/// trade-off for screen-filling models).
-pub const RADIUS_PIXELS: f64 = 6.0;
+/// The splat radius as a fraction of the scene's bounding-box diagonal. The sampler's cost
+/// falls steeply with a growing radius while its sample count barely changes (features and
+/// small regions dominate it), so a coarse radius is fastest overall: at 1920x1080 on Mesa's
+/// lavapipe, `chess_bishop` samples in 0.4 s at 1/10 of the diagonal and in 158 s at 6 pixels,
+/// and draws in about the same time.
+pub const RADIUS_OF_DIAGONAL: f64 = 0.1;
 
-/// The splat radius never goes below this fraction of the scene's bounding-box diagonal (which
-/// bounds the number of samples for close-ups and huge images) ...
+/// The radius in pixels at the scene's centre never exceeds this (it bounds overdraw in
+/// close-ups) ...
+const MAX_RADIUS_PIXELS: f64 = 100.0;
+/// ... nor falls below this (for scenes that are small in the image).
+const MIN_RADIUS_PIXELS: f64 = 6.0;
+/// The radius never falls below this fraction of the diagonal, whatever the view.
 const MIN_RADIUS_OF_DIAGONAL: f64 = 1.0 / 3000.0;
-/// ... nor above this one (which bounds overdraw and clip-list lengths when zoomed out).
-const MAX_RADIUS_OF_DIAGONAL: f64 = 1.0 / 40.0;
 
 /// The box's extent along the normal gets this fraction of the radius as slack, for the f32
 /// rounding of the box and of the sample's own value.
 const HEIGHT_SLACK: f64 = 1e-3;
 
-/// The sample radius for rendering `scene` through `camera` at `size`: [`RADIUS_PIXELS`] times
-/// the footprint of one pixel at the distance of the scene's centre, clamped to between
-/// 1/3000 and 1/40 of the scene's bounding-box diagonal. Any positive radius renders the same
-/// image (the sampler's guarantee holds for every radius); the radius only trades sampling
-/// time against overdraw. `None` for a scene without bounds.
+/// The sample radius for rendering `scene` through `camera` at `size`: [`RADIUS_OF_DIAGONAL`]
+/// of the scene's bounding-box diagonal, kept between 6 and 100 pixels at the distance of the
+/// scene's centre, and above 1/3000 of the diagonal. Any positive radius renders the same image
+/// (the sampler's guarantee holds for every radius); the radius only trades sampling time
+/// against overdraw. `None` for a scene without bounds.
 pub fn splat_radius(scene: &Scene, camera: &Camera, size: ImageSize) -> Option<f64> {
     let bounds = scene.bounds();
     if bounds.is_empty() || !bounds.is_bounded() {
@@ -42,10 +46,10 @@ pub fn splat_radius(scene: &Scene, camera: &Camera, size: ImageSize) -> Option<f
     let diagonal = 2.0 * bounds.half_diagonal();
     let distance = (bounds.centre() - camera.eye()).dot(camera.forward()).abs();
     let footprint = camera.pixel_footprint(distance, size);
-    let radius = (RADIUS_PIXELS * footprint).clamp(
-        MIN_RADIUS_OF_DIAGONAL * diagonal,
-        MAX_RADIUS_OF_DIAGONAL * diagonal,
-    );
+    let radius = (RADIUS_OF_DIAGONAL * diagonal)
+        .min(MAX_RADIUS_PIXELS * footprint)
+        .max(MIN_RADIUS_PIXELS * footprint)
+        .max(MIN_RADIUS_OF_DIAGONAL * diagonal);
     (radius.is_finite() && radius > 0.0).then_some(radius)
 }
 
