@@ -1,8 +1,10 @@
 //! Render-time benchmark: every example (or the files given) at 1920×1080 with the splat
 //! renderer and the CPU reference ray tracer, in the same run, printed as a markdown table.
 //!
-//! `cargo run --release -p qcsg-splat --example bench -- [--size W,H] [--runs N] [FILE...]`
-//! (`WGPU_BACKEND=vulkan|gl` picks the backend).
+//! `cargo run --release -p qcsg-splat --example bench -- [--size W,H] [--runs N] [--radius F]
+//! [FILE...]` (`WGPU_BACKEND=vulkan|gl` picks the backend). Sampling is timed once per scene and
+//! reported apart from the splat render; `--radius F` samples at F times the scene's diagonal
+//! instead of the radius `qcsg render` would pick. The table goes to docs/render.md.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
