@@ -10,6 +10,7 @@ mod human;
 mod json;
 mod lsp;
 mod program;
+mod progress;
 mod render;
 mod sample;
 

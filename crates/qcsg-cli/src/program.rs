@@ -1,5 +1,5 @@
-//! What `compile` and `render` share: reading a program, checking and evaluating it, and
-//! printing its diagnostics for people.
+//! What the commands share: reading a program, checking and evaluating it, and printing its
+//! diagnostics.
 
 use std::io::{IsTerminal, Read, Write};
 
@@ -67,4 +67,30 @@ pub fn print_human(analysis: &Analysis, quiet: bool) {
         out.push('\n');
     }
     let _ = stderr.lock().write_all(out.as_bytes());
+}
+
+/// Prints the diagnostics (errors only when `quiet`): as JSON on standard output when that is
+/// free (standard error when it carries the command's output), or for people on standard error.
+pub fn print_diagnostics(
+    analysis: &Analysis,
+    quiet: bool,
+    format: crate::DiagnosticFormat,
+    stdout_free: bool,
+) {
+    if format == crate::DiagnosticFormat::Human {
+        print_human(analysis, quiet);
+        return;
+    }
+    let elements: Vec<_> = analysis
+        .diagnostics
+        .iter()
+        .filter(|d| !quiet || d.is_error())
+        .map(|d| crate::json::JsonDiagnostic::new(&analysis.sources, d))
+        .collect();
+    let text = crate::json::array_text(&elements);
+    if stdout_free {
+        print!("{text}");
+    } else {
+        eprint!("{text}");
+    }
 }

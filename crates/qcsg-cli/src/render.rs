@@ -14,25 +14,19 @@
 //! CPU only. A request that cannot be met is a usage error, never a silent fallback; the
 //! renderer and device used are said on standard error.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::Path;
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use qcsg_diag::Diagnostic;
 use qcsg_render::{Camera, ImageSize, Projection, RenderOptions, Scene, View};
 use qcsg_sema::Analysis;
 use qcsg_splat::{AdapterRequirement, SplatRenderer};
 
 use crate::compile::LimitArgs;
 use crate::program;
-use crate::{CommonArgs, DiagnosticFormat, EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
-
-/// Renders that take longer than this show a progress bar (on a terminal).
-const PROGRESS_DELAY: Duration = Duration::from_secs(1);
+use crate::progress::DelayedProgress;
+use crate::{CommonArgs, EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
 
 /// Arguments of `qcsg render`.
 #[derive(Debug, Args)]
@@ -159,7 +153,12 @@ pub fn run(args: RenderArgs) -> u8 {
     };
     let mut analysis = program::check(&name, text, &args.common.defines);
     let scene = build_scene(&mut analysis, &args);
-    print_diagnostics(&analysis, &args.common, args.output != "-");
+    program::print_diagnostics(
+        &analysis,
+        args.common.quiet,
+        args.common.format,
+        args.output != "-",
+    );
     let Some(scene) = scene.filter(|_| !analysis.has_errors()) else {
         return EXIT_INPUT_ERRORS;
     };
@@ -197,11 +196,13 @@ pub fn run(args: RenderArgs) -> u8 {
     let options = RenderOptions::default();
     let (frame, how) = match &choice {
         Choice::RayTracer { fallback } => {
-            let progress = Progress::new(args.size.height(), !args.common.quiet);
+            let progress = DelayedProgress::new(
+                "rendering",
+                u64::from(args.size.height()),
+                !args.common.quiet,
+            );
             let frame = pool.install(|| {
-                qcsg_render::render(&scene, &camera, args.size, &options, &|_| {
-                    progress.row_done()
-                })
+                qcsg_render::render(&scene, &camera, args.size, &options, &|_| progress.inc(1))
             });
             progress.finish();
             let why = fallback
@@ -281,77 +282,4 @@ fn build_scene(analysis: &mut Analysis, args: &RenderArgs) -> Option<Scene> {
             None
         }
     }
-}
-
-/// A progress bar on standard error, shown only on a terminal and only once a render has taken
-/// longer than [`PROGRESS_DELAY`].
-struct Progress {
-    bar: Option<ProgressBar>,
-    started: Instant,
-    shown: AtomicBool,
-    show_lock: Mutex<()>,
-}
-
-impl Progress {
-    fn new(rows: u32, wanted: bool) -> Self {
-        let bar = (wanted && std::io::stderr().is_terminal()).then(|| {
-            let bar =
-                ProgressBar::with_draw_target(Some(u64::from(rows)), ProgressDrawTarget::hidden());
-            if let Ok(style) =
-                ProgressStyle::with_template("rendering {bar:40} {percent}% ({eta} left)")
-            {
-                bar.set_style(style);
-            }
-            bar
-        });
-        Self {
-            bar,
-            started: Instant::now(),
-            shown: AtomicBool::new(false),
-            show_lock: Mutex::new(()),
-        }
-    }
-
-    fn row_done(&self) {
-        let Some(bar) = &self.bar else {
-            return;
-        };
-        bar.inc(1);
-        if !self.shown.load(Ordering::Relaxed) && self.started.elapsed() > PROGRESS_DELAY {
-            let _guard = self.show_lock.lock();
-            if !self.shown.swap(true, Ordering::Relaxed) {
-                bar.set_draw_target(ProgressDrawTarget::stderr());
-            }
-        }
-    }
-
-    fn finish(&self) {
-        if let Some(bar) = &self.bar {
-            bar.finish_and_clear();
-        }
-    }
-}
-
-/// Prints the diagnostics: JSON on standard output (standard error when that carries the PNG),
-/// human-readable on standard error.
-fn print_diagnostics(analysis: &Analysis, common: &CommonArgs, stdout_free: bool) {
-    let shown: Vec<&Diagnostic> = analysis
-        .diagnostics
-        .iter()
-        .filter(|d| !common.quiet || d.is_error())
-        .collect();
-    if common.format == DiagnosticFormat::Json {
-        let elements: Vec<_> = shown
-            .iter()
-            .map(|d| crate::json::JsonDiagnostic::new(&analysis.sources, d))
-            .collect();
-        let text = crate::json::array_text(&elements);
-        if stdout_free {
-            print!("{text}");
-        } else {
-            eprint!("{text}");
-        }
-        return;
-    }
-    program::print_human(analysis, common.quiet);
 }

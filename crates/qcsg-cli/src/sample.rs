@@ -8,25 +8,19 @@
 //! second show a progress bar on a terminal.
 
 use std::fmt::Write as _;
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use qcsg_csg::{Dnf, build_dnf};
-use qcsg_diag::Diagnostic;
 use qcsg_sample::{Progress, Sampling, sample_with_progress};
 use qcsg_sema::Analysis;
 
 use crate::compile::LimitArgs;
 use crate::program;
-use crate::{CommonArgs, DiagnosticFormat, EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
-
-/// Sampling that takes longer than this shows a progress bar (on a terminal).
-const PROGRESS_DELAY: Duration = Duration::from_secs(1);
+use crate::progress::DelayedProgress;
+use crate::{CommonArgs, EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
 
 /// Arguments of `qcsg sample`.
 #[derive(Debug, Args)]
@@ -104,7 +98,12 @@ pub fn run(args: SampleArgs) -> u8 {
     let stats_to_stdout = !stdout_taken && args.stats.as_deref() == Some("-");
     let mut analysis = program::check(&name, text, &args.common.defines);
     let dnf = build(&mut analysis, &args);
-    print_diagnostics(&analysis, &args.common, !stdout_taken && !stats_to_stdout);
+    program::print_diagnostics(
+        &analysis,
+        args.common.quiet,
+        args.common.format,
+        !stdout_taken && !stats_to_stdout,
+    );
     let Some(dnf) = dnf.filter(|_| !analysis.has_errors()) else {
         return EXIT_INPUT_ERRORS;
     };
@@ -134,11 +133,16 @@ pub fn run(args: SampleArgs) -> u8 {
     };
 
     let started = Instant::now();
-    let bar = ProgressDisplay::new(!args.common.quiet);
+    let bar = DelayedProgress::new("sampling", 0, !args.common.quiet);
     let sampled = if dnf.terms.is_empty() {
         Ok(Sampling::default())
     } else {
-        pool.install(|| sample_with_progress(&dnf, radius, &|event| bar.update(event)))
+        pool.install(|| {
+            sample_with_progress(&dnf, radius, &|event| match event {
+                Progress::Regions(total) => bar.set_length(total),
+                Progress::RegionDone => bar.inc(1),
+            })
+        })
     };
     bar.finish();
     let seconds = started.elapsed().as_secs_f64();
@@ -322,81 +326,6 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         let _ = std::fs::remove_file(&temporary);
     }
     result
-}
-
-/// A progress bar on standard error over the basic regions, shown only on a terminal and only
-/// once sampling has taken longer than [`PROGRESS_DELAY`].
-struct ProgressDisplay {
-    bar: Option<ProgressBar>,
-    started: Instant,
-    shown: AtomicBool,
-    show_lock: Mutex<()>,
-}
-
-impl ProgressDisplay {
-    fn new(wanted: bool) -> Self {
-        let bar = (wanted && std::io::stderr().is_terminal()).then(|| {
-            let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden());
-            if let Ok(style) =
-                ProgressStyle::with_template("sampling {bar:40} {percent}% ({eta} left)")
-            {
-                bar.set_style(style);
-            }
-            bar
-        });
-        Self {
-            bar,
-            started: Instant::now(),
-            shown: AtomicBool::new(false),
-            show_lock: Mutex::new(()),
-        }
-    }
-
-    fn update(&self, event: Progress) {
-        let Some(bar) = &self.bar else {
-            return;
-        };
-        match event {
-            Progress::Regions(total) => bar.set_length(total),
-            Progress::RegionDone => bar.inc(1),
-        }
-        if !self.shown.load(Ordering::Relaxed) && self.started.elapsed() > PROGRESS_DELAY {
-            let _guard = self.show_lock.lock();
-            if !self.shown.swap(true, Ordering::Relaxed) {
-                bar.set_draw_target(ProgressDrawTarget::stderr());
-            }
-        }
-    }
-
-    fn finish(&self) {
-        if let Some(bar) = &self.bar {
-            bar.finish_and_clear();
-        }
-    }
-}
-
-/// Prints the diagnostics: JSON on standard output when it is free (standard error otherwise),
-/// human-readable on standard error.
-fn print_diagnostics(analysis: &Analysis, common: &CommonArgs, stdout_free: bool) {
-    let shown: Vec<&Diagnostic> = analysis
-        .diagnostics
-        .iter()
-        .filter(|d| !common.quiet || d.is_error())
-        .collect();
-    if common.format == DiagnosticFormat::Json {
-        let elements: Vec<_> = shown
-            .iter()
-            .map(|d| crate::json::JsonDiagnostic::new(&analysis.sources, d))
-            .collect();
-        let text = crate::json::array_text(&elements);
-        if stdout_free {
-            print!("{text}");
-        } else {
-            eprint!("{text}");
-        }
-        return;
-    }
-    program::print_human(analysis, common.quiet);
 }
 
 #[cfg(test)]
