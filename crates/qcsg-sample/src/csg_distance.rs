@@ -20,27 +20,108 @@
 //!   the union exactly when it also lies inside the term's remaining literals. That literal is
 //!   left out of term `i` (and an own literal equal to `Q_ab` is left out of term `a`: it holds
 //!   on all of `Q_ab`).
+//! - **Shared planes.** Two *different* quadrics can share a patch of surface only where both
+//!   are made of planes (a half-space, a slab): two parts sharing a face, a difference flush
+//!   with a face. When `Q_ab` is planar and `p` lies on a plane of another planar literal `L`
+//!   (within [`CsgDistance`]'s length tolerance, normals parallel), that plane is `p`'s whole
+//!   sheet of `Q_ab`, so what holds at `p` holds on the sheet: if `L`'s inside is on `Q_ab`'s
+//!   inside, `L` is left out of term `a` (it holds up to the sheet) and a term `i ≠ a` holding
+//!   `L` is left out (its interior never reaches the sheet); if `L`'s inside is on the other
+//!   side, term `a` is empty along the sheet (distance `+∞`) and `L` is left out of term `i`
+//!   (the complement rule, per plane). Without this, eq. 22 is 0 on the whole shared face, no
+//!   corner classifies it, and where it is part of the surface no term samples it.
 
 use qcsg_csg::{Aabb, Dnf};
-use qcsg_quadric::{DVec3, Quadric};
+use qcsg_quadric::{DVec3, Quadric, QuadricKind};
 
 /// Relative tolerance for "the same quadric" when comparing literals.
 const SAME_QUADRIC: f64 = 1e-12;
 
+/// Relative tolerance for parallel normals of planes that share a point.
+const PARALLEL: f64 = 1e-9;
+
+/// Whether a quadric's surface is made of planes that may coincide with another's.
+fn is_planar(q: &Quadric) -> bool {
+    matches!(q.kind(), QuadricKind::Plane | QuadricKind::ParallelPlanes)
+}
+
+/// How a literal meets the sampled quadric's plane through `p`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Shared {
+    /// Not on the plane (or not planar).
+    No,
+    /// On the plane, inside on the sampled quadric's inside.
+    SameSide,
+    /// On the plane, inside on the other side.
+    OtherSide,
+}
+
+/// The sampled quadric's plane through `p`: its outward unit normal, when `Q_ab` is planar.
+#[derive(Clone, Copy, Debug)]
+struct SheetPlane {
+    normal: DVec3,
+    tolerance: f64,
+}
+
+impl SheetPlane {
+    fn shared(&self, literal: &Literal, p: DVec3) -> Shared {
+        if !literal.planar || literal.quadric.conservative_distance(p).abs() > self.tolerance {
+            return Shared::No;
+        }
+        let Some(n) = literal.quadric.normal(p) else {
+            return Shared::No;
+        };
+        if n.cross(self.normal).length() > PARALLEL {
+            return Shared::No;
+        }
+        if n.dot(self.normal) > 0.0 {
+            Shared::SameSide
+        } else {
+            Shared::OtherSide
+        }
+    }
+}
+
+/// One literal of a term view.
+#[derive(Clone, Debug)]
+struct Literal {
+    quadric: Quadric,
+    planar: bool,
+}
+
 /// A term of the DNF as seen from one quadric: the literals that matter and the box.
 #[derive(Clone, Debug)]
 struct TermView {
-    literals: Vec<Quadric>,
+    literals: Vec<Literal>,
     bounds: Aabb,
 }
 
 impl TermView {
+    fn new(literals: impl IntoIterator<Item = Quadric>, bounds: Aabb) -> Self {
+        Self {
+            literals: literals
+                .into_iter()
+                .map(|quadric| Literal {
+                    planar: is_planar(&quadric),
+                    quadric,
+                })
+                .collect(),
+            bounds,
+        }
+    }
+
     /// `max_j d(Q_j, p)` together with the region box: positive outside the term, negative
-    /// inside.
-    fn distance(&self, p: DVec3) -> f64 {
+    /// inside. With the sampled quadric's `plane` at `p`, literals sharing it are treated as in
+    /// the module docs: `own` says whether this is term `a`.
+    fn distance(&self, p: DVec3, plane: Option<&SheetPlane>, own: bool) -> f64 {
         let mut d = box_distance(&self.bounds, p);
-        for q in &self.literals {
-            d = d.max(q.conservative_distance(p));
+        for literal in &self.literals {
+            let shared = plane.map_or(Shared::No, |plane| plane.shared(literal, p));
+            match (shared, own) {
+                (Shared::No, _) => d = d.max(literal.quadric.conservative_distance(p)),
+                (Shared::SameSide, true) | (Shared::OtherSide, false) => {}
+                (Shared::OtherSide, true) | (Shared::SameSide, false) => return f64::INFINITY,
+            }
         }
         d
     }
@@ -51,6 +132,10 @@ impl TermView {
 pub struct CsgDistance {
     own: TermView,
     others: Vec<TermView>,
+    /// The sampled quadric, when it is planar (see "Shared planes" in the module docs).
+    planar: Option<Quadric>,
+    /// Length below which a point is on a plane: `1e-9` of the DNF's diagonal.
+    tolerance: f64,
 }
 
 impl CsgDistance {
@@ -68,14 +153,13 @@ impl CsgDistance {
             DVec3::splat(f64::INFINITY),
         ));
         let literal = |i: u32| dnf.quadrics.get(i as usize).map(|d| d.quadric);
-        let own = TermView {
-            literals: own_term
+        let own = TermView::new(
+            own_term
                 .literals
                 .iter()
-                .filter_map(|&i| literal(i).filter(|o| !is_same(i, o)))
-                .collect(),
-            bounds: region,
-        };
+                .filter_map(|&i| literal(i).filter(|o| !is_same(i, o))),
+            region,
+        );
         let mut others = Vec::new();
         for (index, other) in dnf.terms.iter().enumerate() {
             if index == term as usize {
@@ -89,25 +173,42 @@ impl CsgDistance {
             if literals.iter().any(|(i, o)| is_same(*i, o)) {
                 continue;
             }
-            others.push(TermView {
-                literals: literals
+            others.push(TermView::new(
+                literals
                     .into_iter()
                     .filter(|(_, o)| !is_complement(o))
-                    .map(|(_, o)| o)
-                    .collect(),
-                bounds: region,
-            });
+                    .map(|(_, o)| o),
+                region,
+            ));
         }
-        Some(Self { own, others })
+        let diagonal = (dnf.bounds.max - dnf.bounds.min).length();
+        Some(Self {
+            own,
+            others,
+            planar: is_planar(&q).then_some(q),
+            tolerance: if diagonal.is_finite() {
+                1e-9 * diagonal
+            } else {
+                0.0
+            },
+        })
     }
 
     /// `d_{Q_ab}(S, p)` (eq. 22) for a point `p` on the quadric: negative on the CSG surface.
     /// NaN for non-finite `p`.
     pub fn distance(&self, p: DVec3) -> f64 {
-        let own = self.own.distance(p);
+        let plane = self.planar.and_then(|q| {
+            Some(SheetPlane {
+                normal: q.normal(p)?,
+                tolerance: self
+                    .tolerance
+                    .max(8.0 * f64::EPSILON * p.abs().max_element()),
+            })
+        });
+        let own = self.own.distance(p, plane.as_ref(), true);
         let mut nearest_other = f64::INFINITY;
         for term in &self.others {
-            nearest_other = nearest_other.min(term.distance(p));
+            nearest_other = nearest_other.min(term.distance(p, plane.as_ref(), false));
         }
         own.max(-nearest_other)
     }

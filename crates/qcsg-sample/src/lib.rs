@@ -20,22 +20,19 @@
 //! - small regions get one sample at a corner or the centre proven on the surface, with the
 //!   radius reduced to the region's footprint; unproven ones are split down to
 //!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint and counted when given up
-//!   ([`subdivide::SubdivisionStats::unresolved`]).
+//!   ([`subdivide::SubdivisionStats::unresolved`]);
+//! - faces shared by parts (coincident planes of different quadrics: boxes sharing a face, a
+//!   difference flush with a face, a cylinder's cap on a box face) are resolved per sheet in
+//!   eq. 22 ([`csg_distance`], "Shared planes"), so the shared face is sampled where it is part
+//!   of the surface and discarded where it is not.
 //!
 //! Known limits, found by the program and random-scene tests (`tests/scenes.rs`), which check the
 //! guarantee against ray-cast reference points (those run in CI pass; the ignored ones over all
-//! programs fail on the scenes named here):
-//! - where eq. 22 only touches zero without changing sign — along a curve where a quadric meets
+//! programs are meant for a release build):
+//! - where eq. 22 only touches zero without changing sign along a curve where a quadric meets
 //!   the solid's boundary without bounding it (a slab's plane along another term's ellipsoid),
-//!   or across coincident faces (parts sharing a face) — no corner bound classifies the
-//!   rectangles beside it: they are split down to the cutoff and counted as unresolved. The cost
-//!   is high (`examples/chess_bishop.qcsg` at `r` = 4 % of the diagonal: 7.3 M distance queries,
-//!   0.75 M unresolved rectangles). Along a curve nothing is lost, but on a coincident face
-//!   that is part of the surface this leaves **holes**: at `r` = 10 % of the diagonal, 359 of
-//!   10,878 reference points of `examples/customizer_box.qcsg`, 136 of 8,342 of
-//!   `examples/openscad_bracket.scad` and 3 of 9,572 of the splat renderer's
-//!   `coincident_faces.qcsg` have no sample within `r` (the ignored tests of `tests/scenes.rs`).
-//!   Treating a face shared by two literals as one surface, sampled once, would remove both;
+//!   no corner bound classifies the rectangles beside it: they are split down to the cutoff and
+//!   counted as unresolved. Nothing is lost there, but the cost can be high;
 //! - positions come from the heightfields, moved onto the quadric by up to two Newton steps
 //!   (which bring samples on a slab of half-width `1e-6` from `1.2e-7` of the diagonal off the
 //!   quadric to within `1e-9`); cones are left unrefined, because a step next to the apex can

@@ -143,8 +143,8 @@ fn cheap_programs() {
     check_programs(&files, RELATIVE_RADIUS);
 }
 
-/// Fails today: holes on coincident faces in `customizer_box.qcsg` and `openscad_bracket.scad`
-/// (see the crate docs' known limits).
+/// Covers the coincident faces of `customizer_box.qcsg` and `openscad_bracket.scad` (the
+/// cheap variant in CI: `tests/shared_faces.rs`).
 #[test]
 #[ignore = "minutes in a debug build: cargo test --release -p qcsg-sample --test scenes -- --ignored"]
 fn every_example() {
@@ -157,8 +157,8 @@ fn every_stability_scene() {
     check_programs(&programs_in("tests/stability"), RELATIVE_RADIUS);
 }
 
-/// Fails today: a hole on the coincident faces of `coincident_faces.qcsg` (see the crate docs'
-/// known limits).
+/// Covers the coincident faces of `coincident_faces.qcsg` (the cheap variant in CI:
+/// `tests/shared_faces.rs`).
 #[test]
 #[ignore = "minutes in a debug build: cargo test --release -p qcsg-sample --test scenes -- --ignored"]
 fn every_splat_renderer_scene() {
