@@ -30,6 +30,15 @@
 //!   side, term `a` is empty along the sheet (distance `+∞`) and `L` is left out of term `i`
 //!   (the complement rule, per plane). Without this, eq. 22 is 0 on the whole shared face, no
 //!   corner classifies it, and where it is part of the surface no term samples it.
+//! - **Literals of both terms.** A literal `L` of term `i ≠ a` that term `a` holds too is left
+//!   out of term `i` (unless it shares `p`'s plane, above). Where `L` holds, term `i` is
+//!   unchanged; where it fails, term `a` is empty, so its own distance is positive and the
+//!   result stays positive. A negative result needs `p` inside `L` by at least `|d|`, so the
+//!   claim for the ball of `|d|` holds; a positive one from term `i` covers points inside term
+//!   `i` or outside `L`, neither on `Q_ab`'s patch of term `a`. Without this, on a face where two
+//!   parts meet (the face inside a union of abutting boxes), the two terms' shared side literal
+//!   makes eq. 22 `max(D, −D) = |D|`, which touches 0 along the face's border without a sign
+//!   change and leaves rectangles there unclassified.
 
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, Quadric, QuadricKind};
@@ -87,6 +96,8 @@ impl SheetPlane {
 struct Literal {
     quadric: Quadric,
     planar: bool,
+    /// A literal of another term that term `a` holds too (see "Literals of both terms").
+    in_own_term: bool,
 }
 
 /// A term of the DNF as seen from one quadric: the literals that matter and the box.
@@ -97,12 +108,14 @@ struct TermView {
 }
 
 impl TermView {
-    fn new(literals: impl IntoIterator<Item = Quadric>, bounds: Aabb) -> Self {
+    /// The view of `literals`, each with whether term `a` holds it too.
+    fn new(literals: impl IntoIterator<Item = (Quadric, bool)>, bounds: Aabb) -> Self {
         Self {
             literals: literals
                 .into_iter()
-                .map(|quadric| Literal {
+                .map(|(quadric, in_own_term)| Literal {
                     planar: is_planar(&quadric),
+                    in_own_term,
                     quadric,
                 })
                 .collect(),
@@ -118,6 +131,7 @@ impl TermView {
         for literal in &self.literals {
             let shared = plane.map_or(Shared::No, |plane| plane.shared(literal, p));
             match (shared, own) {
+                (Shared::No, false) if literal.in_own_term => {}
                 (Shared::No, _) => d = d.max(literal.quadric.conservative_distance(p)),
                 (Shared::SameSide, true) | (Shared::OtherSide, false) => {}
                 (Shared::OtherSide, true) | (Shared::SameSide, false) => return f64::INFINITY,
@@ -153,11 +167,22 @@ impl CsgDistance {
             DVec3::splat(f64::INFINITY),
         ));
         let literal = |i: u32| dnf.quadrics.get(i as usize).map(|d| d.quadric);
+        let own_literals: Vec<(u32, Quadric)> = own_term
+            .literals
+            .iter()
+            .filter_map(|&i| literal(i).map(|o| (i, o)))
+            .collect();
+        let in_own_term = |i: u32, other: &Quadric| {
+            own_literals
+                .iter()
+                .any(|(j, o)| *j == i || o.approx_eq_up_to_scale(other, SAME_QUADRIC))
+        };
         let own = TermView::new(
             own_term
                 .literals
                 .iter()
-                .filter_map(|&i| literal(i).filter(|o| !is_same(i, o))),
+                .filter_map(|&i| literal(i).filter(|o| !is_same(i, o)))
+                .map(|o| (o, false)),
             region,
         );
         let mut others = Vec::new();
@@ -177,7 +202,7 @@ impl CsgDistance {
                 literals
                     .into_iter()
                     .filter(|(_, o)| !is_complement(o))
-                    .map(|(_, o)| o),
+                    .map(|(i, o)| (o, in_own_term(i, &o))),
                 region,
             ));
         }

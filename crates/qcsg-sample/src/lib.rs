@@ -24,7 +24,9 @@
 //! - faces shared by parts (coincident planes of different quadrics: boxes sharing a face, a
 //!   difference flush with a face, a cylinder's cap on a box face) are resolved per sheet in
 //!   eq. 22 ([`csg_distance`], "Shared planes"), so the shared face is sampled where it is part
-//!   of the surface and discarded where it is not.
+//!   of the surface and discarded where it is not; a literal that another term shares with the
+//!   sampled term is left out of the other term ("Literals of both terms"), so the border of a
+//!   face inside a union of abutting parts is classified too.
 //!
 //! Known limits, found by the program and random-scene tests (`tests/scenes.rs`), which check the
 //! guarantee against ray-cast reference points (those run in CI pass; the ignored ones over all

@@ -17,40 +17,50 @@ const STRICTNESS: Strictness = Strictness {
     require_proof: false,
 };
 
-/// Scenes, with the most distance queries each may take at `r` = 10 % of the diagonal (the
-/// old code took 1.1 M, 12.6 M, 0.8 M and 2.1 M).
-const SCENES: &[(&str, &str, u64)] = &[
+/// Scenes, with the most distance queries each may take at `r` = 10 % of the diagonal (without
+/// the shared-plane rules: 1.1 M, 12.6 M, 0.8 M and 2.1 M; with them 20 k, 173 k, 22 k and
+/// 1.1 k) and whether every given-up rectangle must be proven covered (the abutting cubes: their
+/// only unclassifiable rectangles were on the shared face).
+const SCENES: &[(&str, &str, u64, bool)] = &[
     (
         "union of boxes sharing a face",
         "union() { cube([10, 10, 10]); translate([10, 0, 0]) cube([10, 10, 5]); }",
-        100_000,
+        50_000,
+        false,
     ),
     (
         "difference flush with a face",
         "difference() { cube([10, 10, 10]); translate([5, 0, 5]) cube([5, 10, 5]); }",
         400_000,
+        false,
     ),
     (
         "cylinder cap on a box face",
         "translate([15, 20, 0]) cylinder(r = 3, h = 10); translate([10, 15, 0]) cube([10, 10, 2]);",
-        100_000,
+        50_000,
+        false,
     ),
     (
         "two unit cubes",
         "union() { cube(1); translate([1, 0, 0]) cube(1); }",
-        100_000,
+        5_000,
+        true,
     ),
 ];
 
 #[test]
 fn shared_faces_are_covered() {
     let mut failures = Vec::new();
-    for &(name, text, max_queries) in SCENES {
+    for &(name, text, max_queries, require_proof) in SCENES {
         let dnf = compile_text(name, text.to_string()).expect("compiles");
         let r = 0.1 * diagonal(&dnf);
         let sampling = sample(&dnf, r).expect("valid radius");
         let queries = sampling.stats.subdivision.distance_queries;
-        match check_guarantee(&dnf, &sampling, r, STRICTNESS) {
+        let strictness = Strictness {
+            require_proof,
+            ..STRICTNESS
+        };
+        match check_guarantee(&dnf, &sampling, r, strictness) {
             Ok(checked) => eprintln!(
                 "{name}: {} samples, {} reference points covered, {queries} queries",
                 checked.samples, checked.refs
