@@ -188,6 +188,15 @@ pub fn run(args: SampleArgs) -> u8 {
                 stats.unbounded_terms
             );
         }
+        let unresolved = stats.subdivision.unresolved + stats.regions.unresolved;
+        if unresolved > 0 {
+            eprintln!(
+                "warning: {unresolved} small rectangles were given up unproven: no corner or \
+                 centre of theirs is on the surface down to a small fraction of the radius, and \
+                 no sample is near; a sliver of surface there could be missed (see `unresolved` \
+                 in --stats)"
+            );
+        }
         eprintln!(
             "sampled {} points (radius {radius}, {} quadrics, {} terms, {} clip indices) on {threads} threads in {seconds:.2} s",
             stats.samples,

@@ -437,3 +437,22 @@ fn unwritable_output_is_a_usage_error_and_leaves_nothing() {
     assert!(run.stderr.contains("cannot write"), "{}", run.stderr);
     assert!(std::fs::read_dir(&dir).expect("dir").next().is_none());
 }
+
+/// Rectangles given up unproven are announced on standard error, exactly when the stats count
+/// any: a hyperboloid of two sheets whose vertices nearly touch has them, the cube minus a ball
+/// has none.
+#[test]
+fn unproven_rectangles_are_a_warning() {
+    let gap = "intersection() {\n\
+               hyperboloid(h = 2, r = 1, c = 1e-6, sheets = 2, center = true);\n\
+               sphere(1);\n\
+               }\n";
+    for (name, program) in [("gap", gap), ("cube", SCENE)] {
+        let run = qcsg(&["sample", "-", "--radius", "10%", "--stats", "-"], program);
+        assert_eq!(run.status, 0, "{name}: {}", run.stderr);
+        let stats: Value = serde_json::from_slice(&run.stdout).expect("stats JSON");
+        let unresolved = stats["unresolved"].as_u64().expect("unresolved count");
+        let warned = run.stderr.contains("given up unproven");
+        assert_eq!(warned, unresolved > 0, "{name}: {}", run.stderr);
+    }
+}
