@@ -1159,7 +1159,7 @@ const SWITCH_SAMPLING_LITERALS: usize = 5_000;
 /// whose DNF equals one already sampled reuses that measurement instead of sampling again.
 fn pruning_switches(
     md: &mut String,
-    compiled: &[(String, PathBuf, Dnf, Option<qcsg_bench::pipeline::DnfSize>)],
+    compiled: &[(String, PathBuf, Dnf, Option<qcsg_csg::DnfSize>)],
     rel: f64,
 ) -> Result<(), String> {
     let mut settings: Vec<(String, Pruning)> = vec![("all on".into(), Pruning::all())];

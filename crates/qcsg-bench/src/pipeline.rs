@@ -1,11 +1,10 @@
 //! From source text to the DNF of the solid: check, evaluate, normal form, as `qcsg` does it,
 //! with every diagnostic kept so that a measurement can tell an expected error from a failure.
 
-use std::collections::HashMap;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use qcsg_csg::{Dag, Dnf, DnfOptions, Edge, NodeId, NodeKind, build_dnf};
+use qcsg_csg::{Dnf, DnfOptions, DnfSize, build_dnf, unpruned_size};
 use qcsg_diag::{Diagnostic, Severity};
 use qcsg_eval::{EvalOptions, evaluate};
 use qcsg_sema::{CheckOptions, FsLoader, check_file};
@@ -80,7 +79,7 @@ pub fn compile_source(name: &str, text: String, options: &DnfOptions) -> Compile
     let unpruned = evaluation
         .dag
         .root()
-        .map(|root| unpruned_size(&evaluation.dag, root, false, &mut HashMap::new()));
+        .map(|root| unpruned_size(&evaluation.dag, root));
     let start = Instant::now();
     let (dnf, more) = match build_dnf(&evaluation.dag, options) {
         Ok(mut dnf) => {
@@ -104,102 +103,6 @@ pub fn compile_file(path: &Path, options: &DnfOptions) -> Result<Compiled, Strin
     let text = std::fs::read_to_string(path)
         .map_err(|err| format!("cannot read `{}`: {err}", path.display()))?;
     Ok(compile_source(&path.to_string_lossy(), text, options))
-}
-
-/// Terms and literal occurrences of a DNF, as `f64` (multiplied-out counts grow exponentially).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DnfSize {
-    /// Terms.
-    pub terms: f64,
-    /// Literal occurrences over all terms.
-    pub literals: f64,
-}
-
-impl DnfSize {
-    const NOTHING: DnfSize = DnfSize {
-        terms: 0.0,
-        literals: 0.0,
-    };
-    const EVERYTHING: DnfSize = DnfSize {
-        terms: 1.0,
-        literals: 0.0,
-    };
-
-    /// The union of two DNFs: their terms side by side.
-    fn or(self, other: DnfSize) -> DnfSize {
-        DnfSize {
-            terms: self.terms + other.terms,
-            literals: self.literals + other.literals,
-        }
-    }
-
-    /// The intersection of two DNFs multiplied out: every pair of terms.
-    fn and(self, other: DnfSize) -> DnfSize {
-        DnfSize {
-            terms: self.terms * other.terms,
-            literals: self.literals * other.terms + other.literals * self.terms,
-        }
-    }
-}
-
-/// The size of the DNF of the solid behind `edge` (of its complement if `negated`) multiplied
-/// out by De Morgan and distribution with no pruning at all: the baseline pruning is measured
-/// against.
-pub fn unpruned_size(
-    dag: &Dag,
-    edge: Edge,
-    negated: bool,
-    memo: &mut HashMap<(NodeId, bool), DnfSize>,
-) -> DnfSize {
-    if let Some(&size) = memo.get(&(edge.child, negated)) {
-        return size;
-    }
-    let Some(node) = dag.node(edge.child) else {
-        return DnfSize::NOTHING;
-    };
-    let fold = |operands: Vec<(Edge, bool)>, all: bool, memo: &mut HashMap<_, _>| {
-        operands.into_iter().fold(
-            if all {
-                DnfSize::EVERYTHING
-            } else {
-                DnfSize::NOTHING
-            },
-            |acc, (e, n)| {
-                let size = unpruned_size(dag, e, n, memo);
-                if all { acc.and(size) } else { acc.or(size) }
-            },
-        )
-    };
-    let size = match &node.kind {
-        NodeKind::Leaf(_) => DnfSize {
-            terms: 1.0,
-            literals: 1.0,
-        },
-        NodeKind::Complement(e) => unpruned_size(dag, *e, !negated, memo),
-        NodeKind::Color(_, e) | NodeKind::Highlight(e) => unpruned_size(dag, *e, negated, memo),
-        NodeKind::Union(c) => fold(c.iter().map(|&e| (e, negated)).collect(), negated, memo),
-        NodeKind::Intersection(c) => {
-            fold(c.iter().map(|&e| (e, negated)).collect(), !negated, memo)
-        }
-        NodeKind::Difference(c) if c.is_empty() => {
-            if negated {
-                DnfSize::EVERYTHING
-            } else {
-                DnfSize::NOTHING
-            }
-        }
-        // A − B − C = A ∩ ¬B ∩ ¬C; its complement ¬A ∪ B ∪ C.
-        NodeKind::Difference(c) => fold(
-            c.iter()
-                .enumerate()
-                .map(|(i, &e)| (e, (i == 0) == negated))
-                .collect(),
-            !negated,
-            memo,
-        ),
-    };
-    memo.insert((edge.child, negated), size);
-    size
 }
 
 #[cfg(test)]

@@ -8,7 +8,8 @@
 //!
 //! [`build_dnf`] turns the DAG into a [`Dnf`] (a union of intersections of world-space
 //! quadrics) with per-term boxes, pruning as it goes and in passes afterwards ([`prune`]);
-//! [`json`] and [`text`] write both forms.
+//! [`json`] and [`text`] write both forms; [`unpruned_size`] counts what the DNF would be
+//! without any pruning.
 //!
 //! ```
 //! use qcsg_csg::{Aabb, Dag, DnfOptions, Source, build_dnf, dnf_to_json, names_from_list};
@@ -50,6 +51,7 @@ pub mod prune;
 pub mod quadric_box;
 pub mod stats;
 pub mod text;
+pub mod unpruned;
 
 pub use bounds::Aabb;
 pub use dag::{Dag, DagError, Edge, Node, NodeId, NodeKind, Rgba, Source, TransformId};
@@ -57,3 +59,4 @@ pub use dnf::{DEFAULT_TERM_LIMIT, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, 
 pub use json::{dag_to_json, dnf_to_json, names_from_list};
 pub use stats::DnfStats;
 pub use text::{byte_locator, dag_to_text, dnf_to_text, line_locator};
+pub use unpruned::{DnfSize, unpruned_size};

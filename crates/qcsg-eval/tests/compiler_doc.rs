@@ -10,9 +10,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use std::collections::HashMap;
-
-use qcsg_csg::{Dag, DnfOptions, DnfStats, Edge, NodeId, NodeKind, build_dnf};
+use qcsg_csg::{DnfOptions, DnfSize, DnfStats, build_dnf, unpruned_size};
 use qcsg_eval::{EvalOptions, evaluate};
 use qcsg_sema::{CheckOptions, FsLoader, check_file};
 
@@ -21,92 +19,6 @@ const END: &str = "<!-- pruning-report:end -->";
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// Terms and literal occurrences of a DNF (as f64: unpruned counts grow exponentially).
-#[derive(Clone, Copy)]
-struct Size {
-    terms: f64,
-    literals: f64,
-}
-
-impl Size {
-    const NOTHING: Size = Size {
-        terms: 0.0,
-        literals: 0.0,
-    };
-    const EVERYTHING: Size = Size {
-        terms: 1.0,
-        literals: 0.0,
-    };
-
-    /// The size of the union of two DNFs.
-    fn or(self, other: Size) -> Size {
-        Size {
-            terms: self.terms + other.terms,
-            literals: self.literals + other.literals,
-        }
-    }
-
-    /// The size of the intersection of two DNFs multiplied out: every pair of terms.
-    fn and(self, other: Size) -> Size {
-        Size {
-            terms: self.terms * other.terms,
-            literals: self.literals * other.terms + other.literals * self.terms,
-        }
-    }
-}
-
-/// The size of the DNF of the solid behind `edge` (its complement if `negated`) multiplied out
-/// with no pruning at all: the baseline the compiler's pruning is measured against.
-fn unpruned(
-    dag: &Dag,
-    edge: Edge,
-    negated: bool,
-    memo: &mut HashMap<(NodeId, bool), Size>,
-) -> Size {
-    if let Some(&size) = memo.get(&(edge.child, negated)) {
-        return size;
-    }
-    let node = dag.node(edge.child).expect("a node of this DAG");
-    let fold = |operands: Vec<(Edge, bool)>, all: bool, memo: &mut HashMap<_, _>| {
-        operands.into_iter().fold(
-            if all { Size::EVERYTHING } else { Size::NOTHING },
-            |acc, (e, n)| {
-                let size = unpruned(dag, e, n, memo);
-                if all { acc.and(size) } else { acc.or(size) }
-            },
-        )
-    };
-    let size = match &node.kind {
-        NodeKind::Leaf(_) => Size {
-            terms: 1.0,
-            literals: 1.0,
-        },
-        NodeKind::Complement(e) => unpruned(dag, *e, !negated, memo),
-        NodeKind::Color(_, e) | NodeKind::Highlight(e) => unpruned(dag, *e, negated, memo),
-        NodeKind::Union(c) => fold(c.iter().map(|&e| (e, negated)).collect(), negated, memo),
-        NodeKind::Intersection(c) => {
-            fold(c.iter().map(|&e| (e, negated)).collect(), !negated, memo)
-        }
-        NodeKind::Difference(c) if c.is_empty() => {
-            if negated {
-                Size::EVERYTHING
-            } else {
-                Size::NOTHING
-            }
-        }
-        NodeKind::Difference(c) => fold(
-            c.iter()
-                .enumerate()
-                .map(|(i, &e)| (e, (i == 0) == negated))
-                .collect(),
-            !negated,
-            memo,
-        ),
-    };
-    memo.insert((edge.child, negated), size);
-    size
 }
 
 /// A count that may be astronomically large.
@@ -119,7 +31,7 @@ fn count(x: f64) -> String {
 }
 
 /// The DNF statistics of every example, by file name, with the unpruned size.
-fn example_stats() -> Vec<(String, DnfStats, Size)> {
+fn example_stats() -> Vec<(String, DnfStats, DnfSize)> {
     let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join("examples"))
         .expect("examples/ exists")
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -157,14 +69,14 @@ fn example_stats() -> Vec<(String, DnfStats, Size)> {
             let dnf = build_dnf(&evaluation.dag, &DnfOptions::default())
                 .unwrap_or_else(|e| panic!("{name}: {e:?}"));
             let root = evaluation.dag.root().expect("a root");
-            let size = unpruned(&evaluation.dag, root, false, &mut HashMap::new());
+            let size = unpruned_size(&evaluation.dag, root);
             (name, dnf.stats, size)
         })
         .collect()
 }
 
 /// The two tables: construction counters, then terms / literals around each pass.
-fn report(stats: &[(String, DnfStats, Size)]) -> String {
+fn report(stats: &[(String, DnfStats, DnfSize)]) -> String {
     let mut out = String::new();
     out.push_str(
         "During construction (counts of the DNF builder; a term dropped early never multiplies):\n\n\
