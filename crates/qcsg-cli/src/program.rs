@@ -94,3 +94,11 @@ pub fn print_diagnostics(
         eprint!("{text}");
     }
 }
+
+/// The worker threads of `--threads` (default: one per core).
+pub fn thread_pool(threads: Option<std::num::NonZeroUsize>) -> Result<rayon::ThreadPool, String> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.map_or(0, |n| n.get()))
+        .build()
+        .map_err(|error| format!("cannot start worker threads: {error}"))
+}

@@ -163,13 +163,10 @@ pub fn run(args: RenderArgs) -> u8 {
         return EXIT_INPUT_ERRORS;
     };
 
-    let pool = match rayon::ThreadPoolBuilder::new()
-        .num_threads(args.common.threads.map_or(0, |n| n.get()))
-        .build()
-    {
+    let pool = match program::thread_pool(args.common.threads) {
         Ok(pool) => pool,
-        Err(error) => {
-            eprintln!("error: cannot start worker threads: {error}");
+        Err(message) => {
+            eprintln!("error: {message}");
             return EXIT_USAGE;
         }
     };

@@ -9,7 +9,7 @@
 
 use std::fmt::Write as _;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use clap::Args;
@@ -121,13 +121,10 @@ pub fn run(args: SampleArgs) -> u8 {
             return EXIT_USAGE;
         }
     };
-    let pool = match rayon::ThreadPoolBuilder::new()
-        .num_threads(args.common.threads.map_or(0, |n| n.get()))
-        .build()
-    {
+    let pool = match program::thread_pool(args.common.threads) {
         Ok(pool) => pool,
-        Err(error) => {
-            eprintln!("error: cannot start worker threads: {error}");
+        Err(message) => {
+            eprintln!("error: {message}");
             return EXIT_USAGE;
         }
     };
@@ -306,35 +303,7 @@ fn write_output(target: &str, bytes: &[u8]) -> Result<(), String> {
             .and_then(|()| stdout.flush())
             .map_err(|e| format!("cannot write standard output: {e}"));
     }
-    write_atomically(Path::new(target), bytes).map_err(|e| format!("cannot write `{target}`: {e}"))
-}
-
-/// Writes through a temporary file next to `path` and a rename: no partial file on failure.
-fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let directory = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let Some(name) = path.file_name() else {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "not a file name",
-        ));
-    };
-    let mut temporary_name = std::ffi::OsString::from(".");
-    temporary_name.push(name);
-    temporary_name.push(format!(".{}.tmp", std::process::id()));
-    let temporary = directory.join(temporary_name);
-    let result = std::fs::File::create(&temporary)
-        .and_then(|mut file| {
-            file.write_all(bytes)?;
-            file.sync_all()
-        })
-        .and_then(|()| std::fs::rename(&temporary, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temporary);
-    }
-    result
+    qcsg_render::png::write_atomically(Path::new(target), bytes).map_err(|e| e.to_string())
 }
 
 #[cfg(test)]
