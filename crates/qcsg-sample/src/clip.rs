@@ -13,6 +13,7 @@
 use std::collections::HashMap;
 
 use qcsg_csg::Dnf;
+use rayon::prelude::*;
 
 use crate::Sample;
 
@@ -59,14 +60,14 @@ impl ClipLists {
 /// Clip lists of one region's samples before deduplication: `lengths[i]` indices of sample `i`,
 /// concatenated in `indices`.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct RawClipLists {
-    pub(crate) lengths: Vec<u32>,
-    pub(crate) indices: Vec<u32>,
+struct RawClipLists {
+    lengths: Vec<u32>,
+    indices: Vec<u32>,
 }
 
 impl RawClipLists {
     /// Appends the clip list of each sample (the other literals of its term within its radius).
-    pub(crate) fn push_samples(&mut self, dnf: &Dnf, samples: &[Sample]) {
+    fn push_samples(&mut self, dnf: &Dnf, samples: &[Sample]) {
         for sample in samples {
             let start = self.indices.len();
             if let Some(term) = dnf.terms.get(sample.term as usize) {
@@ -99,14 +100,35 @@ impl RawClipLists {
     }
 }
 
+/// Samples per parallel batch when clip lists are computed.
+const CLIP_BATCH: usize = 4096;
+
+/// Computes every sample's clip list (in parallel batches), stores each distinct list once and
+/// sets `clip_list` of each sample; lists are numbered in sample order.
+pub(crate) fn assign(dnf: &Dnf, samples: &mut [Sample]) -> ClipLists {
+    let raw: Vec<RawClipLists> = samples
+        .par_chunks(CLIP_BATCH)
+        .map(|batch| {
+            let mut raw = RawClipLists::default();
+            raw.push_samples(dnf, batch);
+            raw
+        })
+        .collect();
+    let mut builder = ClipListBuilder::new();
+    for (batch, raw) in samples.chunks_mut(CLIP_BATCH).zip(&raw) {
+        builder.assign(raw, batch);
+    }
+    builder.finish()
+}
+
 /// Assigns every sample its list index, sharing identical lists, in sample order.
-pub(crate) struct ClipListBuilder<'a> {
+struct ClipListBuilder<'a> {
     lists: ClipLists,
     known: HashMap<&'a [u32], u32>,
 }
 
 impl<'a> ClipListBuilder<'a> {
-    pub(crate) fn new() -> Self {
+    fn new() -> Self {
         Self {
             lists: ClipLists::default(),
             known: HashMap::new(),
@@ -114,7 +136,7 @@ impl<'a> ClipListBuilder<'a> {
     }
 
     /// Sets `clip_list` of each sample from its raw list (same order as `samples`).
-    pub(crate) fn assign(&mut self, raw: &'a RawClipLists, samples: &mut [Sample]) {
+    fn assign(&mut self, raw: &'a RawClipLists, samples: &mut [Sample]) {
         let mut start = 0usize;
         for (sample, &length) in samples.iter_mut().zip(&raw.lengths) {
             let end = start + length as usize;
@@ -130,7 +152,7 @@ impl<'a> ClipListBuilder<'a> {
         }
     }
 
-    pub(crate) fn finish(self) -> ClipLists {
+    fn finish(self) -> ClipLists {
         self.lists
     }
 }

@@ -7,8 +7,9 @@
 //! decomposed into basic regions of low distortion inside the term's box ([`regions`]); each basic
 //! region is subdivided adaptively, driven by the quadric-relative CSG distance of eq. 22
 //! ([`csg_distance`]) at its corners and the distortion bounds of §3.4 ([`subdivide`]). Regions
-//! are sampled in parallel with rayon; the output is the concatenation in region order, so it is
-//! byte-identical for any thread count.
+//! are sampled in parallel with rayon, then the small rectangles the first pass left unproven
+//! ([`subdivide`], "Two passes"); the output is the concatenation in region order, then in
+//! deferred order, so it is byte-identical for any thread count.
 //!
 //! Decisions where the paper leaves room, each documented and tested in its module:
 //! - basic regions are axis-aligned rectangles found by conservative refinement with the §3.4
@@ -18,23 +19,31 @@
 //! - eq. 22 leaves out terms sharing the sampled quadric and complementary literals, and uses
 //!   the DNF's region, not the per-term boxes ([`csg_distance`]);
 //! - small regions get one sample at a corner or the centre proven on the surface, with the
-//!   radius reduced to the region's footprint; unproven ones are split down to
+//!   radius reduced to the region's footprint; unproven ones wait for a second pass, where a
+//!   sample of any region within reach covers them, or they are split down to
 //!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint and counted when given up
 //!   ([`subdivide::SubdivisionStats::unresolved`]);
+//! - eq. 22 of each basic region keeps only the other terms whose box comes near the region's
+//!   patch ([`csg_distance::CsgDistance::near`]), so a query costs what the nearby parts cost;
 //! - faces shared by parts (coincident planes of different quadrics: boxes sharing a face, a
 //!   difference flush with a face, a cylinder's cap on a box face) are resolved per sheet in
 //!   eq. 22 ([`csg_distance`], "Shared planes"), so the shared face is sampled where it is part
 //!   of the surface and discarded where it is not; a literal that another term shares with the
 //!   sampled term is left out of the other term ("Literals of both terms"), so the border of a
-//!   face inside a union of abutting parts is classified too.
+//!   face inside a union of abutting parts is classified too; two other terms that meet along a
+//!   plane also enter merged, so a quadric crossing or touching the plane between them inside
+//!   both is classified ([`csg_distance`], "Abutting terms").
 //!
 //! Known limits, found by the program and random-scene tests (`tests/scenes.rs`), which check the
 //! guarantee against ray-cast reference points (those run in CI pass; the ignored ones over all
 //! programs are meant for a release build):
-//! - where eq. 22 only touches zero without changing sign along a curve where a quadric meets
-//!   the solid's boundary without bounding it (a slab's plane along another term's ellipsoid),
-//!   no corner bound classifies the rectangles beside it: they are split down to the cutoff and
-//!   counted as unresolved. Nothing is lost there, but the cost can be high;
+//! - where eq. 22 only touches zero without changing sign along a curve, no corner bound
+//!   classifies the rectangles beside it: they are split down to the cutoff and counted as
+//!   unresolved. This is left where surfaces are tangent (a corner cylinder of a rounded box
+//!   touching the walls along a line: `examples/customizer_box.qcsg`), where two parts' rims
+//!   coincide on the face between them (the chess bishop's foot disc and cone, both of radius
+//!   11, at 1 % of the diagonal), and where surfaces nearly coincide (a countersink's top
+//!   `0.01` above a face). Nothing is lost there, but the cost can be high;
 //! - positions come from the heightfields, moved onto the quadric by up to two Newton steps
 //!   (which bring samples on a slab of half-width `1e-6` from `1.2e-7` of the diagonal off the
 //!   quadric to within `1e-9`); cones are left unrefined, because a step next to the apex can
@@ -59,10 +68,13 @@ use qcsg_quadric::{DVec3, PrincipalFrame, QuadricKind};
 use rayon::prelude::*;
 
 pub use crate::clip::ClipLists;
-use crate::clip::{ClipListBuilder, RawClipLists};
 use crate::csg_distance::CsgDistance;
-use crate::regions::{BasicRegion, RegionStats, basic_regions};
-use crate::subdivide::{GivenUp, RegionContext, SubdivisionStats, sample_region, settle_given_up};
+use crate::csg_distance::NearDistance;
+use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
+use crate::subdivide::{
+    Deferred, GivenUp, RegionContext, SampleIndex, SubdivisionStats, refine_deferred,
+    sample_region, settle_given_up,
+};
 
 /// One sample on the CSG surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -225,44 +237,84 @@ pub fn sample_with_progress(
     let (patches, regions) = all_regions(dnf, &mut stats);
     stats.basic_regions = regions.len() as u64;
     progress(Progress::Regions(stats.basic_regions));
-    type RegionOutput = (Vec<Sample>, RawClipLists, Vec<GivenUp>, SubdivisionStats);
-    let per_region: Vec<RegionOutput> = regions
+    // Eq. 22 of each region keeps the other terms near the region's patch.
+    let near: Vec<Option<NearDistance<'_>>> = regions
         .par_iter()
-        .map(|(patch_index, region)| {
-            let mut out = Vec::new();
-            let mut counters = SubdivisionStats::default();
-            let mut pending = Vec::new();
-            if let (Some(patch), Some(entry)) = (
-                patches.get(*patch_index),
-                dnf.quadrics.get(region.quadric as usize),
-            ) && patch.quadric == region.quadric
-            {
-                let ctx = RegionContext {
-                    frame: &patch.frame,
-                    quadric: &entry.quadric,
-                    distance: &patch.distance,
-                    radius,
-                };
-                sample_region(&ctx, region, &mut out, &mut pending, &mut counters);
-            }
-            let mut clip = RawClipLists::default();
-            clip.push_samples(dnf, &out);
-            progress(Progress::RegionDone);
-            (out, clip, pending, counters)
+        .map(|(patch, region)| {
+            let patch = patches.get(*patch)?;
+            let bounds = patch_bounds(&patch.frame, region).unwrap_or(Aabb::EVERYTHING);
+            let margin = (bounds.max - bounds.min).length() + radius;
+            Some(patch.distance.near(&bounds, margin))
         })
         .collect();
-    let mut samples = Vec::with_capacity(per_region.iter().map(|(s, ..)| s.len()).sum());
-    let mut builder = ClipListBuilder::new();
-    let mut pending = Vec::new();
-    for (region_samples, raw, given_up, counters) in &per_region {
-        let first = samples.len();
-        samples.extend_from_slice(region_samples);
-        builder.assign(raw, &mut samples[first..]);
-        pending.extend_from_slice(given_up);
-        stats.subdivision.add(counters);
+    let context = |index: usize| {
+        let (patch, region) = regions.get(index)?;
+        let patch = patches.get(*patch)?;
+        let entry = dnf.quadrics.get(region.quadric as usize)?;
+        (patch.quadric == region.quadric).then_some(RegionContext {
+            frame: &patch.frame,
+            quadric: &entry.quadric,
+            distance: near.get(index)?.as_ref()?,
+            radius,
+        })
+    };
+    // First pass: every region on its own.
+    type FirstPass = (Vec<Sample>, Vec<Deferred>, SubdivisionStats);
+    let first: Vec<FirstPass> = (0..regions.len())
+        .into_par_iter()
+        .map(|region| {
+            let mut out = Vec::new();
+            let mut deferred = Vec::new();
+            let mut counters = SubdivisionStats::default();
+            if let Some(ctx) = context(region) {
+                let region = &regions[region].1;
+                sample_region(&ctx, region, &mut out, &mut deferred, &mut counters);
+            }
+            progress(Progress::RegionDone);
+            (out, deferred, counters)
+        })
+        .collect();
+    let mut samples = Vec::with_capacity(first.iter().map(|(s, ..)| s.len()).sum());
+    let mut deferred = Vec::new();
+    for (region, (region_samples, region_deferred, counters)) in first.into_iter().enumerate() {
+        samples.extend(region_samples);
+        deferred.extend(region_deferred.into_iter().map(|d| (region, d)));
+        stats.subdivision.add(&counters);
     }
-    settle_given_up(&pending, &samples, &mut stats.subdivision);
-    let clip_lists = builder.finish();
+    // Second pass: the rectangles the first left unproven, against all first-pass samples.
+    let centres: Vec<(u32, DVec3)> = deferred
+        .iter()
+        .filter_map(|&(region, d)| {
+            let ctx = context(region)?;
+            let region = &regions[region].1;
+            Some((region.quadric, d.centre_point(&ctx, region)?))
+        })
+        .collect();
+    let index = SampleIndex::new(&samples, &centres, radius);
+    type SecondPass = (Vec<Sample>, Vec<GivenUp>, SubdivisionStats);
+    let second: Vec<SecondPass> = deferred
+        .par_iter()
+        .map(|&(region, ref d)| {
+            let mut out = Vec::new();
+            let mut given_up = Vec::new();
+            let mut counters = SubdivisionStats::default();
+            if let Some(ctx) = context(region) {
+                let (r, index) = (&regions[region].1, &index);
+                refine_deferred(&ctx, r, d, index, &mut out, &mut given_up, &mut counters);
+            }
+            (out, given_up, counters)
+        })
+        .collect();
+    drop(index);
+    let mut given_up = Vec::new();
+    for (more, region_given_up, counters) in second {
+        samples.extend(more);
+        given_up.extend(region_given_up);
+        stats.subdivision.add(&counters);
+    }
+    // Last: what the second pass gave up, against every sample.
+    settle_given_up(&given_up, &samples, radius, &mut stats.subdivision);
+    let clip_lists = clip::assign(dnf, &mut samples);
     stats.samples = samples.len() as u64;
     stats.clip_lists = clip_lists.len() as u64;
     stats.clip_indices = clip_lists.indices.len() as u64;

@@ -17,7 +17,8 @@
 //! - a rectangle over which the heightfield is defined everywhere and whose maximum distortion is
 //!   at most [`KEEP_DISTORTION`] becomes a basic region;
 //! - a rectangle with no surface over it (`max S < 0`) is dropped;
-//! - anything else is split at its longer edge.
+//! - anything else is split in two, across the coordinate along which the distortion varies
+//!   more (a cylinder seen from a plane holding its axis varies across it only).
 //!
 //! Only rectangles that provably contain no point with `δ ≤ √3` are dropped, so the kept regions
 //! of the three planes cover every surface point whose best plane has a heightfield (every
@@ -68,6 +69,11 @@ impl Rect {
         self.width().hypot(self.height())
     }
 
+    /// The centre.
+    pub fn centre(&self) -> (f64, f64) {
+        (0.5 * (self.x.0 + self.x.1), 0.5 * (self.y.0 + self.y.1))
+    }
+
     /// Whether `(x, y)` lies in the closed rectangle.
     pub fn contains(&self, x: f64, y: f64) -> bool {
         self.x.0 <= x && x <= self.x.1 && self.y.0 <= y && y <= self.y.1
@@ -75,7 +81,14 @@ impl Rect {
 
     /// The two halves across the longer edge, and whether the split was along `x`.
     pub fn split_longest(&self) -> (Rect, Rect, bool) {
-        if self.width() >= self.height() {
+        let along_x = self.width() >= self.height();
+        let (low, high) = self.split(along_x);
+        (low, high, along_x)
+    }
+
+    /// The two halves across the middle of `x` (`along_x`) or of `y`.
+    pub fn split(&self, along_x: bool) -> (Rect, Rect) {
+        if along_x {
             let m = 0.5 * (self.x.0 + self.x.1);
             (
                 Rect {
@@ -86,7 +99,6 @@ impl Rect {
                     x: (m, self.x.1),
                     y: self.y,
                 },
-                true,
             )
         } else {
             let m = 0.5 * (self.y.0 + self.y.1);
@@ -99,7 +111,6 @@ impl Rect {
                     x: self.x,
                     y: (m, self.y.1),
                 },
-                false,
             )
         }
     }
@@ -186,7 +197,7 @@ pub fn basic_regions(
                     stats.unresolved += 1
                 }
                 RectClass::Split => {
-                    let (low, high, _) = rect.split_longest();
+                    let (low, high) = split_for_distortion(heightfield, &rect);
                     stack.push((high, depth + 1));
                     stack.push((low, depth + 1));
                 }
@@ -203,6 +214,30 @@ pub fn basic_regions(
             max_distortion,
         }));
     }
+}
+
+/// The halves of an undecided rectangle: split where the distortion varies. The distortion of
+/// a cylinder seen from a plane holding its axis depends on one coordinate only; halving the
+/// other (the longer edge of a tall domain) would not bring the rectangle closer to a decision.
+/// Of the two cuts, the one whose halves have the smaller largest spread of distortion wins;
+/// the longer edge breaks ties and decides where the bounds are undefined.
+fn split_for_distortion(heightfield: &Heightfield, rect: &Rect) -> (Rect, Rect) {
+    let spread = |r: &Rect| {
+        heightfield
+            .distortion_bounds(r.x, r.y)
+            .map_or(f64::INFINITY, |(low, high)| high - low)
+    };
+    let score = |along_x: bool| {
+        let (low, high) = rect.split(along_x);
+        spread(&low).max(spread(&high))
+    };
+    let (by_x, by_y) = (score(true), score(false));
+    let along_x = if by_x.is_finite() && by_y.is_finite() && by_x != by_y {
+        by_x < by_y
+    } else {
+        rect.width() >= rect.height()
+    };
+    rect.split(along_x)
 }
 
 /// The domain cut at the plane's axes (the paper describes one quadrant; the rest is symmetry).
@@ -278,6 +313,64 @@ fn quadratic_max(alpha: f64, beta: f64, (a, b): (f64, f64)) -> f64 {
         }
     }
     best
+}
+
+/// `min (α v² + 2β v)` over `[a, b]`.
+fn quadratic_min(alpha: f64, beta: f64, range: (f64, f64)) -> f64 {
+    -quadratic_max(-alpha, -beta, range)
+}
+
+/// A world box holding the surface over a basic region's rectangle (its patch), slightly
+/// widened for rounding; `None` where the heightfield has no form to bound.
+pub fn patch_bounds(frame: &PrincipalFrame, region: &BasicRegion) -> Option<Aabb> {
+    let rect = region.rect;
+    let heights = match region.heightfield.form {
+        HeightfieldForm::Root {
+            alpha_x,
+            alpha_y,
+            alpha_c,
+            beta_x,
+            beta_y,
+        } => {
+            let low =
+                quadratic_min(alpha_x, beta_x, rect.x) + quadratic_min(alpha_y, beta_y, rect.y);
+            let high =
+                quadratic_max(alpha_x, beta_x, rect.x) + quadratic_max(alpha_y, beta_y, rect.y);
+            let (low, high) = (
+                (low + alpha_c).max(0.0).sqrt(),
+                (high + alpha_c).max(0.0).sqrt(),
+            );
+            if region.sheet > 0.0 {
+                (low, high)
+            } else {
+                (-high, -low)
+            }
+        }
+        HeightfieldForm::Polynomial {
+            gamma_x,
+            gamma_y,
+            gamma_c,
+        } => (
+            quadratic_min(gamma_x, 0.0, rect.x) + quadratic_min(gamma_y, 0.0, rect.y) + gamma_c,
+            quadratic_max(gamma_x, 0.0, rect.x) + quadratic_max(gamma_y, 0.0, rect.y) + gamma_c,
+        ),
+        HeightfieldForm::Ruled => return None,
+    };
+    let mut bounds = Aabb::EMPTY;
+    for (x, y, t) in [rect.x.0, rect.x.1]
+        .into_iter()
+        .flat_map(|x| [rect.y.0, rect.y.1].map(|y| (x, y)))
+        .flat_map(|(x, y)| [heights.0, heights.1].map(|t| (x, y, t)))
+    {
+        let p = frame.heightfield_point(&region.heightfield, x, y, t);
+        bounds = bounds.union(&Aabb::new(p, p));
+    }
+    let pad = 1e-9 * (bounds.max - bounds.min).length()
+        + 1e-12 * bounds.max.abs().max(bounds.min.abs()).max_element();
+    Some(Aabb::new(
+        bounds.min - DVec3::splat(pad),
+        bounds.max + DVec3::splat(pad),
+    ))
 }
 
 /// `min |α v + β|` over `[a, b]`.

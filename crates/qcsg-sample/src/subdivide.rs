@@ -11,16 +11,26 @@
 //! **Small regions.** A rectangle whose world footprint `δ_max · diagonal` is at most `r` needs
 //! only one sample on the CSG surface anywhere inside it: the first corner with `d < 0` gets it
 //! (the paper's special case), else the centre if `d(centre) < 0`. The sample's radius is reduced
-//! to the footprint (§6.1: less overdraw, same guarantee). If neither is on the surface the
-//! rectangle keeps being split, because only a proof keeps the guarantee: the paper's cut-off
-//! at a tenth of the splat "can theoretically result in small holes". The cut-off here is at
-//! [`SMALL_REGION_FRACTION`] of the splat footprint: a surface sliver that avoids every corner
-//! and centre down to that size could be missed. A given-up rectangle within `r − footprint` of a
-//! sample of the same quadric is still covered (counted in
-//! [`SubdivisionStats::unresolved_covered`]): samples of its own region are checked here, those
-//! of other regions (a neighbouring region often holds the sample, since given-up rectangles sit
-//! on feature curves that cross region borders) once all regions are done ([`GivenUp`]). The
-//! rest are counted in [`SubdivisionStats::unresolved`], so the count says whether a hole was
+//! to the footprint (§6.1: less overdraw, same guarantee).
+//!
+//! **Two passes.** A small rectangle with neither corner nor centre on the surface is not split
+//! further at once: the first pass ([`sample_region`]) sets it aside ([`Deferred`]), and the
+//! second ([`refine_deferred`]) takes it up once every region has its samples. There it is
+//! covered as soon as a sample of the same quadric lies within `r − footprint / 2` of the
+//! surface point over its centre (every point of the rectangle is within `footprint / 2` of that
+//! point); otherwise it is split and classified again, down to [`SMALL_REGION_FRACTION`] of the
+//! footprint. Such rectangles sit beside feature curves, and the samples on the other side of
+//! the curve, often in a neighbouring region, usually cover them at once: where a curve runs
+//! along a region border (the lens edge of `examples/three_spheres.qcsg`), splitting them down to
+//! the cutoff had cost 17× the queries. Second-pass samples are appended after the first pass's,
+//! in the order of the deferred rectangles, so the output does not depend on the thread count.
+//!
+//! **The cutoff.** Only a proof keeps the guarantee: the paper's cut-off at a tenth of the splat
+//! "can theoretically result in small holes", and a cutoff of `r / 16` here missed a sliver of
+//! `examples/precision_part.qcsg` that the reference points found. A surface sliver that avoids
+//! every corner and centre down to `r / 64` could still be missed; rectangles given up there are
+//! settled against every sample at the end ([`settle_given_up`]), those without a sample within
+//! reach counted in [`SubdivisionStats::unresolved`], so the count says whether a hole was
 //! possible at all.
 
 use std::collections::{HashMap, HashSet};
@@ -28,7 +38,7 @@ use std::collections::{HashMap, HashSet};
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
 
 use crate::Sample;
-use crate::csg_distance::CsgDistance;
+use crate::csg_distance::NearDistance;
 use crate::regions::{BasicRegion, Rect, region_point};
 
 /// Rectangles smaller than this fraction of the sample footprint are given up when unclassified.
@@ -70,200 +80,323 @@ impl SubdivisionStats {
     }
 }
 
-/// A rectangle given up unclassified and not covered by a sample of its own region: covered
-/// if some sample of the same quadric lies within `reach` of `point`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GivenUp {
-    /// Index of the quadric in the DNF's quadric table.
-    pub quadric: u32,
-    /// A surface point of the rectangle (its first corner).
-    pub point: DVec3,
-    /// `r − footprint`: a sample this close to `point` covers the whole rectangle.
-    pub reach: f64,
-}
-
 /// What one basic region needs to be sampled.
 pub struct RegionContext<'a> {
     /// The quadric's principal frame.
     pub frame: &'a PrincipalFrame,
     /// The quadric itself (normals, snapping to the surface).
     pub quadric: &'a Quadric,
-    /// Eq. 22 for this quadric and term.
-    pub distance: &'a CsgDistance,
+    /// Eq. 22 for this quadric and term, near the region.
+    pub distance: &'a NearDistance<'a>,
     /// The world-space sample radius `r`.
     pub radius: f64,
 }
 
 /// A rectangle with its corner distances `[x0y0, x1y0, x0y1, x1y1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Cell {
     rect: Rect,
     d: [f64; 4],
 }
 
-/// Samples one basic region, appending to `out` in a deterministic (depth-first) order.
-/// Given-up rectangles not covered by a sample of this region go to `pending` (not counted
-/// yet: see [`GivenUp`]); those without a surface point at their corner count as unresolved.
+/// A rectangle of footprint at most `r` that the first pass left unproven (no corner and not
+/// its centre on the surface): [`refine_deferred`] settles it once every region has its samples.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Deferred {
+    cell: Cell,
+}
+
+impl Deferred {
+    /// The surface point over the rectangle's centre.
+    pub fn centre_point(&self, ctx: &RegionContext<'_>, region: &BasicRegion) -> Option<DVec3> {
+        let (x, y) = self.cell.rect.centre();
+        region_point(ctx.frame, &region.heightfield, region.sheet, x, y)
+    }
+}
+
+/// What a cell is after its corner distances are looked at.
+enum Verdict {
+    /// Proven off the surface.
+    Discarded,
+    /// Proven on the surface and filled with samples.
+    Filled,
+    /// Small, with one sample on the surface.
+    Small,
+    /// Small and unproven.
+    Unproven { footprint: f64 },
+    /// To be split.
+    Split,
+}
+
+/// Classifies one cell, emitting its samples when it is on the surface.
+fn classify(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    cell: &Cell,
+    out: &mut Vec<Sample>,
+    stats: &mut SubdivisionStats,
+) -> Verdict {
+    stats.rectangles += 1;
+    let rect = cell.rect;
+    let distortion = rect_distortion(region, &rect);
+    let diagonal = rect.diagonal();
+    let radii = cell.d.map(|d| d.abs() / distortion);
+    let covered =
+        radii.iter().any(|&r| r >= diagonal) || radii.iter().all(|&r| r >= 0.5 * diagonal);
+    if covered && cell.d.iter().all(|&d| d > 0.0) {
+        stats.discarded += 1;
+        return Verdict::Discarded;
+    }
+    let footprint = distortion * diagonal;
+    if footprint > ctx.radius {
+        if covered && cell.d.iter().all(|&d| d < 0.0) && fill(ctx, region, &rect, distortion, out) {
+            stats.filled += 1;
+            return Verdict::Filled;
+        }
+        return Verdict::Split;
+    }
+    if let Some(k) = cell.d.iter().position(|&d| d < 0.0) {
+        let (x, y) = corner(&rect, k);
+        emit(ctx, region, x, y, footprint.min(ctx.radius), out);
+        stats.small += 1;
+        return Verdict::Small;
+    }
+    let (cx, cy) = rect.centre();
+    if query(ctx, region, cx, cy, stats) < 0.0 {
+        emit(ctx, region, cx, cy, (0.5 * footprint).min(ctx.radius), out);
+        stats.small += 1;
+        return Verdict::Small;
+    }
+    Verdict::Unproven { footprint }
+}
+
+/// The two halves of a cell across its longer edge, with their corner distances; `None` when
+/// floating point cannot make them smaller.
+fn split(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    cell: &Cell,
+    stats: &mut SubdivisionStats,
+) -> Option<(Cell, Cell)> {
+    let rect = cell.rect;
+    let (low, high, along_x) = rect.split_longest();
+    if low.diagonal() >= rect.diagonal() || high.diagonal() >= rect.diagonal() {
+        return None;
+    }
+    let [d00, d10, d01, d11] = cell.d;
+    let (low_d, high_d) = if along_x {
+        let m0 = query(ctx, region, low.x.1, rect.y.0, stats);
+        let m1 = query(ctx, region, low.x.1, rect.y.1, stats);
+        ([d00, m0, d01, m1], [m0, d10, m1, d11])
+    } else {
+        let m0 = query(ctx, region, rect.x.0, low.y.1, stats);
+        let m1 = query(ctx, region, rect.x.1, low.y.1, stats);
+        ([d00, d10, m0, m1], [m0, m1, d01, d11])
+    };
+    Some((
+        Cell {
+            rect: low,
+            d: low_d,
+        },
+        Cell {
+            rect: high,
+            d: high_d,
+        },
+    ))
+}
+
+/// First pass over one basic region, appending its samples to `out` in a deterministic
+/// (depth-first) order. Rectangles of footprint at most `r` that it cannot prove go to
+/// `deferred`, for [`refine_deferred`].
 pub fn sample_region(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
     out: &mut Vec<Sample>,
-    pending: &mut Vec<GivenUp>,
+    deferred: &mut Vec<Deferred>,
     stats: &mut SubdivisionStats,
 ) {
     let root = region.rect;
-    let cutoff = SMALL_REGION_FRACTION * ctx.radius / region.max_distortion.max(1.0);
-    let corners = [
-        (root.x.0, root.y.0),
-        (root.x.1, root.y.0),
-        (root.x.0, root.y.1),
-        (root.x.1, root.y.1),
-    ];
-    let d = corners.map(|(x, y)| query(ctx, region, x, y, stats));
-    let first_sample = out.len();
-    let mut given_up = Vec::new();
+    let d = [0, 1, 2, 3].map(|k| {
+        let (x, y) = corner(&root, k);
+        query(ctx, region, x, y, stats)
+    });
     let mut stack = vec![Cell { rect: root, d }];
     while let Some(cell) = stack.pop() {
-        stats.rectangles += 1;
-        let rect = cell.rect;
-        let distortion = rect_distortion(region, &rect);
-        let diagonal = rect.diagonal();
-        let radii = cell.d.map(|d| d.abs() / distortion);
-        let covered =
-            radii.iter().any(|&r| r >= diagonal) || radii.iter().all(|&r| r >= 0.5 * diagonal);
-        if covered && cell.d.iter().all(|&d| d > 0.0) {
-            stats.discarded += 1;
-            continue;
-        }
-        let footprint = distortion * diagonal;
-        if covered
-            && cell.d.iter().all(|&d| d < 0.0)
-            && footprint > ctx.radius
-            && fill(ctx, region, &rect, distortion, out)
-        {
-            stats.filled += 1;
-            continue;
-        }
-        if footprint <= ctx.radius {
-            if let Some(k) = cell.d.iter().position(|&d| d < 0.0) {
-                let (x, y) = corner(&rect, k);
-                emit(ctx, region, x, y, footprint.min(ctx.radius), out);
-                stats.small += 1;
-                continue;
-            }
-            let (cx, cy) = (0.5 * (rect.x.0 + rect.x.1), 0.5 * (rect.y.0 + rect.y.1));
-            if query(ctx, region, cx, cy, stats) < 0.0 {
-                emit(ctx, region, cx, cy, (0.5 * footprint).min(ctx.radius), out);
-                stats.small += 1;
-                continue;
-            }
-            if diagonal <= cutoff {
-                given_up.push((rect, footprint));
-                continue;
-            }
-        }
-        let (low, high, along_x) = rect.split_longest();
-        let [d00, d10, d01, d11] = cell.d;
-        let (low_d, high_d) = if along_x {
-            let m0 = query(ctx, region, low.x.1, rect.y.0, stats);
-            let m1 = query(ctx, region, low.x.1, rect.y.1, stats);
-            ([d00, m0, d01, m1], [m0, d10, m1, d11])
-        } else {
-            let m0 = query(ctx, region, rect.x.0, low.y.1, stats);
-            let m1 = query(ctx, region, rect.x.1, low.y.1, stats);
-            ([d00, d10, m0, m1], [m0, m1, d01, d11])
-        };
-        if low.diagonal() >= diagonal || high.diagonal() >= diagonal {
-            // No progress in floating point: the rectangle is as small as it gets.
-            given_up.push((rect, footprint));
-            continue;
-        }
-        stack.push(Cell {
-            rect: high,
-            d: high_d,
-        });
-        stack.push(Cell {
-            rect: low,
-            d: low_d,
-        });
-    }
-    for (rect, footprint) in given_up {
-        let reach = ctx.radius - footprint;
-        let point = region_point(
-            ctx.frame,
-            &region.heightfield,
-            region.sheet,
-            rect.x.0,
-            rect.y.0,
-        );
-        let Some(point) = point.filter(|_| reach > 0.0) else {
-            stats.unresolved += 1;
-            continue;
-        };
-        let samples = out.get(first_sample..).unwrap_or(&[]);
-        if samples
-            .iter()
-            .any(|s| (s.position - point).length() <= reach)
-        {
-            stats.unresolved_covered += 1;
-        } else {
-            pending.push(GivenUp {
-                quadric: region.quadric,
-                point,
-                reach,
-            });
+        match classify(ctx, region, &cell, out, stats) {
+            Verdict::Discarded | Verdict::Filled | Verdict::Small => {}
+            Verdict::Unproven { .. } => deferred.push(Deferred { cell }),
+            Verdict::Split => match split(ctx, region, &cell, stats) {
+                Some((low, high)) => {
+                    stack.push(high);
+                    stack.push(low);
+                }
+                None => deferred.push(Deferred { cell }),
+            },
         }
     }
 }
 
-/// Settles the given-up rectangles of all regions against all samples: each one with a sample
-/// of its quadric within its reach counts as covered, the rest as unresolved.
-pub fn settle_given_up(pending: &[GivenUp], samples: &[Sample], stats: &mut SubdivisionStats) {
-    if pending.is_empty() {
-        return;
-    }
-    let cell = pending.iter().map(|g| g.reach).fold(0.0, f64::max);
-    let anchor = pending[0].point;
-    let key = |p: DVec3| {
-        let c = ((p - anchor) / cell).floor();
-        (c.x as i64, c.y as i64, c.z as i64)
-    };
-    // Samples of the pending quadrics, bucketed by (cell, quadric).
-    let mut grid: HashMap<(i64, i64, i64, u32), Vec<usize>> = HashMap::new();
-    let wanted: HashSet<u32> = pending.iter().map(|g| g.quadric).collect();
-    for (index, sample) in samples.iter().enumerate() {
-        if wanted.contains(&sample.quadric) {
-            let (x, y, z) = key(sample.position);
-            grid.entry((x, y, z, sample.quadric))
-                .or_default()
-                .push(index);
-        }
-    }
-    for given_up in pending {
-        let (x, y, z) = key(given_up.point);
-        let mut covered = false;
-        'search: for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let Some(list) = grid.get(&(x + dx, y + dy, z + dz, given_up.quadric)) else {
-                        continue;
-                    };
-                    if list
-                        .iter()
-                        .any(|&i| (samples[i].position - given_up.point).length() <= given_up.reach)
-                    {
-                        covered = true;
-                        break 'search;
-                    }
-                }
+/// Second pass over one deferred rectangle. It is covered as soon as a sample of the same
+/// quadric lies within `r − footprint / 2` of its centre's surface point (a first-pass sample
+/// from `index`, or one this refinement emitted); otherwise it is split and classified again,
+/// down to [`SMALL_REGION_FRACTION`] of the footprint, where it goes to `given_up` (or counts as
+/// unresolved when it has no reach left).
+pub fn refine_deferred(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    deferred: &Deferred,
+    index: &SampleIndex<'_>,
+    out: &mut Vec<Sample>,
+    given_up: &mut Vec<GivenUp>,
+    stats: &mut SubdivisionStats,
+) {
+    let cutoff = SMALL_REGION_FRACTION * ctx.radius / region.max_distortion.max(1.0);
+    let first_sample = out.len();
+    let mut stack = vec![(deferred.cell, true)];
+    while let Some((cell, classified)) = stack.pop() {
+        let footprint = if classified {
+            // The first pass has classified this one already.
+            rect_distortion(region, &cell.rect) * cell.rect.diagonal()
+        } else {
+            match classify(ctx, region, &cell, out, stats) {
+                Verdict::Discarded | Verdict::Filled | Verdict::Small => continue,
+                Verdict::Unproven { footprint } => footprint,
+                Verdict::Split => f64::INFINITY,
             }
+        };
+        let (cx, cy) = cell.rect.centre();
+        let reach = ctx.radius - 0.5 * footprint;
+        let point = region_point(ctx.frame, &region.heightfield, region.sheet, cx, cy)
+            .filter(|_| reach > 0.0);
+        if let Some(point) = point
+            && (index.covers(region.quadric, point, reach)
+                || out[first_sample..]
+                    .iter()
+                    .any(|s| (s.position - point).length() <= reach))
+        {
+            stats.unresolved_covered += 1;
+            continue;
         }
-        if covered {
+        let halves = if cell.rect.diagonal() <= cutoff {
+            None
+        } else {
+            split(ctx, region, &cell, stats)
+        };
+        match (halves, point) {
+            (Some((low, high)), _) => {
+                stack.push((high, false));
+                stack.push((low, false));
+            }
+            (None, Some(point)) => given_up.push(GivenUp {
+                quadric: region.quadric,
+                point,
+                reach,
+            }),
+            (None, None) => stats.unresolved += 1,
+        }
+    }
+}
+
+/// A rectangle given up unclassified: covered if some sample of the same quadric, from any
+/// region or pass, lies within `reach` of `point` ([`settle_given_up`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GivenUp {
+    /// Index of the quadric in the DNF's quadric table.
+    pub quadric: u32,
+    /// The surface point over the rectangle's centre.
+    pub point: DVec3,
+    /// `r − footprint / 2`: a sample this close to `point` covers the whole rectangle.
+    pub reach: f64,
+}
+
+/// Settles given-up rectangles against all samples: covered ones are counted in
+/// [`SubdivisionStats::unresolved_covered`], the rest in [`SubdivisionStats::unresolved`].
+pub fn settle_given_up(
+    given_up: &[GivenUp],
+    samples: &[Sample],
+    radius: f64,
+    stats: &mut SubdivisionStats,
+) {
+    let centres: Vec<(u32, DVec3)> = given_up.iter().map(|g| (g.quadric, g.point)).collect();
+    let index = SampleIndex::new(samples, &centres, radius);
+    for g in given_up {
+        if index.covers(g.quadric, g.point, g.reach) {
             stats.unresolved_covered += 1;
         } else {
             stats.unresolved += 1;
         }
     }
 }
+
+/// The first pass's samples near deferred rectangles, bucketed by quadric and by cubes of side
+/// `2r`: every sample within `r` of a point within `r / 2` of a deferred centre is found.
+pub struct SampleIndex<'a> {
+    samples: &'a [Sample],
+    anchor: DVec3,
+    cell: f64,
+    buckets: HashMap<(i64, i64, i64, u32), Vec<u32>>,
+}
+
+impl<'a> SampleIndex<'a> {
+    /// Indexes the samples of `samples` that may cover a point near one of `centres` (surface
+    /// points with their quadric).
+    pub fn new(samples: &'a [Sample], centres: &[(u32, DVec3)], radius: f64) -> Self {
+        let mut index = Self {
+            samples,
+            anchor: centres.first().map_or(DVec3::ZERO, |c| c.1),
+            cell: 2.0 * radius,
+            buckets: HashMap::new(),
+        };
+        let mut wanted = HashSet::new();
+        for &(quadric, point) in centres {
+            let (x, y, z) = index.key(point);
+            for (dx, dy, dz) in NEIGHBOURS {
+                wanted.insert((x + dx, y + dy, z + dz, quadric));
+            }
+        }
+        for (i, sample) in samples.iter().enumerate() {
+            let (x, y, z) = index.key(sample.position);
+            let key = (x, y, z, sample.quadric);
+            if wanted.contains(&key) {
+                index.buckets.entry(key).or_default().push(i as u32);
+            }
+        }
+        index
+    }
+
+    fn key(&self, p: DVec3) -> (i64, i64, i64) {
+        let c = ((p - self.anchor) / self.cell).floor();
+        (c.x as i64, c.y as i64, c.z as i64)
+    }
+
+    /// Whether a sample of `quadric` lies within `reach` (at most `r`) of `point`.
+    pub fn covers(&self, quadric: u32, point: DVec3, reach: f64) -> bool {
+        let (x, y, z) = self.key(point);
+        NEIGHBOURS.iter().any(|(dx, dy, dz)| {
+            self.buckets
+                .get(&(x + dx, y + dy, z + dz, quadric))
+                .is_some_and(|list| {
+                    list.iter()
+                        .any(|&i| (self.samples[i as usize].position - point).length() <= reach)
+                })
+        })
+    }
+}
+
+/// The 27 offsets of a cube and its neighbours.
+const NEIGHBOURS: [(i64, i64, i64); 27] = {
+    let mut out = [(0, 0, 0); 27];
+    let mut k = 0;
+    while k < 27 {
+        out[k] = (
+            (k % 3) as i64 - 1,
+            ((k / 3) % 3) as i64 - 1,
+            (k / 9) as i64 - 1,
+        );
+        k += 1;
+    }
+    out
+};
 
 /// The maximum distortion over a sub-rectangle (§3.4), falling back to the region's bound.
 fn rect_distortion(region: &BasicRegion, rect: &Rect) -> f64 {

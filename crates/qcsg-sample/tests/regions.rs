@@ -6,7 +6,7 @@ mod common;
 use common::{Rng, points_on};
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DMat4, DVec3, HeightfieldForm, Quadric, QuadricKind};
-use qcsg_sample::regions::{BasicRegion, RegionStats, basic_regions};
+use qcsg_sample::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds, region_point};
 
 fn kinds() -> Vec<(&'static str, Quadric)> {
     let rotation = DMat4::from_axis_angle(DVec3::new(0.3, -0.7, 0.5).normalize(), 0.9)
@@ -143,4 +143,37 @@ fn degenerate_kinds_use_the_expected_planes() {
     // A cylinder: the two planes containing the axis.
     let cylinder = Quadric::cylinder(DVec3::ZERO, DVec3::new(1.0, 0.2, 0.0), 0.5).unwrap();
     assert_eq!(count(cylinder), 2);
+}
+
+/// The box of each region's patch holds every surface point over the region (eq. 22 of a region
+/// keeps only the terms near that box, so a point outside it could be misclassified).
+#[test]
+fn patch_bounds_hold_the_patch() {
+    let bounds = Aabb::new(DVec3::new(-1.6, -1.3, -1.1), DVec3::new(1.4, 1.5, 1.2));
+    let mut rng = Rng::new(11);
+    for (name, q) in kinds() {
+        let frame = q.frame();
+        let mut regions = Vec::new();
+        let mut stats = RegionStats::default();
+        for hf in frame.heightfields() {
+            basic_regions(&frame, &hf, &bounds, (0, 0), &mut regions, &mut stats);
+        }
+        for region in &regions {
+            let patch = patch_bounds(&frame, region).expect("a heightfield");
+            for _ in 0..20 {
+                let (x, y) = (
+                    rng.range(region.rect.x.0, region.rect.x.1),
+                    rng.range(region.rect.y.0, region.rect.y.1),
+                );
+                let Some(p) = region_point(&frame, &region.heightfield, region.sheet, x, y) else {
+                    continue;
+                };
+                assert!(
+                    (patch.min.cmple(p) & p.cmple(patch.max)).all(),
+                    "{name}: {p} over {:?} outside {patch:?}",
+                    region.rect
+                );
+            }
+        }
+    }
 }
