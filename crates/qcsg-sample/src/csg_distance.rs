@@ -50,7 +50,7 @@
 //!   piece when `n·x ≤ c` and in the second otherwise, so the merged term is a subset of the
 //!   solid and the two properties of eq. 22 hold with it; at the crossing it is well inside, so
 //!   the curve is classified. Planes count as shared within the tolerance of "Shared planes";
-//!   at most [`MAX_MERGED_PER_TERM`] merged terms per other term are made.
+//!   at most four merged terms per other term are made (`MAX_MERGED_PER_TERM`).
 
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, Quadric, QuadricKind};

@@ -72,7 +72,7 @@ use crate::csg_distance::CsgDistance;
 use crate::csg_distance::NearDistance;
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
-    Deferred, GivenUp, RegionContext, SampleIndex, SubdivisionStats, refine_deferred,
+    Deferred, GivenUp, RegionContext, SampleIndex, SubdivisionStats, grow_radius, refine_deferred,
     sample_region, settle_given_up,
 };
 
@@ -91,6 +91,14 @@ pub struct Sample {
     pub radius: f64,
     /// Index of its clip list in [`Sampling::clip_lists`].
     pub clip_list: u32,
+}
+
+impl Sample {
+    /// Whether the sample's disc reaches every point within `extent` of `point`:
+    /// `|position − point| + extent ≤ radius`.
+    pub fn covers(&self, point: DVec3, extent: f64) -> bool {
+        (self.position - point).length() + extent <= self.radius
+    }
 }
 
 /// Counters of one sampling run.
@@ -291,29 +299,32 @@ pub fn sample_with_progress(
         })
         .collect();
     let index = SampleIndex::new(&samples, &centres, radius);
-    type SecondPass = (Vec<Sample>, Vec<GivenUp>, SubdivisionStats);
+    type SecondPass = (Vec<Sample>, Vec<GivenUp>, Vec<(u32, f64)>, SubdivisionStats);
     let second: Vec<SecondPass> = deferred
         .par_iter()
         .map(|&(region, ref d)| {
-            let mut out = Vec::new();
-            let mut given_up = Vec::new();
+            let (mut out, mut given_up, mut grown) = (Vec::new(), Vec::new(), Vec::new());
             let mut counters = SubdivisionStats::default();
             if let Some(ctx) = context(region) {
-                let (r, index) = (&regions[region].1, &index);
-                refine_deferred(&ctx, r, d, index, &mut out, &mut given_up, &mut counters);
+                let (region, index) = (&regions[region].1, &index);
+                let outputs = (&mut out, &mut given_up, &mut grown);
+                refine_deferred(&ctx, region, d, index, outputs, &mut counters);
             }
-            (out, given_up, counters)
+            (out, given_up, grown, counters)
         })
         .collect();
     drop(index);
     let mut given_up = Vec::new();
-    for (more, region_given_up, counters) in second {
+    for (more, region_given_up, grown, counters) in second {
+        for (i, needed) in grown {
+            grow_radius(&mut samples, i, needed);
+        }
         samples.extend(more);
         given_up.extend(region_given_up);
         stats.subdivision.add(&counters);
     }
     // Last: what the second pass gave up, against every sample.
-    settle_given_up(&given_up, &samples, radius, &mut stats.subdivision);
+    settle_given_up(&given_up, &mut samples, radius, &mut stats.subdivision);
     let clip_lists = clip::assign(dnf, &mut samples);
     stats.samples = samples.len() as u64;
     stats.clip_lists = clip_lists.len() as u64;

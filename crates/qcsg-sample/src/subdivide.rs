@@ -11,14 +11,21 @@
 //! **Small regions.** A rectangle whose world footprint `δ_max · diagonal` is at most `r` needs
 //! only one sample on the CSG surface anywhere inside it: the first corner with `d < 0` gets it
 //! (the paper's special case), else the centre if `d(centre) < 0`. The sample's radius is reduced
-//! to the footprint (§6.1: less overdraw, same guarantee).
+//! to the footprint (§6.1: less overdraw, same guarantee). If one of the last samples emitted
+//! already covers the rectangle with its own disc, no new sample is made: along a feature curve
+//! one sample often covers several small rectangles.
+//!
+//! **Coverage is by a sample's own disc.** Every sample's radius is at most `r` and is the
+//! radius a renderer draws it with, so wherever a rectangle counts as covered by an existing
+//! sample, that sample's disc must reach all of it; a sample that is within `r` but whose
+//! reduced radius falls short has its radius grown (never beyond `r`).
 //!
 //! **Two passes.** A small rectangle with neither corner nor centre on the surface is not split
 //! further at once: the first pass ([`sample_region`]) sets it aside ([`Deferred`]), and the
 //! second ([`refine_deferred`]) takes it up once every region has its samples. There it is
 //! covered as soon as a sample of the same quadric lies within `r − footprint / 2` of the
 //! surface point over its centre (every point of the rectangle is within `footprint / 2` of that
-//! point); otherwise it is split and classified again, down to [`SMALL_REGION_FRACTION`] of the
+//! point), its radius grown to reach the rectangle; otherwise it is split and classified again, down to [`SMALL_REGION_FRACTION`] of the
 //! footprint. Such rectangles sit beside feature curves, and the samples on the other side of
 //! the curve, often in a neighbouring region, usually cover them at once: where a curve runs
 //! along a region border (the lens edge of `examples/three_spheres.qcsg`), splitting them down to
@@ -29,8 +36,8 @@
 //! "can theoretically result in small holes", and a cutoff of `r / 16` here missed a sliver of
 //! `examples/precision_part.qcsg` that the reference points found. A surface sliver that avoids
 //! every corner and centre down to `r / 64` could still be missed; rectangles given up there are
-//! settled against every sample at the end ([`settle_given_up`]), those without a sample within
-//! reach counted in [`SubdivisionStats::unresolved`], so the count says whether a hole was
+//! settled against every sample at the end ([`settle_given_up`]), those with no sample of
+//! their quadric within `r − footprint / 2` counted in [`SubdivisionStats::unresolved`], so the count says whether a hole was
 //! possible at all.
 
 use std::collections::{HashMap, HashSet};
@@ -39,10 +46,16 @@ use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
 
 use crate::Sample;
 use crate::csg_distance::NearDistance;
-use crate::regions::{BasicRegion, Rect, region_point};
+use crate::regions::{BasicRegion, Rect, region_point, split_for_distortion};
 
 /// Rectangles smaller than this fraction of the sample footprint are given up when unclassified.
 pub const SMALL_REGION_FRACTION: f64 = 1.0 / 64.0;
+
+/// Ratio of largest to smallest distortion above which [`fill`] fills the halves separately.
+const FILL_SPREAD: f64 = 1.1;
+
+/// Cells a rectangle must span across its split for [`fill`] to split it.
+const FILL_SPLIT_CELLS: f64 = 4.0;
 
 /// Largest grid side used to fill one classified rectangle; bigger ones are split first.
 const MAX_FILL_SIDE: f64 = 1024.0;
@@ -58,12 +71,13 @@ pub struct SubdivisionStats {
     pub filled: u64,
     /// Rectangles proven off the surface.
     pub discarded: u64,
-    /// Small rectangles that got a single sample.
+    /// Small rectangles settled by a single sample: their own, or a recent one that covers them.
     pub small: u64,
-    /// Rectangles given up unclassified and not within reach of a sample of their region (see
+    /// Rectangles given up unclassified and not covered by any sample of their quadric (see
     /// the module doc): the only places where the guarantee is not proven.
     pub unresolved: u64,
-    /// Rectangles given up unclassified but proven covered by a sample of their region.
+    /// Rectangles left unclassified but covered by a sample of their quadric (second pass and
+    /// final settling).
     pub unresolved_covered: u64,
 }
 
@@ -156,6 +170,10 @@ fn classify(
         return Verdict::Split;
     }
     if let Some(k) = cell.d.iter().position(|&d| d < 0.0) {
+        if covered_by_recent(ctx, region, &rect, footprint, out) {
+            stats.small += 1;
+            return Verdict::Small;
+        }
         let (x, y) = corner(&rect, k);
         emit(ctx, region, x, y, footprint.min(ctx.radius), out);
         stats.small += 1;
@@ -168,6 +186,30 @@ fn classify(
         return Verdict::Small;
     }
     Verdict::Unproven { footprint }
+}
+
+/// Samples [`covered_by_recent`] looks back over.
+const RECENT_SAMPLES: usize = 16;
+
+/// Whether one of the last samples emitted covers the whole rectangle (of footprint
+/// `footprint`): depth-first order puts a small rectangle's neighbours among them, and along a
+/// feature curve one sample often covers several small rectangles.
+fn covered_by_recent(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    rect: &Rect,
+    footprint: f64,
+    out: &[Sample],
+) -> bool {
+    let (cx, cy) = rect.centre();
+    let Some(centre) = region_point(ctx.frame, &region.heightfield, region.sheet, cx, cy) else {
+        return false;
+    };
+    let recent = &out[out.len().saturating_sub(RECENT_SAMPLES)..];
+    recent
+        .iter()
+        .rev()
+        .any(|s| s.quadric == region.quadric && s.covers(centre, 0.5 * footprint))
 }
 
 /// The two halves of a cell across its longer edge, with their corner distances; `None` when
@@ -237,8 +279,10 @@ pub fn sample_region(
 }
 
 /// Second pass over one deferred rectangle. It is covered as soon as a sample of the same
-/// quadric lies within `r − footprint / 2` of its centre's surface point (a first-pass sample
-/// from `index`, or one this refinement emitted); otherwise it is split and classified again,
+/// quadric lies within `r − footprint / 2` of its centre's surface point (one this refinement
+/// emitted, or a first-pass sample from `index`); that sample's radius grows to reach the
+/// whole rectangle (at once for its own samples, through `grown` for the first pass's), so a
+/// splat of that radius covers it. Otherwise it is split and classified again,
 /// down to [`SMALL_REGION_FRACTION`] of the footprint, where it goes to `given_up` (or counts as
 /// unresolved when it has no reach left).
 pub fn refine_deferred(
@@ -246,8 +290,7 @@ pub fn refine_deferred(
     region: &BasicRegion,
     deferred: &Deferred,
     index: &SampleIndex<'_>,
-    out: &mut Vec<Sample>,
-    given_up: &mut Vec<GivenUp>,
+    (out, given_up, grown): (&mut Vec<Sample>, &mut Vec<GivenUp>, &mut Vec<(u32, f64)>),
     stats: &mut SubdivisionStats,
 ) {
     let cutoff = SMALL_REGION_FRACTION * ctx.radius / region.max_distortion.max(1.0);
@@ -265,17 +308,21 @@ pub fn refine_deferred(
             }
         };
         let (cx, cy) = cell.rect.centre();
-        let reach = ctx.radius - 0.5 * footprint;
+        let extent = 0.5 * footprint;
         let point = region_point(ctx.frame, &region.heightfield, region.sheet, cx, cy)
-            .filter(|_| reach > 0.0);
-        if let Some(point) = point
-            && (index.covers(region.quadric, point, reach)
-                || out[first_sample..]
-                    .iter()
-                    .any(|s| (s.position - point).length() <= reach))
-        {
-            stats.unresolved_covered += 1;
-            continue;
+            .filter(|_| extent < ctx.radius);
+        if let Some(point) = point {
+            let own = (first_sample..out.len()).map(|i| (i as u32, &out[i]));
+            if let Some((i, needed)) = cover_by(own, point, extent, ctx.radius) {
+                grow_radius(out, i, needed);
+                stats.unresolved_covered += 1;
+                continue;
+            }
+            if let Some(cover) = index.cover(region.quadric, point, extent) {
+                grown.push(cover);
+                stats.unresolved_covered += 1;
+                continue;
+            }
         }
         let halves = if cell.rect.diagonal() <= cutoff {
             None
@@ -290,7 +337,7 @@ pub fn refine_deferred(
             (None, Some(point)) => given_up.push(GivenUp {
                 quadric: region.quadric,
                 point,
-                reach,
+                extent,
             }),
             (None, None) => stats.unresolved += 1,
         }
@@ -298,33 +345,47 @@ pub fn refine_deferred(
 }
 
 /// A rectangle given up unclassified: covered if some sample of the same quadric, from any
-/// region or pass, lies within `reach` of `point` ([`settle_given_up`]).
+/// region or pass, covers the ball of radius `extent` around `point` ([`settle_given_up`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GivenUp {
     /// Index of the quadric in the DNF's quadric table.
     pub quadric: u32,
     /// The surface point over the rectangle's centre.
     pub point: DVec3,
-    /// `r − footprint / 2`: a sample this close to `point` covers the whole rectangle.
-    pub reach: f64,
+    /// Half the footprint: every surface point of the rectangle is this close to `point`.
+    pub extent: f64,
 }
 
 /// Settles given-up rectangles against all samples: covered ones are counted in
-/// [`SubdivisionStats::unresolved_covered`], the rest in [`SubdivisionStats::unresolved`].
+/// [`SubdivisionStats::unresolved_covered`] (the covering sample's radius grown as needed, to
+/// at most `radius`), the rest in [`SubdivisionStats::unresolved`].
 pub fn settle_given_up(
     given_up: &[GivenUp],
-    samples: &[Sample],
+    samples: &mut [Sample],
     radius: f64,
     stats: &mut SubdivisionStats,
 ) {
     let centres: Vec<(u32, DVec3)> = given_up.iter().map(|g| (g.quadric, g.point)).collect();
     let index = SampleIndex::new(samples, &centres, radius);
-    for g in given_up {
-        if index.covers(g.quadric, g.point, g.reach) {
-            stats.unresolved_covered += 1;
-        } else {
-            stats.unresolved += 1;
+    let covers: Vec<Option<(u32, f64)>> = given_up
+        .iter()
+        .map(|g| index.cover(g.quadric, g.point, g.extent))
+        .collect();
+    for cover in covers {
+        match cover {
+            Some((i, needed)) => {
+                stats.unresolved_covered += 1;
+                grow_radius(samples, i, needed);
+            }
+            None => stats.unresolved += 1,
         }
+    }
+}
+
+/// Grows sample `i`'s radius to `needed` (never shrinks it).
+pub fn grow_radius(samples: &mut [Sample], i: u32, needed: f64) {
+    if let Some(sample) = samples.get_mut(i as usize) {
+        sample.radius = sample.radius.max(needed);
     }
 }
 
@@ -332,6 +393,7 @@ pub fn settle_given_up(
 /// `2r`: every sample within `r` of a point within `r / 2` of a deferred centre is found.
 pub struct SampleIndex<'a> {
     samples: &'a [Sample],
+    radius: f64,
     anchor: DVec3,
     cell: f64,
     buckets: HashMap<(i64, i64, i64, u32), Vec<u32>>,
@@ -343,6 +405,7 @@ impl<'a> SampleIndex<'a> {
     pub fn new(samples: &'a [Sample], centres: &[(u32, DVec3)], radius: f64) -> Self {
         let mut index = Self {
             samples,
+            radius,
             anchor: centres.first().map_or(DVec3::ZERO, |c| c.1),
             cell: 2.0 * radius,
             buckets: HashMap::new(),
@@ -369,18 +432,44 @@ impl<'a> SampleIndex<'a> {
         (c.x as i64, c.y as i64, c.z as i64)
     }
 
-    /// Whether a sample of `quadric` lies within `reach` (at most `r`) of `point`.
-    pub fn covers(&self, quadric: u32, point: DVec3, reach: f64) -> bool {
+    /// A sample of `quadric` that covers the ball of radius `extent` around `point`, with the
+    /// radius it needs for that ([`cover_by`]).
+    pub fn cover(&self, quadric: u32, point: DVec3, extent: f64) -> Option<(u32, f64)> {
         let (x, y, z) = self.key(point);
-        NEIGHBOURS.iter().any(|(dx, dy, dz)| {
+        let candidates = NEIGHBOURS.iter().flat_map(|(dx, dy, dz)| {
             self.buckets
                 .get(&(x + dx, y + dy, z + dz, quadric))
-                .is_some_and(|list| {
-                    list.iter()
-                        .any(|&i| (self.samples[i as usize].position - point).length() <= reach)
-                })
-        })
+                .map_or(&[][..], Vec::as_slice)
+        });
+        cover_by(
+            candidates.map(|&i| (i, &self.samples[i as usize])),
+            point,
+            extent,
+            self.radius,
+        )
     }
+}
+
+/// Of `samples`, the first whose disc already covers the ball of radius `extent` around
+/// `point` ([`Sample::covers`]), else the nearest one that would with a radius of at most
+/// `radius`: its index and the radius it needs.
+pub fn cover_by<'s>(
+    samples: impl Iterator<Item = (u32, &'s Sample)>,
+    point: DVec3,
+    extent: f64,
+    radius: f64,
+) -> Option<(u32, f64)> {
+    let mut nearest: Option<(u32, f64)> = None;
+    for (i, sample) in samples {
+        let needed = (sample.position - point).length() + extent;
+        if needed <= sample.radius {
+            return Some((i, sample.radius));
+        }
+        if needed <= radius && nearest.is_none_or(|(_, best)| needed < best) {
+            nearest = Some((i, needed));
+        }
+    }
+    nearest
 }
 
 /// The 27 offsets of a cube and its neighbours.
@@ -431,6 +520,12 @@ fn query(
 /// Covers a rectangle known to be on the CSG surface with a grid of samples at cell centres:
 /// each cell's half-diagonal maps to at most `r`. Returns `false` (nothing emitted) when the
 /// grid would be too large, so that the caller splits first.
+///
+/// The spacing follows the largest distortion over the rectangle; where the distortion varies
+/// by more than [`FILL_SPREAD`] and the rectangle is at least [`FILL_SPLIT_CELLS`] cells across
+/// the direction it varies in, the halves are filled each with its own bound instead (no
+/// query is needed: the whole rectangle is on the surface). That saves about a quarter of the
+/// samples on curved parts.
 fn fill(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
@@ -439,10 +534,24 @@ fn fill(
     out: &mut Vec<Sample>,
 ) -> bool {
     let spacing = std::f64::consts::SQRT_2 * ctx.radius / distortion;
-    let nx = (rect.width() / spacing).ceil().max(1.0);
-    let ny = (rect.height() / spacing).ceil().max(1.0);
-    if !(nx <= MAX_FILL_SIDE && ny <= MAX_FILL_SIDE) {
+    let Some((nx, ny)) = grid_shape(rect, 2.0 * ctx.radius / distortion) else {
         return false;
+    };
+    if let Some((low, high)) = region.heightfield.distortion_bounds(rect.x, rect.y)
+        && high > FILL_SPREAD * low
+    {
+        let (first, second) = split_for_distortion(&region.heightfield, rect);
+        let across = if first.width() < rect.width() {
+            rect.width()
+        } else {
+            rect.height()
+        };
+        if across >= FILL_SPLIT_CELLS * spacing {
+            for half in [first, second] {
+                fill(ctx, region, &half, rect_distortion(region, &half), out);
+            }
+            return true;
+        }
     }
     let (dx, dy) = (rect.width() / nx, rect.height() / ny);
     let radius = (0.5 * distortion * dx.hypot(dy)).min(ctx.radius);
@@ -454,6 +563,36 @@ fn fill(
         }
     }
     true
+}
+
+/// The grid `nx × ny` with the fewest cells whose cells' diagonals are shorter than `diagonal`:
+/// a square grid wastes up to half its rows to rounding, while narrowing one side lets the
+/// other grow (`dx² + dy² < diagonal²`). `None` when the grid would exceed [`MAX_FILL_SIDE`].
+fn grid_shape(rect: &Rect, diagonal: f64) -> Option<(f64, f64)> {
+    let (w, h) = (rect.width(), rect.height());
+    let square = (w.max(h) * std::f64::consts::SQRT_2 / diagonal)
+        .ceil()
+        .max(1.0);
+    if square.is_nan() || square > MAX_FILL_SIDE {
+        return None;
+    }
+    let mut best: Option<(f64, f64)> = None;
+    // Columns from the fewest possible to those of the square grid; rows follow.
+    let first = (w / diagonal).floor().max(0.0) + 1.0;
+    let last = (w * std::f64::consts::SQRT_2 / diagonal).ceil().max(first);
+    let mut nx = first;
+    while nx <= last {
+        let dx = w / nx;
+        let dy = (diagonal * diagonal - dx * dx).sqrt();
+        if dy > 0.0 {
+            let ny = (h / dy).ceil().max(1.0);
+            if ny <= MAX_FILL_SIDE && best.is_none_or(|(bx, by)| nx * ny < bx * by) {
+                best = Some((nx, ny));
+            }
+        }
+        nx += 1.0;
+    }
+    best
 }
 
 /// Emits the sample over `(x, y)` with the quadric's outward normal there.

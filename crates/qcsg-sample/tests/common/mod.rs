@@ -335,7 +335,10 @@ pub fn edge_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> {
     out
 }
 
-/// Reference points without a sample of the same quadric within `r · (1 + 1e-9) + slack`.
+/// Reference points not inside the disc of a sample of the same quadric: the sample's own
+/// radius (at most `r`, smaller where the sampler reduced it), plus `r · 1e-9 + slack`. A
+/// renderer draws each sample at its own radius, so this is the coverage a picture gets. The
+/// third field is how far the nearest disc falls short (`+∞`: no sample within `r`).
 pub fn uncovered(
     samples: &[Sample],
     refs: &[(u32, DVec3)],
@@ -362,14 +365,16 @@ pub fn uncovered(
                     if let Some(list) = grid.get(&(cx + dx, cy + dy, cz + dz)) {
                         for &i in list {
                             if samples[i].quadric == q {
-                                best = best.min((samples[i].position - p).length());
+                                // How far the sample's own disc falls short of `p`.
+                                let short = (samples[i].position - p).length() - samples[i].radius;
+                                best = best.min(short);
                             }
                         }
                     }
                 }
             }
         }
-        if best > reach {
+        if best > reach - r {
             missing.push((q, p, best));
         }
     }
@@ -458,7 +463,8 @@ pub fn position_tolerance(dnf: &Dnf) -> f64 {
 /// (`|Q(p)| / ‖∇Q(p)‖` within [`position_tolerance`]) and on the CSG surface, with a radius in
 /// `(0, r]` and a unit normal, and no unproven rectangle; (b) reference points found by ray
 /// casting the DNF independently of the sampler, and points on the feature curves found by
-/// bisection, each within `r` of a sample on the same quadric.
+/// bisection, each within the disc of a sample on the same quadric (its own radius, at most
+/// `r`: what a renderer draws).
 pub fn check_guarantee(
     dnf: &Dnf,
     sampling: &qcsg_sample::Sampling,
@@ -519,7 +525,7 @@ pub fn check_guarantee(
     let missing = uncovered_on_any(dnf, &sampling.samples, &refs, r, slack);
     if !missing.is_empty() {
         return Err(format!(
-            "{} of {} reference points have no sample within r = {r}, e.g. {:?}; {stats:?}",
+            "{} of {} reference points are in no disc of a sample of their quadric (r = {r}), e.g. {:?}; {stats:?}",
             missing.len(),
             refs.len(),
             &missing[..missing.len().min(3)]
@@ -529,7 +535,7 @@ pub fn check_guarantee(
     let missing = uncovered_on_any(dnf, &sampling.samples, &edges, r, slack);
     if !missing.is_empty() {
         return Err(format!(
-            "{} of {} feature-curve points have no sample within r = {r}, e.g. {:?}",
+            "{} of {} feature-curve points are in no disc of a sample of their quadric (r = {r}), e.g. {:?}",
             missing.len(),
             edges.len(),
             &missing[..missing.len().min(3)]
