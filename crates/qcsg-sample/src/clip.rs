@@ -10,10 +10,9 @@
 //! holds the index of its list. Lists are numbered in order of first use in the (deterministic)
 //! sample order, so the buffer is the same for any thread count.
 
-use std::collections::HashMap;
-
 use qcsg_csg::Dnf;
 use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 
 use crate::Sample;
 
@@ -124,14 +123,17 @@ pub(crate) fn assign(dnf: &Dnf, samples: &mut [Sample]) -> ClipLists {
 /// Assigns every sample its list index, sharing identical lists, in sample order.
 struct ClipListBuilder<'a> {
     lists: ClipLists,
-    known: HashMap<&'a [u32], u32>,
+    known: FxHashMap<&'a [u32], u32>,
+    /// The last list and its index: neighbouring samples mostly share their list.
+    last: Option<(&'a [u32], u32)>,
 }
 
 impl<'a> ClipListBuilder<'a> {
     fn new() -> Self {
         Self {
             lists: ClipLists::default(),
-            known: HashMap::new(),
+            known: FxHashMap::default(),
+            last: None,
         }
     }
 
@@ -142,13 +144,24 @@ impl<'a> ClipListBuilder<'a> {
             let end = start + length as usize;
             let list = &raw.indices[start..end];
             start = end;
+            // Element by element: the lists are a few entries long, shorter than a call to
+            // memcmp (which slice equality uses) costs.
+            if let Some((last, id)) = self.last
+                && last.len() == list.len()
+                && last.iter().zip(list).all(|(a, b)| a == b)
+            {
+                sample.clip_list = id;
+                continue;
+            }
             let lists = &mut self.lists;
-            sample.clip_list = *self.known.entry(list).or_insert_with(|| {
+            let id = *self.known.entry(list).or_insert_with(|| {
                 let id = lists.len() as u32;
                 lists.indices.extend_from_slice(list);
                 lists.offsets.push(lists.indices.len() as u32);
                 id
             });
+            sample.clip_list = id;
+            self.last = Some((list, id));
         }
     }
 

@@ -155,7 +155,12 @@ struct Patch {
     frame: PrincipalFrame,
     distance: CsgDistance,
     quadric: u32,
+    kind: QuadricKind,
 }
+
+/// Fraction of the DNF's diagonal within which a sample counts as on its quadric without
+/// Newton steps.
+const SNAP_SETTLED: f64 = 1e-12;
 
 /// The box a term's surface is sampled in: its box within the DNF's region.
 fn term_box(dnf: &Dnf, term: usize) -> Option<Aabb> {
@@ -211,6 +216,7 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, B
                 frame,
                 distance,
                 quadric: literal,
+                kind,
             });
         }
     }
@@ -255,6 +261,9 @@ pub fn sample_with_progress(
             Some(patch.distance.near(&bounds, margin))
         })
         .collect();
+    // Heightfield points this close to their quadric are not refined (the guarantee asks for
+    // 1e-9 of the diagonal; Newton steps are for cancellation far above this).
+    let settled = SNAP_SETTLED * (dnf.bounds.max - dnf.bounds.min).length();
     let context = |index: usize| {
         let (patch, region) = regions.get(index)?;
         let patch = patches.get(*patch)?;
@@ -264,6 +273,7 @@ pub fn sample_with_progress(
             quadric: &entry.quadric,
             distance: near.get(index)?.as_ref()?,
             radius,
+            snap: (patch.kind != QuadricKind::Cone).then_some(settled),
         })
     };
     // First pass: every region on its own.

@@ -40,7 +40,8 @@
 //! their quadric within `r − footprint / 2` counted in [`SubdivisionStats::unresolved`], so the count says whether a hole was
 //! possible at all.
 
-use std::collections::{HashMap, HashSet};
+use rayon::prelude::*;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
 
@@ -104,6 +105,9 @@ pub struct RegionContext<'a> {
     pub distance: &'a NearDistance<'a>,
     /// The world-space sample radius `r`.
     pub radius: f64,
+    /// Samples farther than this from the quadric (`|Q| / ‖∇Q‖`) are moved onto it by Newton
+    /// steps ([`snap_to_surface`]); `None` for cones, which are left alone.
+    pub snap: Option<f64>,
 }
 
 /// A rectangle with its corner distances `[x0y0, x1y0, x0y1, x1y1]`.
@@ -396,7 +400,7 @@ pub struct SampleIndex<'a> {
     radius: f64,
     anchor: DVec3,
     cell: f64,
-    buckets: HashMap<(i64, i64, i64, u32), Vec<u32>>,
+    buckets: FxHashMap<(i64, i64, i64, u32), Vec<u32>>,
 }
 
 impl<'a> SampleIndex<'a> {
@@ -408,28 +412,36 @@ impl<'a> SampleIndex<'a> {
             radius,
             anchor: centres.first().map_or(DVec3::ZERO, |c| c.1),
             cell: 2.0 * radius,
-            buckets: HashMap::new(),
+            buckets: FxHashMap::default(),
         };
-        let mut wanted = HashSet::new();
+        let mut wanted = FxHashSet::default();
         for &(quadric, point) in centres {
             let (x, y, z) = index.key(point);
             for (dx, dy, dz) in NEIGHBOURS {
                 wanted.insert((x + dx, y + dy, z + dz, quadric));
             }
         }
-        for (i, sample) in samples.iter().enumerate() {
-            let (x, y, z) = index.key(sample.position);
-            let key = (x, y, z, sample.quadric);
-            if wanted.contains(&key) {
-                index.buckets.entry(key).or_default().push(i as u32);
-            }
+        if wanted.is_empty() {
+            return index;
+        }
+        let hits: Vec<((i64, i64, i64, u32), u32)> = samples
+            .par_iter()
+            .enumerate()
+            .filter_map(|(i, sample)| {
+                let (x, y, z) = index.key(sample.position);
+                let key = (x, y, z, sample.quadric);
+                wanted.contains(&key).then_some((key, i as u32))
+            })
+            .collect();
+        for (key, i) in hits {
+            index.buckets.entry(key).or_default().push(i);
         }
         index
     }
 
     fn key(&self, p: DVec3) -> (i64, i64, i64) {
-        let c = ((p - self.anchor) / self.cell).floor();
-        (c.x as i64, c.y as i64, c.z as i64)
+        let c = (p - self.anchor) / self.cell;
+        (floor(c.x), floor(c.y), floor(c.z))
     }
 
     /// A sample of `quadric` that covers the ball of radius `extent` around `point`, with the
@@ -470,6 +482,12 @@ pub fn cover_by<'s>(
         }
     }
     nearest
+}
+
+/// `⌊v⌋` as an integer (saturating), without a call into libm.
+fn floor(v: f64) -> i64 {
+    let t = v as i64;
+    if (t as f64) > v { t - 1 } else { t }
 }
 
 /// The 27 offsets of a cube and its neighbours.
@@ -607,7 +625,10 @@ fn emit(
     let Some(position) = region_point(ctx.frame, &region.heightfield, region.sheet, x, y) else {
         return;
     };
-    let position = snap_to_surface(ctx.quadric, position);
+    let position = match ctx.snap {
+        Some(settled) => snap_to_surface(ctx.quadric, position, settled),
+        None => position,
+    };
     let axis = ctx.frame.axes[region.heightfield.normal_axis];
     let normal = ctx.quadric.normal(position).unwrap_or(axis * region.sheet);
     out.push(Sample {
@@ -624,35 +645,33 @@ fn emit(
 const SNAP_STEPS: usize = 2;
 
 /// `p` moved onto the quadric by Newton steps along the gradient, each kept only while it lowers
-/// `|Q| / ‖∇Q‖` (at most [`SNAP_STEPS`]). The heightfield point can be off by more than the
+/// `|Q| / ‖∇Q‖` (at most [`SNAP_STEPS`], none once it is at most `settled`). The heightfield point can be off by more than the
 /// required `1e-9` of the scene where its square root cancels (a slab of half-width `1e-6`); the
 /// move is of that size, far below any sample radius. Cones are left alone: next to the apex,
 /// where the gradient vanishes, a step can cross the bounding literal at the tip.
-fn snap_to_surface(q: &Quadric, mut p: DVec3) -> DVec3 {
-    if q.kind() == qcsg_quadric::QuadricKind::Cone {
-        return p;
-    }
+fn snap_to_surface(q: &Quadric, mut p: DVec3, settled: f64) -> DVec3 {
     let residual = |p: DVec3| {
-        let g = q.gradient(p).length();
-        if g > 0.0 {
-            q.value(p).abs() / g
+        let g = q.gradient(p);
+        let length = g.length();
+        let value = q.value(p);
+        let residual = if length > 0.0 {
+            value.abs() / length
         } else {
             f64::INFINITY
-        }
+        };
+        (residual, value, g)
     };
-    let mut current = residual(p);
+    let (mut current, mut value, mut gradient) = residual(p);
     for _ in 0..SNAP_STEPS {
-        if current == 0.0 || !current.is_finite() {
+        if current <= settled || !current.is_finite() {
             break;
         }
-        let g = q.gradient(p);
-        let next = p - (q.value(p) / g.length_squared()) * g;
-        let after = residual(next);
+        let next = p - (value / gradient.length_squared()) * gradient;
+        let (after, next_value, next_gradient) = residual(next);
         if !(next.is_finite() && after < current) {
             break;
         }
-        p = next;
-        current = after;
+        (p, current, value, gradient) = (next, after, next_value, next_gradient);
     }
     p
 }
