@@ -13,8 +13,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use clap::Args;
-use qcsg_csg::{Dnf, build_dnf};
-use qcsg_sample::{Progress, Sampling, sample_with_progress};
+use qcsg_csg::{Dnf, build_dnf, codes};
+use qcsg_diag::Diagnostic;
+use qcsg_sample::{Progress, SampleError, SampleLimits, Sampling, sample_with_limits};
 use qcsg_sema::Analysis;
 
 use crate::compile::LimitArgs;
@@ -49,6 +50,16 @@ pub struct SampleArgs {
 
     #[command(flatten)]
     limits: LimitArgs,
+
+    /// Most samples to emit: a radius far below the scene's size would need more memory than
+    /// there is.
+    #[arg(long, value_name = "N", default_value_t = qcsg_sample::DEFAULT_MAX_SAMPLES)]
+    max_samples: u64,
+
+    /// Most distance queries to make: surfaces that nearly coincide over an area defeat the
+    /// subdivision's proofs, and the work grows as 1 / radius².
+    #[arg(long, value_name = "N", default_value_t = qcsg_sample::DEFAULT_MAX_QUERIES)]
+    max_queries: u64,
 
     #[command(flatten)]
     common: CommonArgs,
@@ -98,13 +109,12 @@ pub fn run(args: SampleArgs) -> u8 {
     let stats_to_stdout = !stdout_taken && args.stats.as_deref() == Some("-");
     let mut analysis = program::check(&name, text, &args.common.defines);
     let dnf = build(&mut analysis, &args);
-    program::print_diagnostics(
-        &analysis,
-        args.common.quiet,
-        args.common.format,
-        !stdout_taken && !stats_to_stdout,
-    );
+    let stdout_free = !stdout_taken && !stats_to_stdout;
+    let print = |analysis: &Analysis| {
+        program::print_diagnostics(analysis, args.common.quiet, args.common.format, stdout_free)
+    };
     let Some(dnf) = dnf.filter(|_| !analysis.has_errors()) else {
+        print(&analysis);
         return EXIT_INPUT_ERRORS;
     };
 
@@ -114,6 +124,7 @@ pub fn run(args: SampleArgs) -> u8 {
         RadiusArg::OfDiagonal(_) if dnf.terms.is_empty() => 0.0,
         RadiusArg::OfDiagonal(fraction) if diagonal.is_finite() => fraction * diagonal,
         RadiusArg::OfDiagonal(_) => {
+            print(&analysis);
             eprintln!(
                 "error: the solid is unbounded, so `--radius` cannot be a percentage of its \
                  diagonal; give a length, and bound the solid (e.g. intersect it with a cube)"
@@ -124,6 +135,7 @@ pub fn run(args: SampleArgs) -> u8 {
     let pool = match program::thread_pool(args.common.threads) {
         Ok(pool) => pool,
         Err(message) => {
+            print(&analysis);
             eprintln!("error: {message}");
             return EXIT_USAGE;
         }
@@ -131,11 +143,15 @@ pub fn run(args: SampleArgs) -> u8 {
 
     let started = Instant::now();
     let bar = DelayedProgress::new("sampling", 0, !args.common.quiet);
+    let limits = SampleLimits {
+        max_samples: args.max_samples,
+        max_queries: args.max_queries,
+    };
     let sampled = if dnf.terms.is_empty() {
         Ok(Sampling::default())
     } else {
         pool.install(|| {
-            sample_with_progress(&dnf, radius, &|event| match event {
+            sample_with_limits(&dnf, radius, limits, &|event| match event {
                 Progress::Regions(total) => bar.set_length(total),
                 Progress::RegionDone => bar.inc(1),
             })
@@ -145,11 +161,21 @@ pub fn run(args: SampleArgs) -> u8 {
     let seconds = started.elapsed().as_secs_f64();
     let sampling = match sampled {
         Ok(sampling) => sampling,
-        Err(error) => {
-            eprintln!("error: {error}");
-            return EXIT_USAGE;
-        }
+        Err(error) => match limit_diagnostic(&dnf, &error) {
+            Some(diagnostic) => {
+                analysis.diagnostics.push(diagnostic);
+                print(&analysis);
+                return EXIT_INPUT_ERRORS;
+            }
+            None => {
+                print(&analysis);
+                eprintln!("error: {error}");
+                return EXIT_USAGE;
+            }
+        },
     };
+    // Warnings, after the sampling: a crossed limit joins them as an error.
+    print(&analysis);
 
     if let Some(output) = &args.output {
         let bytes = if args.ascii {
@@ -219,6 +245,48 @@ fn build(analysis: &mut Analysis, args: &SampleArgs) -> Option<Dnf> {
             None
         }
     }
+}
+
+/// The diagnostic of a crossed sampling limit, at the source of the quadric being sampled.
+fn limit_diagnostic(dnf: &Dnf, error: &SampleError) -> Option<Diagnostic> {
+    let (code, flag, what, limit, quadric) = match *error {
+        SampleError::TooManySamples { limit, quadric } => (
+            codes::SAMPLE_LIMIT,
+            "--max-samples",
+            "samples",
+            limit,
+            quadric,
+        ),
+        SampleError::TooManyQueries { limit, quadric } => (
+            codes::QUERY_LIMIT,
+            "--max-queries",
+            "distance queries",
+            limit,
+            quadric,
+        ),
+        SampleError::InvalidRadius(_) => return None,
+    };
+    let source = dnf.quadrics.get(quadric as usize)?.source;
+    let help = match error {
+        SampleError::TooManySamples { .. } => format!(
+            "use a larger `--radius`, or raise the limit with `{flag} N` (each sample takes \
+             about 72 bytes)"
+        ),
+        _ => format!(
+            "surfaces that nearly coincide over an area (a gap far below the radius) cannot be \
+             told apart by the subdivision; use a larger `--radius`, separate the surfaces, or \
+             raise the limit with `{flag} N`"
+        ),
+    };
+    Some(
+        Diagnostic::error(
+            code,
+            format!("sampling this surface needs more than {limit} {what}"),
+            source.file,
+            source.span,
+        )
+        .with_help(help),
+    )
 }
 
 /// The stats JSON of CLI.md: the documented keys first, then the sampler's other counters.

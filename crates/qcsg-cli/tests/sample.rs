@@ -456,3 +456,57 @@ fn unproven_rectangles_are_a_warning() {
         assert_eq!(warned, unresolved > 0, "{name}: {}", run.stderr);
     }
 }
+
+/// A crossed sampling limit is an input error at the quadric being sampled, naming the flag
+/// that raises it, with no file written: too many samples for a tiny radius (E0604), too many
+/// distance queries for surfaces that nearly coincide (E0605). The same runs pass with the
+/// limit raised.
+#[test]
+fn crossed_sampling_limits_are_errors_at_a_span() {
+    let dir = scratch_dir("limits");
+    let out = dir.join("out.ply");
+    let nested = "sphere(1);\nsphere(1 + 1e-9);\n";
+    let cases = [
+        (SCENE, "--max-samples", "100", "1000000", "E0604"),
+        (nested, "--max-queries", "10000", "100000000", "E0605"),
+    ];
+    for (program, flag, low, high, code) in cases {
+        let args = |limit: &'static str| {
+            [
+                "sample",
+                "-",
+                "--radius",
+                "10%",
+                "-o",
+                out.to_str().unwrap(),
+                flag,
+                limit,
+                "--format",
+                "json",
+            ]
+            .map(str::to_owned)
+        };
+        let low_args = args(low);
+        let run = qcsg(
+            &low_args.iter().map(String::as_str).collect::<Vec<_>>(),
+            program,
+        );
+        assert_eq!(run.status, 1, "{code}: {}", run.stderr);
+        assert!(!out.exists(), "{code}: a file was written");
+        let diagnostics: Value = serde_json::from_slice(&run.stdout).expect("diagnostics JSON");
+        let error = &diagnostics[0];
+        assert_eq!(error["code"], code);
+        assert!(error["help"].as_str().unwrap().contains(flag), "{error}");
+        let span = error["byte_range"].as_array().expect("a span");
+        let (start, end) = (span[0].as_u64().unwrap(), span[1].as_u64().unwrap());
+        assert!(start < end, "{error}");
+        let high_args = args(high);
+        let run = qcsg(
+            &high_args.iter().map(String::as_str).collect::<Vec<_>>(),
+            program,
+        );
+        assert_eq!(run.status, 0, "{code} raised: {}", run.stderr);
+        assert!(out.exists());
+        std::fs::remove_file(&out).expect("remove");
+    }
+}

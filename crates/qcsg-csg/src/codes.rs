@@ -9,6 +9,10 @@ pub const TERM_LIMIT: &str = "E0601";
 pub const SINGULAR_TRANSFORM: &str = "W0602";
 /// There is no root to build a DNF from.
 pub const NO_ROOT: &str = "E0603";
+/// Sampling the surface at the requested radius would exceed the sample limit.
+pub const SAMPLE_LIMIT: &str = "E0604";
+/// Sampling the surface would exceed the limit on distance queries.
+pub const QUERY_LIMIT: &str = "E0605";
 
 /// Every code with a one-line description, for the documentation table.
 pub const ALL: &[(&str, &str)] = &[
@@ -19,4 +23,12 @@ pub const ALL: &[(&str, &str)] = &[
         "a singular transform flattens a part to zero volume; it was left out",
     ),
     (NO_ROOT, "the scene has no root solid"),
+    (
+        SAMPLE_LIMIT,
+        "sampling at the requested radius needs more samples than the limit",
+    ),
+    (
+        QUERY_LIMIT,
+        "sampling needs more distance queries than the limit (surfaces that nearly coincide)",
+    ),
 ];

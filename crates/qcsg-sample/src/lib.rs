@@ -50,6 +50,11 @@
 //!   cross the literal that bounds the tip, and there samples lie up to about `6e-8` of the
 //!   diagonal off (`examples/quadric_primitives.qcsg`), above the `1e-9` asked for.
 //!
+//! A run is bounded ([`budget`]): past [`SampleLimits::max_samples`] samples or
+//! [`SampleLimits::max_queries`] distance queries it stops with an error instead of running out
+//! of memory or time, and the second pass refines each deferred rectangle only so far
+//! ([`subdivide`], "Two passes").
+//!
 //! Every sample carries its clip list (§6): the other literals of its term that come within its
 //! radius, deduplicated into one indirection buffer ([`clip`]).
 //!
@@ -58,6 +63,7 @@
 //! box is unbounded are skipped and counted ([`SampleStats::unbounded_terms`]): the DNF builder
 //! requires a region for unbounded scenes.
 
+pub mod budget;
 pub mod clip;
 pub mod csg_distance;
 pub mod regions;
@@ -67,13 +73,15 @@ use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, QuadricKind};
 use rayon::prelude::*;
 
+use crate::budget::{Budget, Crossed};
+pub use crate::budget::{DEFAULT_MAX_QUERIES, DEFAULT_MAX_SAMPLES, SampleLimits};
 pub use crate::clip::ClipLists;
 use crate::csg_distance::CsgDistance;
 use crate::csg_distance::NearDistance;
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
-    Deferred, GivenUp, RegionContext, SampleIndex, SubdivisionStats, grow_radius, refine_deferred,
-    sample_region, settle_given_up,
+    Deferred, GivenUp, RegionContext, SampleIndex, SubdivisionStats, given_up_share, grow_radius,
+    refine_deferred, sample_region, settle_given_up,
 };
 
 /// One sample on the CSG surface.
@@ -125,6 +133,21 @@ pub struct SampleStats {
 pub enum SampleError {
     /// The radius is not a positive finite number.
     InvalidRadius(f64),
+    /// The run would emit more than [`SampleLimits::max_samples`] samples (counting the
+    /// rectangles the first pass holds for the second).
+    TooManySamples {
+        /// The limit.
+        limit: u64,
+        /// The quadric (index into [`Dnf::quadrics`]) being sampled when it was crossed.
+        quadric: u32,
+    },
+    /// The run would make more than [`SampleLimits::max_queries`] distance queries.
+    TooManyQueries {
+        /// The limit.
+        limit: u64,
+        /// The quadric (index into [`Dnf::quadrics`]) being sampled when it was crossed.
+        quadric: u32,
+    },
 }
 
 impl std::fmt::Display for SampleError {
@@ -133,6 +156,16 @@ impl std::fmt::Display for SampleError {
             Self::InvalidRadius(r) => {
                 write!(f, "the sample radius must be positive and finite, got {r}")
             }
+            Self::TooManySamples { limit, .. } => write!(
+                f,
+                "sampling at this radius needs more than {limit} samples (counting rectangles \
+                 held for the second pass)"
+            ),
+            Self::TooManyQueries { limit, .. } => write!(
+                f,
+                "sampling at this radius needs more than {limit} distance queries (surfaces \
+                 that nearly coincide defeat the subdivision's proofs)"
+            ),
         }
     }
 }
@@ -244,9 +277,31 @@ pub fn sample_with_progress(
     radius: f64,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<Sampling, SampleError> {
+    sample_with_limits(dnf, radius, SampleLimits::default(), progress)
+}
+
+/// [`sample_with_progress`] under `limits` instead of the defaults.
+pub fn sample_with_limits(
+    dnf: &Dnf,
+    radius: f64,
+    limits: SampleLimits,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Sampling, SampleError> {
     if !(radius.is_finite() && radius > 0.0) {
         return Err(SampleError::InvalidRadius(radius));
     }
+    let budget = Budget::new(limits);
+    let crossed = |budget: &Budget| match budget.crossed() {
+        Some(Crossed::Samples { quadric }) => Err(SampleError::TooManySamples {
+            limit: limits.max_samples,
+            quadric,
+        }),
+        Some(Crossed::Queries { quadric }) => Err(SampleError::TooManyQueries {
+            limit: limits.max_queries,
+            quadric,
+        }),
+        None => Ok(()),
+    };
     let mut stats = SampleStats::default();
     let (patches, regions) = all_regions(dnf, &mut stats);
     stats.basic_regions = regions.len() as u64;
@@ -274,6 +329,7 @@ pub fn sample_with_progress(
             distance: near.get(index)?.as_ref()?,
             radius,
             snap: (patch.kind != QuadricKind::Cone).then_some(settled),
+            budget: &budget,
         })
     };
     // First pass: every region on its own.
@@ -299,6 +355,7 @@ pub fn sample_with_progress(
         deferred.extend(region_deferred.into_iter().map(|d| (region, d)));
         stats.subdivision.add(&counters);
     }
+    crossed(&budget)?;
     // Second pass: the rectangles the first left unproven, against all first-pass samples.
     let centres: Vec<(u32, DVec3)> = deferred
         .iter()
@@ -309,6 +366,7 @@ pub fn sample_with_progress(
         })
         .collect();
     let index = SampleIndex::new(&samples, &centres, radius);
+    let share = given_up_share(deferred.len());
     type SecondPass = (Vec<Sample>, Vec<GivenUp>, Vec<(u32, f64)>, SubdivisionStats);
     let second: Vec<SecondPass> = deferred
         .par_iter()
@@ -318,7 +376,7 @@ pub fn sample_with_progress(
             if let Some(ctx) = context(region) {
                 let (region, index) = (&regions[region].1, &index);
                 let outputs = (&mut out, &mut given_up, &mut grown);
-                refine_deferred(&ctx, region, d, index, outputs, &mut counters);
+                refine_deferred(&ctx, region, d, index, outputs, share, &mut counters);
             }
             (out, given_up, grown, counters)
         })
@@ -333,6 +391,7 @@ pub fn sample_with_progress(
         given_up.extend(region_given_up);
         stats.subdivision.add(&counters);
     }
+    crossed(&budget)?;
     // Last: what the second pass gave up, against every sample.
     settle_given_up(&given_up, &mut samples, radius, &mut stats.subdivision);
     let clip_lists = clip::assign(dnf, &mut samples);

@@ -29,7 +29,10 @@
 //! footprint. Such rectangles sit beside feature curves, and the samples on the other side of
 //! the curve, often in a neighbouring region, usually cover them at once: where a curve runs
 //! along a region border (the lens edge of `examples/three_spheres.qcsg`), splitting them down to
-//! the cutoff had cost 17× the queries. Second-pass samples are appended after the first pass's,
+//! the cutoff had cost 17× the queries. Where surfaces nearly coincide over an area, no
+//! rectangle is ever proven, and the refinement of one deferred rectangle stops after
+//! 512 unproven rectangles (`MAX_UNPROVEN_PER_DEFERRED`); the given-up rectangles kept for the final
+//! settling are bounded in all (`given_up_share`). Second-pass samples are appended after the first pass's,
 //! in the order of the deferred rectangles, so the output does not depend on the thread count.
 //!
 //! **The cutoff.** Only a proof keeps the guarantee: the paper's cut-off at a tenth of the splat
@@ -46,11 +49,32 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
 
 use crate::Sample;
+use crate::budget::{Budget, Meter};
 use crate::csg_distance::NearDistance;
 use crate::regions::{BasicRegion, Rect, region_point, split_for_distortion};
 
 /// Rectangles smaller than this fraction of the sample footprint are given up when unclassified.
 pub const SMALL_REGION_FRACTION: f64 = 1.0 / 64.0;
+
+/// Unproven rectangles one deferred rectangle may split into before the rest is given up. A
+/// sliver along a curve leaves about 2·2ᵏ unproven rectangles at `k` halvings, so this reaches
+/// the cutoff (`k = 6`) there; where surfaces nearly coincide over an area (nested balls
+/// `1e-9` apart) every rectangle stays unproven, `4ᵏ` of them, and the budget stops the
+/// refinement near `r / 20` instead of costing 4,096 leaves per rectangle.
+const MAX_UNPROVEN_PER_DEFERRED: usize = 512;
+
+/// Given-up rectangles kept one by one for [`settle_given_up`] over all deferred rectangles
+/// (about 200 MB); each deferred rectangle may keep its share of them (at most
+/// [`MAX_UNPROVEN_PER_DEFERRED`]) and settles the rest together, as the whole deferred
+/// rectangle. Nested balls `1e-9` apart at 1 % had given up
+/// 13 M rectangles. The share depends only on the number of deferred rectangles, so the output
+/// does not depend on the thread count.
+const MAX_GIVEN_UP_TOTAL: usize = 1 << 22;
+
+/// How many given-up rectangles each of `deferred` deferred rectangles keeps one by one.
+pub fn given_up_share(deferred: usize) -> usize {
+    (MAX_GIVEN_UP_TOTAL / deferred.max(1)).min(MAX_UNPROVEN_PER_DEFERRED)
+}
 
 /// Ratio of largest to smallest distortion above which [`fill`] fills the halves separately.
 const FILL_SPREAD: f64 = 1.1;
@@ -105,8 +129,10 @@ pub struct RegionContext<'a> {
     pub distance: &'a NearDistance<'a>,
     /// The world-space sample radius `r`.
     pub radius: f64,
+    /// The run's limits, charged as the work goes.
+    pub budget: &'a Budget,
     /// Samples farther than this from the quadric (`|Q| / ‖∇Q‖`) are moved onto it by Newton
-    /// steps ([`snap_to_surface`]); `None` for cones, which are left alone.
+    /// steps (`snap_to_surface`); `None` for cones, which are left alone.
     pub snap: Option<f64>,
 }
 
@@ -267,7 +293,13 @@ pub fn sample_region(
         query(ctx, region, x, y, stats)
     });
     let mut stack = vec![Cell { rect: root, d }];
+    let mut meter = Meter::new(ctx.budget, region.quadric);
+    // Deferred rectangles count as samples: each one is held in memory until the second pass.
+    let pending = |out: &[Sample], deferred: &[Deferred]| (out.len() + deferred.len()) as u64;
     while let Some(cell) = stack.pop() {
+        if !meter.tick(pending(out, deferred), stats.distance_queries) {
+            break;
+        }
         match classify(ctx, region, &cell, out, stats) {
             Verdict::Discarded | Verdict::Filled | Verdict::Small => {}
             Verdict::Unproven { .. } => deferred.push(Deferred { cell }),
@@ -280,6 +312,7 @@ pub fn sample_region(
             },
         }
     }
+    meter.finish(pending(out, deferred), stats.distance_queries);
 }
 
 /// Second pass over one deferred rectangle. It is covered as soon as a sample of the same
@@ -287,20 +320,36 @@ pub fn sample_region(
 /// emitted, or a first-pass sample from `index`); that sample's radius grows to reach the
 /// whole rectangle (at once for its own samples, through `grown` for the first pass's), so a
 /// splat of that radius covers it. Otherwise it is split and classified again,
-/// down to [`SMALL_REGION_FRACTION`] of the footprint, where it goes to `given_up` (or counts as
-/// unresolved when it has no reach left).
+/// down to [`SMALL_REGION_FRACTION`] of the footprint (or until `MAX_UNPROVEN_PER_DEFERRED`
+/// rectangles stayed unproven), where it goes to `given_up`: one by one up to `share` of them
+/// ([`given_up_share`]), the rest as the whole deferred rectangle; it counts as unresolved when
+/// no sample could reach it.
 pub fn refine_deferred(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
     deferred: &Deferred,
     index: &SampleIndex<'_>,
     (out, given_up, grown): (&mut Vec<Sample>, &mut Vec<GivenUp>, &mut Vec<(u32, f64)>),
+    share: usize,
     stats: &mut SubdivisionStats,
 ) {
     let cutoff = SMALL_REGION_FRACTION * ctx.radius / region.max_distortion.max(1.0);
     let first_sample = out.len();
+    let first_given_up = given_up.len();
+    let mut unproven = 0usize;
+    let mut overflow = 0u64;
+    let mut settled_up_to = out.len();
     let mut stack = vec![(deferred.cell, true)];
+    let mut meter = Meter::new(ctx.budget, region.quadric);
+    let queries_before = stats.distance_queries;
     while let Some((cell, classified)) = stack.pop() {
+        let done = (
+            (out.len() - first_sample) as u64,
+            stats.distance_queries - queries_before,
+        );
+        if !meter.tick(done.0, done.1) {
+            break;
+        }
         let footprint = if classified {
             // The first pass has classified this one already.
             rect_distortion(region, &cell.rect) * cell.rect.diagonal()
@@ -328,7 +377,8 @@ pub fn refine_deferred(
                 continue;
             }
         }
-        let halves = if cell.rect.diagonal() <= cutoff {
+        unproven += 1;
+        let halves = if cell.rect.diagonal() <= cutoff || unproven > MAX_UNPROVEN_PER_DEFERRED {
             None
         } else {
             split(ctx, region, &cell, stats)
@@ -338,14 +388,77 @@ pub fn refine_deferred(
                 stack.push((high, false));
                 stack.push((low, false));
             }
-            (None, Some(point)) => given_up.push(GivenUp {
-                quadric: region.quadric,
-                point,
-                extent,
-            }),
+            (None, Some(point)) => {
+                // A sample this refinement emits later may still cover it.
+                let leaf = GivenUp {
+                    quadric: region.quadric,
+                    point,
+                    extent,
+                    count: 1,
+                };
+                if given_up.len() - first_given_up >= share && out.len() > settled_up_to {
+                    let own = (first_sample, ctx.radius);
+                    settle_locally(given_up, first_given_up, out, own, stats);
+                    settled_up_to = out.len();
+                }
+                if given_up.len() - first_given_up < share {
+                    given_up.push(leaf);
+                } else {
+                    overflow += 1;
+                }
+            }
             (None, None) => stats.unresolved += 1,
         }
     }
+    settle_locally(
+        given_up,
+        first_given_up,
+        out,
+        (first_sample, ctx.radius),
+        stats,
+    );
+    if overflow > 0 {
+        let root = deferred.cell.rect;
+        let extent = 0.5 * rect_distortion(region, &root) * root.diagonal();
+        match deferred.centre_point(ctx, region) {
+            Some(point) if extent < ctx.radius => given_up.push(GivenUp {
+                quadric: region.quadric,
+                point,
+                extent,
+                count: overflow,
+            }),
+            _ => stats.unresolved += overflow,
+        }
+    }
+    let done = (
+        (out.len() - first_sample) as u64,
+        stats.distance_queries - queries_before,
+    );
+    meter.finish(done.0, done.1);
+}
+
+/// Settles the given-up rectangles `given_up[from..]` against the samples `out[first..]` of the
+/// same refinement (all of one quadric), within `radius`: covered ones are counted and removed.
+fn settle_locally(
+    given_up: &mut Vec<GivenUp>,
+    from: usize,
+    out: &mut [Sample],
+    (first, radius): (usize, f64),
+    stats: &mut SubdivisionStats,
+) {
+    let mut kept = from;
+    for i in from..given_up.len() {
+        let g = given_up[i];
+        let own = (first..out.len()).map(|j| (j as u32, &out[j]));
+        if let Some((j, needed)) = cover_by(own, g.point, g.extent, radius) {
+            grow_radius(out, j, needed);
+            stats.unresolved_covered += g.count;
+        } else {
+            given_up[kept] = g;
+            kept += 1;
+        }
+    }
+    given_up.truncate(kept);
 }
 
 /// A rectangle given up unclassified: covered if some sample of the same quadric, from any
@@ -358,6 +471,8 @@ pub struct GivenUp {
     pub point: DVec3,
     /// Half the footprint: every surface point of the rectangle is this close to `point`.
     pub extent: f64,
+    /// How many given-up rectangles this stands for (more than one: all of them lie in it).
+    pub count: u64,
 }
 
 /// Settles given-up rectangles against all samples: covered ones are counted in
@@ -375,13 +490,13 @@ pub fn settle_given_up(
         .iter()
         .map(|g| index.cover(g.quadric, g.point, g.extent))
         .collect();
-    for cover in covers {
+    for (g, cover) in given_up.iter().zip(covers) {
         match cover {
             Some((i, needed)) => {
-                stats.unresolved_covered += 1;
+                stats.unresolved_covered += g.count;
                 grow_radius(samples, i, needed);
             }
-            None => stats.unresolved += 1,
+            None => stats.unresolved += g.count,
         }
     }
 }
@@ -393,8 +508,12 @@ pub fn grow_radius(samples: &mut [Sample], i: u32, needed: f64) {
     }
 }
 
+/// Fine cubes per side of the coarse cubes that select which samples [`SampleIndex`] keeps.
+const WANTED_CELLS: i64 = 4;
+
 /// The first pass's samples near deferred rectangles, bucketed by quadric and by cubes of side
-/// `2r`: every sample within `r` of a point within `r / 2` of a deferred centre is found.
+/// `2r`: every sample within `r` of a point within `r / 2` of a deferred centre is found (it
+/// lies in a fine cube next to the point's, inside a coarse cube next to the centre's).
 pub struct SampleIndex<'a> {
     samples: &'a [Sample],
     radius: f64,
@@ -414,13 +533,30 @@ impl<'a> SampleIndex<'a> {
             cell: 2.0 * radius,
             buckets: FxHashMap::default(),
         };
-        let mut wanted = FxHashSet::default();
+        // Wanted: the coarse cubes (of WANTED_CELLS fine cubes a side) around the centres,
+        // each with its neighbours. One entry per coarse cube, not per centre: millions of
+        // deferred rectangles (nested balls 1e-9 apart at a tiny radius) crowd into far fewer
+        // cubes.
+        let coarse = |p: DVec3| {
+            let (x, y, z) = index.key(p);
+            (
+                x.div_euclid(WANTED_CELLS),
+                y.div_euclid(WANTED_CELLS),
+                z.div_euclid(WANTED_CELLS),
+            )
+        };
+        let mut centre_cubes = FxHashSet::default();
         for &(quadric, point) in centres {
-            let (x, y, z) = index.key(point);
+            let (x, y, z) = coarse(point);
+            centre_cubes.insert((x, y, z, quadric));
+        }
+        let mut wanted = FxHashSet::default();
+        for &(x, y, z, quadric) in &centre_cubes {
             for (dx, dy, dz) in NEIGHBOURS {
                 wanted.insert((x + dx, y + dy, z + dz, quadric));
             }
         }
+        drop(centre_cubes);
         if wanted.is_empty() {
             return index;
         }
@@ -428,9 +564,12 @@ impl<'a> SampleIndex<'a> {
             .par_iter()
             .enumerate()
             .filter_map(|(i, sample)| {
+                let (x, y, z) = coarse(sample.position);
+                if !wanted.contains(&(x, y, z, sample.quadric)) {
+                    return None;
+                }
                 let (x, y, z) = index.key(sample.position);
-                let key = (x, y, z, sample.quadric);
-                wanted.contains(&key).then_some((key, i as u32))
+                Some(((x, y, z, sample.quadric), i as u32))
             })
             .collect();
         for (key, i) in hits {
