@@ -79,7 +79,11 @@ impl Rect {
 
     /// Length of the diagonal.
     pub fn diagonal(&self) -> f64 {
-        self.width().hypot(self.height())
+        // `hypot` is a call into libm on the hot path: only where the squares over- or
+        // underflow.
+        let (w, h) = (self.width(), self.height());
+        let d = (w * w + h * h).sqrt();
+        if d.is_normal() { d } else { w.hypot(h) }
     }
 
     /// The centre.
