@@ -15,10 +15,16 @@
 //! already covers the rectangle with its own disc, no new sample is made: along a feature curve
 //! one sample often covers several small rectangles.
 //!
-//! **Coverage is by a sample's own disc.** Every sample's radius is at most `r` and is the
-//! radius a renderer draws it with, so wherever a rectangle counts as covered by an existing
-//! sample, that sample's disc must reach all of it; a sample that is within `r` but whose
-//! reduced radius falls short has its radius grown (never beyond `r`).
+//! **Coverage is by what a sample's splat draws.** Wherever a rectangle counts as covered by an
+//! existing sample, that sample's disc must reach all of it: its radius is at most `r` and is
+//! the radius a renderer draws it with, so a sample within `r` whose reduced radius falls short
+//! has its radius grown (never beyond `r`). Its normal must be less than 90° from the quadric's at
+//! the rectangle (a splat draws only its own side: a sample on one face of a thin slab, the
+//! same quadric, draws nothing on the other), and a sample of another term counts only if the
+//! rectangle's part in its own term lies inside that term (a splat is clipped to its term;
+//! literals both terms hold are skipped). Without the last two rules
+//! `customizer_box` showed gaps along its walls' rims at 1920×1080 (99.6 % of pixels agreeing
+//! with the ray tracer instead of 99.997 %).
 //!
 //! **Two passes.** A small rectangle with neither corner nor centre on the surface is not split
 //! further at once: the first pass ([`sample_region`]) sets it aside ([`Deferred`]), and the
@@ -46,6 +52,7 @@
 use rayon::prelude::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use qcsg_csg::Dnf;
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
 
 use crate::Sample;
@@ -235,11 +242,14 @@ fn covered_by_recent(
     let Some(centre) = region_point(ctx.frame, &region.heightfield, region.sheet, cx, cy) else {
         return false;
     };
+    let Some(normal) = ctx.quadric.normal(centre) else {
+        return false;
+    };
     let recent = &out[out.len().saturating_sub(RECENT_SAMPLES)..];
     recent
         .iter()
         .rev()
-        .any(|s| s.quadric == region.quadric && s.covers(centre, 0.5 * footprint))
+        .any(|s| s.quadric == region.quadric && s.covers(centre, normal, 0.5 * footprint))
 }
 
 /// The two halves of a cell across its longer edge, with their corner distances; `None` when
@@ -363,7 +373,8 @@ pub fn refine_deferred(
         let (cx, cy) = cell.rect.centre();
         let extent = 0.5 * footprint;
         let point = region_point(ctx.frame, &region.heightfield, region.sheet, cx, cy)
-            .filter(|_| extent < ctx.radius);
+            .filter(|_| extent < ctx.radius)
+            .and_then(|p| Some(SurfacePoint::new(p, ctx.quadric.normal(p)?)));
         if let Some(point) = point {
             let own = (first_sample..out.len()).map(|i| (i as u32, &out[i]));
             if let Some((i, needed)) = cover_by(own, point, extent, ctx.radius) {
@@ -371,7 +382,7 @@ pub fn refine_deferred(
                 stats.unresolved_covered += 1;
                 continue;
             }
-            if let Some(cover) = index.cover(region.quadric, point, extent) {
+            if let Some(cover) = index.cover((region.quadric, region.term), point, extent) {
                 grown.push(cover);
                 stats.unresolved_covered += 1;
                 continue;
@@ -392,6 +403,7 @@ pub fn refine_deferred(
                 // A sample this refinement emits later may still cover it.
                 let leaf = GivenUp {
                     quadric: region.quadric,
+                    term: region.term,
                     point,
                     extent,
                     count: 1,
@@ -420,9 +432,11 @@ pub fn refine_deferred(
     if overflow > 0 {
         let root = deferred.cell.rect;
         let extent = 0.5 * rect_distortion(region, &root) * root.diagonal();
-        match deferred.centre_point(ctx, region) {
+        let centre = deferred.centre_point(ctx, region);
+        match centre.and_then(|p| Some(SurfacePoint::new(p, ctx.quadric.normal(p)?))) {
             Some(point) if extent < ctx.radius => given_up.push(GivenUp {
                 quadric: region.quadric,
+                term: region.term,
                 point,
                 extent,
                 count: overflow,
@@ -467,8 +481,10 @@ fn settle_locally(
 pub struct GivenUp {
     /// Index of the quadric in the DNF's quadric table.
     pub quadric: u32,
+    /// Index of the term it was sampled for.
+    pub term: u32,
     /// The surface point over the rectangle's centre.
-    pub point: DVec3,
+    pub point: SurfacePoint,
     /// Half the footprint: every surface point of the rectangle is this close to `point`.
     pub extent: f64,
     /// How many given-up rectangles this stands for (more than one: all of them lie in it).
@@ -479,16 +495,20 @@ pub struct GivenUp {
 /// [`SubdivisionStats::unresolved_covered`] (the covering sample's radius grown as needed, to
 /// at most `radius`), the rest in [`SubdivisionStats::unresolved`].
 pub fn settle_given_up(
+    dnf: &Dnf,
     given_up: &[GivenUp],
     samples: &mut [Sample],
     radius: f64,
     stats: &mut SubdivisionStats,
 ) {
-    let centres: Vec<(u32, DVec3)> = given_up.iter().map(|g| (g.quadric, g.point)).collect();
-    let index = SampleIndex::new(samples, &centres, radius);
+    let centres: Vec<(u32, DVec3)> = given_up
+        .iter()
+        .map(|g| (g.quadric, g.point.position))
+        .collect();
+    let index = SampleIndex::new(dnf, samples, &centres, radius);
     let covers: Vec<Option<(u32, f64)>> = given_up
         .iter()
-        .map(|g| index.cover(g.quadric, g.point, g.extent))
+        .map(|g| index.cover((g.quadric, g.term), g.point, g.extent))
         .collect();
     for (g, cover) in given_up.iter().zip(covers) {
         match cover {
@@ -515,6 +535,7 @@ const WANTED_CELLS: i64 = 4;
 /// `2r`: every sample within `r` of a point within `r / 2` of a deferred centre is found (it
 /// lies in a fine cube next to the point's, inside a coarse cube next to the centre's).
 pub struct SampleIndex<'a> {
+    dnf: &'a Dnf,
     samples: &'a [Sample],
     radius: f64,
     anchor: DVec3,
@@ -525,8 +546,9 @@ pub struct SampleIndex<'a> {
 impl<'a> SampleIndex<'a> {
     /// Indexes the samples of `samples` that may cover a point near one of `centres` (surface
     /// points with their quadric).
-    pub fn new(samples: &'a [Sample], centres: &[(u32, DVec3)], radius: f64) -> Self {
+    pub fn new(dnf: &'a Dnf, samples: &'a [Sample], centres: &[(u32, DVec3)], radius: f64) -> Self {
         let mut index = Self {
+            dnf,
             samples,
             radius,
             anchor: centres.first().map_or(DVec3::ZERO, |c| c.1),
@@ -585,34 +607,82 @@ impl<'a> SampleIndex<'a> {
 
     /// A sample of `quadric` that covers the ball of radius `extent` around `point`, with the
     /// radius it needs for that ([`cover_by`]).
-    pub fn cover(&self, quadric: u32, point: DVec3, extent: f64) -> Option<(u32, f64)> {
-        let (x, y, z) = self.key(point);
+    ///
+    /// A sample of another term than `term` counts only if the ball lies inside its term:
+    /// a splat is clipped to its term, so it draws nothing outside it.
+    pub fn cover(
+        &self,
+        (quadric, term): (u32, u32),
+        point: SurfacePoint,
+        extent: f64,
+    ) -> Option<(u32, f64)> {
+        let (x, y, z) = self.key(point.position);
         let candidates = NEIGHBOURS.iter().flat_map(|(dx, dy, dz)| {
             self.buckets
                 .get(&(x + dx, y + dy, z + dz, quadric))
                 .map_or(&[][..], Vec::as_slice)
         });
-        cover_by(
-            candidates.map(|&i| (i, &self.samples[i as usize])),
-            point,
-            extent,
-            self.radius,
-        )
+        let drawn = candidates
+            .map(|&i| (i, &self.samples[i as usize]))
+            .filter(|(_, s)| {
+                s.term == term || inside_term(self.dnf, s, term, point.position, extent)
+            });
+        cover_by(drawn, point, extent, self.radius)
+    }
+}
+
+/// Whether the part of the ball of radius `extent` around `p` that lies in term `own` lies
+/// inside every literal of `sample`'s term but its own quadric (by the conservative distance),
+/// so that the sample's clipping keeps it. Literals both terms hold are skipped: inside term
+/// `own` they hold anyway.
+fn inside_term(dnf: &Dnf, sample: &Sample, own: u32, p: DVec3, extent: f64) -> bool {
+    let (Some(term), Some(own)) = (
+        dnf.terms.get(sample.term as usize),
+        dnf.terms.get(own as usize),
+    ) else {
+        return false;
+    };
+    term.literals.iter().all(|&j| {
+        j == sample.quadric
+            || own.literals.contains(&j)
+            || dnf
+                .quadrics
+                .get(j as usize)
+                .is_some_and(|q| q.quadric.conservative_distance(p) <= -extent)
+    })
+}
+
+/// A point of a quadric's surface with its outward unit normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    /// The point.
+    pub position: DVec3,
+    /// The quadric's outward unit normal there.
+    pub normal: DVec3,
+}
+
+impl SurfacePoint {
+    /// `position` with `normal`.
+    pub fn new(position: DVec3, normal: DVec3) -> Self {
+        Self { position, normal }
     }
 }
 
 /// Of `samples`, the first whose disc already covers the ball of radius `extent` around
-/// `point` ([`Sample::covers`]), else the nearest one that would with a radius of at most
-/// `radius`: its index and the radius it needs.
+/// `point` ([`Sample::covers`]), else the nearest on the same side that would with a radius of
+/// at most `radius`: its index and the radius it needs.
 pub fn cover_by<'s>(
     samples: impl Iterator<Item = (u32, &'s Sample)>,
-    point: DVec3,
+    point: SurfacePoint,
     extent: f64,
     radius: f64,
 ) -> Option<(u32, f64)> {
     let mut nearest: Option<(u32, f64)> = None;
     for (i, sample) in samples {
-        let needed = (sample.position - point).length() + extent;
+        if !sample.same_side(point.normal) {
+            continue;
+        }
+        let needed = (sample.position - point.position).length() + extent;
         if needed <= sample.radius {
             return Some((i, sample.radius));
         }

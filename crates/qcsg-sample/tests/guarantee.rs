@@ -54,7 +54,7 @@ fn run_with(name: &str, dnf: &Dnf, relative_radius: f64, allow_apex: bool) -> Sa
         "{name}: only {} reference points",
         refs.len()
     );
-    let missing = uncovered(&sampling.samples, &refs, r, 4e-9 * diag);
+    let missing = uncovered(dnf, &sampling.samples, &refs, r, 4e-9 * diag);
     assert!(
         missing.is_empty(),
         "{name}: {} of {} reference points have no sample within r = {r}, e.g. {:?}; {stats:?}",
@@ -64,7 +64,7 @@ fn run_with(name: &str, dnf: &Dnf, relative_radius: f64, allow_apex: bool) -> Sa
     );
     // (b) on the feature curves.
     let edges = common::edge_points(dnf, 1500, 7);
-    let missing = uncovered(&sampling.samples, &edges, r, 4e-9 * diag);
+    let missing = uncovered(dnf, &sampling.samples, &edges, r, 4e-9 * diag);
     assert!(
         missing.is_empty(),
         "{name}: {} of {} feature-curve points have no sample within r = {r}, e.g. {:?}",

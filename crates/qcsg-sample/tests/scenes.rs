@@ -18,44 +18,6 @@ use qcsg_sample::sample;
 /// Radius relative to the scene diagonal for the programs: coarse, so that a debug build copes.
 const RELATIVE_RADIUS: f64 = 0.1;
 
-/// Programs cheap enough to check on every CI run (a debug build): each takes well under a
-/// second to sample at [`RELATIVE_RADIUS`]. The others (intricate examples with many terms and
-/// coincident faces) are checked by the ignored tests below, meant for a release build.
-const CHEAP: &[&str] = &[
-    "examples/three_spheres.qcsg",
-    "examples/platonic_solids.qcsg",
-    "examples/quadric_primitives.qcsg",
-    "examples/raw_quadrics.qcsg",
-    "examples/reuleaux.qcsg",
-    "examples/wheel.qcsg",
-    "tests/stability/coincident_union_identical.qcsg",
-    "tests/stability/cone_apex.qcsg",
-    "tests/stability/double_cone_apex.qcsg",
-    "tests/stability/far_1e6.qcsg",
-    "tests/stability/far_1e9.qcsg",
-    "tests/stability/huge_csg.qcsg",
-    "tests/stability/huge_sphere.qcsg",
-    "tests/stability/hyperboloid_neck.qcsg",
-    "tests/stability/hyperboloid_two_sheets_gap.qcsg",
-    "tests/stability/near_degenerate_ellipsoid.qcsg",
-    "tests/stability/near_degenerate_tilted.qcsg",
-    "tests/stability/nested_spheres_shell.qcsg",
-    "tests/stability/parallel_slabs_union.qcsg",
-    "tests/stability/small_dent_on_huge.qcsg",
-    "tests/stability/tangent_external.qcsg",
-    "tests/stability/tangent_internal_difference.qcsg",
-    "tests/stability/tangent_internal_union.qcsg",
-    "tests/stability/thin_wall_plate.qcsg",
-    "tests/stability/thin_wall_tilted.qcsg",
-    "tests/stability/tiny_csg.qcsg",
-    "tests/stability/tiny_sphere.qcsg",
-    "crates/qcsg-splat/tests/scenes/far_away.qcsg",
-    "crates/qcsg-splat/tests/scenes/huge_scale.qcsg",
-    "crates/qcsg-splat/tests/scenes/tangent_spheres.qcsg",
-    "crates/qcsg-splat/tests/scenes/thin_wall.qcsg",
-    "crates/qcsg-splat/tests/scenes/tiny_scale.qcsg",
-];
-
 /// Programs expected to produce no solid (their header says `expect: empty` or an error).
 fn expects_a_solid(path: &Path) -> bool {
     let text = std::fs::read_to_string(path).unwrap_or_default();
@@ -136,31 +98,20 @@ fn check_programs(files: &[PathBuf], relative: f64) {
     assert!(checked > 0);
 }
 
+/// Covers the coincident faces of `customizer_box.qcsg` and `openscad_bracket.scad` (minimal
+/// variants: `tests/shared_faces.rs`). All three program sets take about 8 s in a debug build.
 #[test]
-fn cheap_programs() {
-    let root = common::workspace_root();
-    let files: Vec<PathBuf> = CHEAP.iter().map(|f| root.join(f)).collect();
-    check_programs(&files, RELATIVE_RADIUS);
-}
-
-/// Covers the coincident faces of `customizer_box.qcsg` and `openscad_bracket.scad` (the
-/// cheap variant in CI: `tests/shared_faces.rs`).
-#[test]
-#[ignore = "minutes in a debug build: cargo test --release -p qcsg-sample --test scenes -- --ignored"]
 fn every_example() {
     check_programs(&programs_in("examples"), RELATIVE_RADIUS);
 }
 
 #[test]
-#[ignore = "minutes in a debug build: cargo test --release -p qcsg-sample --test scenes -- --ignored"]
 fn every_stability_scene() {
     check_programs(&programs_in("tests/stability"), RELATIVE_RADIUS);
 }
 
-/// Covers the coincident faces of `coincident_faces.qcsg` (the cheap variant in CI:
-/// `tests/shared_faces.rs`).
+/// Covers the coincident faces of `coincident_faces.qcsg`.
 #[test]
-#[ignore = "minutes in a debug build: cargo test --release -p qcsg-sample --test scenes -- --ignored"]
 fn every_splat_renderer_scene() {
     check_programs(
         &programs_in("crates/qcsg-splat/tests/scenes"),

@@ -337,9 +337,12 @@ pub fn edge_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> {
 
 /// Reference points not inside the disc of a sample of the same quadric: the sample's own
 /// radius (at most `r`, smaller where the sampler reduced it), plus `r · 1e-9 + slack`. A
-/// renderer draws each sample at its own radius, so this is the coverage a picture gets. The
+/// renderer draws each sample at its own radius, on its own side of the quadric, clipped to its
+/// term, so this is the coverage a picture gets (the sample's normal must not point against the
+/// quadric's at the point, and the point must lie in the sample's term). The
 /// third field is how far the nearest disc falls short (`+∞`: no sample within `r`).
 pub fn uncovered(
+    dnf: &Dnf,
     samples: &[Sample],
     refs: &[(u32, DVec3)],
     r: f64,
@@ -359,12 +362,19 @@ pub fn uncovered(
     for &(q, p) in refs {
         let (cx, cy, cz) = key(p);
         let mut best = f64::INFINITY;
+        // A splat draws the side of its quadric it lies on: the sample's normal must agree
+        // with the quadric's at `p` (the two faces of a thin slab are one quadric).
+        let normal = dnf.quadrics[q as usize].quadric.normal(p);
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
                     if let Some(list) = grid.get(&(cx + dx, cy + dy, cz + dz)) {
                         for &i in list {
-                            if samples[i].quadric == q {
+                            let same_side = normal.is_none_or(|n| samples[i].normal.dot(n) > 0.0);
+                            if samples[i].quadric == q
+                                && same_side
+                                && in_term(dnf, &samples[i], p, slack)
+                            {
                                 // How far the sample's own disc falls short of `p`.
                                 let short = (samples[i].position - p).length() - samples[i].radius;
                                 best = best.min(short);
@@ -379,6 +389,14 @@ pub fn uncovered(
         }
     }
     missing
+}
+
+/// Whether `p` lies inside (within `slack`) every literal of `sample`'s term but its own
+/// quadric: the splat of `sample` is clipped to its term and draws nothing outside it.
+fn in_term(dnf: &Dnf, sample: &Sample, p: DVec3, slack: f64) -> bool {
+    dnf.terms[sample.term as usize].literals.iter().all(|&j| {
+        j == sample.quadric || dnf.quadrics[j as usize].quadric.conservative_distance(p) <= slack
+    })
 }
 
 /// Random points on quadric `q` inside `bounds`: roots of random lines.
@@ -620,12 +638,12 @@ pub fn uncovered_on_any(
     slack: f64,
 ) -> Vec<(u32, DVec3, f64)> {
     let mut missing = Vec::new();
-    for (q, p, distance) in uncovered(samples, refs, r, slack) {
+    for (q, p, distance) in uncovered(dnf, samples, refs, r, slack) {
         let through: Vec<u32> = (0..dnf.quadrics.len() as u32)
             .filter(|&j| j != q && surface_residual(&dnf.quadrics[j as usize].quadric, p) <= slack)
             .collect();
         let again: Vec<(u32, DVec3)> = through.iter().map(|&j| (j, p)).collect();
-        if through.is_empty() || uncovered(samples, &again, r, slack).len() == again.len() {
+        if through.is_empty() || uncovered(dnf, samples, &again, r, slack).len() == again.len() {
             missing.push((q, p, distance));
         }
     }
