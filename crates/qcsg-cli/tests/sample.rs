@@ -470,27 +470,15 @@ fn crossed_sampling_limits_are_errors_at_a_span() {
         (SCENE, "--max-samples", "100", "1000000", "E0604"),
         (nested, "--max-queries", "10000", "100000000", "E0605"),
     ];
+    let out_path = out.to_str().unwrap();
     for (program, flag, low, high, code) in cases {
-        let args = |limit: &'static str| {
-            [
-                "sample",
-                "-",
-                "--radius",
-                "10%",
-                "-o",
-                out.to_str().unwrap(),
-                flag,
-                limit,
-                "--format",
-                "json",
-            ]
-            .map(str::to_owned)
+        let run_with = |limit: &str| {
+            let args = [
+                "sample", "-", "--radius", "10%", "-o", out_path, flag, limit,
+            ];
+            qcsg(&[&args[..], &["--format", "json"]].concat(), program)
         };
-        let low_args = args(low);
-        let run = qcsg(
-            &low_args.iter().map(String::as_str).collect::<Vec<_>>(),
-            program,
-        );
+        let run = run_with(low);
         assert_eq!(run.status, 1, "{code}: {}", run.stderr);
         assert!(!out.exists(), "{code}: a file was written");
         let diagnostics: Value = serde_json::from_slice(&run.stdout).expect("diagnostics JSON");
@@ -500,11 +488,7 @@ fn crossed_sampling_limits_are_errors_at_a_span() {
         let span = error["byte_range"].as_array().expect("a span");
         let (start, end) = (span[0].as_u64().unwrap(), span[1].as_u64().unwrap());
         assert!(start < end, "{error}");
-        let high_args = args(high);
-        let run = qcsg(
-            &high_args.iter().map(String::as_str).collect::<Vec<_>>(),
-            program,
-        );
+        let run = run_with(high);
         assert_eq!(run.status, 0, "{code} raised: {}", run.stderr);
         assert!(out.exists());
         std::fs::remove_file(&out).expect("remove");
