@@ -20,7 +20,8 @@
 //!   the DNF's region, not the per-term boxes ([`csg_distance`]);
 //! - small regions get one sample at a corner or the centre proven on the surface, with the
 //!   radius reduced to the region's footprint; unproven ones wait for a second pass, where a
-//!   sample of any region within reach covers them, or they are split down to
+//!   nearby sample whose splat draws them (same side, same term or one holding them) covers
+//!   them, or they are split down to
 //!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint and counted when given up
 //!   ([`subdivide::SubdivisionStats::unresolved`]);
 //! - eq. 22 of each basic region keeps only the other terms whose box comes near the region's

@@ -1,53 +1,53 @@
 //! Adaptive longest-edge subdivision of one basic region (paper §4.2).
 //!
-//! At the corners of a rectangle the CSG distance `d` of eq. 22 is evaluated. A world radius
-//! `|d|` becomes the 2-D radius `|d| / δ_max`, `δ_max` being the rectangle's maximum distortion
-//! (§3.4 corner bound): the heightfield map is `δ_max`-Lipschitz on the convex rectangle, so 2-D
-//! points within `|d| / δ_max` of a corner map to surface points within `|d|` of it in space.
-//! The corner discs cover the rectangle when one reaches the opposite corner or each reaches the
-//! centre; then the rectangle is wholly on the CSG surface (all `d < 0`: filled with a grid of
-//! samples) or wholly off it (all `d > 0`: dropped). Otherwise it is split at its longer edge.
+//! At the corners of a rectangle the CSG distance `d` of eq. 22 is evaluated. A world radius `|d|`
+//! becomes the 2-D radius `|d| / δ_max`, `δ_max` being the rectangle's maximum distortion (§3.4
+//! corner bound): the heightfield map is `δ_max`-Lipschitz on the convex rectangle, so 2-D points
+//! within `|d| / δ_max` of a corner map to surface points within `|d|` of it in space. The corner
+//! discs cover the rectangle when one reaches the opposite corner or each reaches the centre; then
+//! the rectangle is wholly on the CSG surface (all `d < 0`: filled with a grid of samples) or
+//! wholly off it (all `d > 0`: dropped). Otherwise it is split at its longer edge.
 //!
 //! **Small regions.** A rectangle whose world footprint `δ_max · diagonal` is at most `r` needs
 //! only one sample on the CSG surface anywhere inside it: the first corner with `d < 0` gets it
 //! (the paper's special case), else the centre if `d(centre) < 0`. The sample's radius is reduced
 //! to the footprint (§6.1: less overdraw, same guarantee). If one of the last samples emitted
-//! already covers the rectangle with its own disc, no new sample is made: along a feature curve
-//! one sample often covers several small rectangles.
+//! already covers the rectangle with its own disc, no new sample is made: along a feature curve one
+//! sample often covers several small rectangles.
 //!
 //! **Coverage is by what a sample's splat draws.** Wherever a rectangle counts as covered by an
-//! existing sample, that sample's disc must reach all of it: its radius is at most `r` and is
-//! the radius a renderer draws it with, so a sample within `r` whose reduced radius falls short
-//! has its radius grown (never beyond `r`). Its normal must be less than 90° from the quadric's at
-//! the rectangle (a splat draws only its own side: a sample on one face of a thin slab, the
-//! same quadric, draws nothing on the other), and a sample of another term counts only if the
-//! rectangle's part in its own term lies inside that term (a splat is clipped to its term;
-//! literals both terms hold are skipped). Without the last two rules
-//! `customizer_box` showed gaps along its walls' rims at 1920×1080 (99.6 % of pixels agreeing
-//! with the ray tracer instead of 99.997 %).
+//! existing sample, that sample's disc must reach all of it: its radius is at most `r` and is the
+//! radius a renderer draws it with, so a sample within `r` whose reduced radius falls short has its
+//! radius grown (never beyond `r`). Its normal must be less than 90° from the quadric's at the
+//! rectangle (a splat draws only its own side: a sample on one face of a thin slab, the same
+//! quadric, draws nothing on the other), and a sample of another term counts only if the
+//! rectangle's part in its own term lies inside that term (a splat is clipped to its term; literals
+//! both terms hold are skipped). Without the last two rules `customizer_box` showed gaps along its
+//! walls' rims at 1920×1080 (99.6 % of pixels agreeing with the ray tracer instead of 99.997 %).
 //!
 //! **Two passes.** A small rectangle with neither corner nor centre on the surface is not split
-//! further at once: the first pass ([`sample_region`]) sets it aside ([`Deferred`]), and the
-//! second ([`refine_deferred`]) takes it up once every region has its samples. There it is
-//! covered as soon as a sample of the same quadric lies within `r − footprint / 2` of the
-//! surface point over its centre (every point of the rectangle is within `footprint / 2` of that
-//! point), its radius grown to reach the rectangle; otherwise it is split and classified again, down to [`SMALL_REGION_FRACTION`] of the
-//! footprint. Such rectangles sit beside feature curves, and the samples on the other side of
-//! the curve, often in a neighbouring region, usually cover them at once: where a curve runs
-//! along a region border (the lens edge of `examples/three_spheres.qcsg`), splitting them down to
-//! the cutoff had cost 17× the queries. Where surfaces nearly coincide over an area, no
-//! rectangle is ever proven, and the refinement of one deferred rectangle stops after
-//! 512 unproven rectangles (`MAX_UNPROVEN_PER_DEFERRED`); the given-up rectangles kept for the final
-//! settling are bounded in all (`given_up_share`). Second-pass samples are appended after the first pass's,
-//! in the order of the deferred rectangles, so the output does not depend on the thread count.
+//! further at once: the first pass ([`sample_region`]) sets it aside ([`Deferred`]), and the second
+//! ([`refine_deferred`]) takes it up once every region has its samples. There it is covered as soon
+//! as a sample of the same quadric lies within `r − footprint / 2` of the surface point over its
+//! centre (every point of the rectangle is within `footprint / 2` of that point), its radius grown
+//! to reach the rectangle; otherwise it is split and classified again, down to
+//! [`SMALL_REGION_FRACTION`] of the footprint. Such rectangles sit beside feature curves, and the
+//! samples on the other side of the curve, often in a neighbouring region, usually cover them at
+//! once: where a curve runs along a region border (the lens edge of `examples/three_spheres.qcsg`),
+//! splitting them down to the cutoff had cost 17× the queries. Where surfaces nearly coincide over
+//! an area, no rectangle is ever proven, and the refinement of one deferred rectangle stops after
+//! 512 unproven rectangles (`MAX_UNPROVEN_PER_DEFERRED`); the given-up rectangles kept for the
+//! final settling are bounded in all (`given_up_share`). Second-pass samples are appended after the
+//! first pass's, in the order of the deferred rectangles, so the output does not depend on the
+//! thread count.
 //!
 //! **The cutoff.** Only a proof keeps the guarantee: the paper's cut-off at a tenth of the splat
 //! "can theoretically result in small holes", and a cutoff of `r / 16` here missed a sliver of
 //! `examples/precision_part.qcsg` that the reference points found. A surface sliver that avoids
 //! every corner and centre down to `r / 64` could still be missed; rectangles given up there are
-//! settled against every sample at the end ([`settle_given_up`]), those with no sample of
-//! their quadric within `r − footprint / 2` counted in [`SubdivisionStats::unresolved`], so the count says whether a hole was
-//! possible at all.
+//! settled against every sample at the end ([`settle_given_up`]), those with no sample of their
+//! quadric within `r − footprint / 2` counted in [`SubdivisionStats::unresolved`], so the count
+//! says whether a hole was possible at all.
 
 use rayon::prelude::*;
 use rustc_hash::{FxHashMap, FxHashSet};
@@ -854,10 +854,11 @@ fn emit(
 const SNAP_STEPS: usize = 2;
 
 /// `p` moved onto the quadric by Newton steps along the gradient, each kept only while it lowers
-/// `|Q| / ‖∇Q‖` (at most [`SNAP_STEPS`], none once it is at most `settled`). The heightfield point can be off by more than the
-/// required `1e-9` of the scene where its square root cancels (a slab of half-width `1e-6`); the
-/// move is of that size, far below any sample radius. Cones are left alone: next to the apex,
-/// where the gradient vanishes, a step can cross the bounding literal at the tip.
+/// `|Q| / ‖∇Q‖` (at most [`SNAP_STEPS`], none once it is at most `settled`). The heightfield point
+/// can be off by more than the required `1e-9` of the scene where its square root cancels (a slab
+/// of half-width `1e-6`); the move is of that size, far below any sample radius. Cones are left
+/// alone: next to the apex, where the gradient vanishes, a step can cross the bounding literal at
+/// the tip.
 fn snap_to_surface(q: &Quadric, mut p: DVec3, settled: f64) -> DVec3 {
     let residual = |p: DVec3| {
         let g = q.gradient(p);

@@ -17,10 +17,11 @@ const STRICTNESS: Strictness = Strictness {
     require_proof: false,
 };
 
-/// Scenes, with the most distance queries each may take at `r` = 10 % of the diagonal (without
-/// the shared-plane rules: 1.1 M, 12.6 M, 0.8 M and 2.1 M; with them 20 k, 173 k, 22 k and
-/// 1.1 k; the ball 10.7 k without merged terms, 4 k with them) and whether every given-up rectangle must be proven covered (the abutting cubes: their
-/// only unclassifiable rectangles were on the shared face).
+/// Scenes, with the most distance queries each may take at `r` = 10 % of the diagonal (without the
+/// shared-plane rules: 1.1 M, 12.6 M, 0.8 M and 2.1 M; with them 20 k, 173 k, 22 k and 1.1 k; the
+/// ball 10.7 k without merged terms, 4 k with them) and whether every given-up rectangle must be
+/// proven covered (the abutting cubes: their only unclassifiable rectangles were on the shared
+/// face).
 const SCENES: &[(&str, &str, u64, bool)] = &[
     (
         "union of boxes sharing a face",
