@@ -377,7 +377,7 @@ pub fn refine_deferred(
             .and_then(|p| Some(SurfacePoint::new(p, ctx.quadric.normal(p)?)));
         if let Some(point) = point {
             let own = (first_sample..out.len()).map(|i| (i as u32, &out[i]));
-            if let Some((i, needed)) = cover_by(own, point, extent, ctx.radius) {
+            if let Some((i, needed)) = cover_by(own, point, extent, ctx.radius, |_| true) {
                 grow_radius(out, i, needed);
                 stats.unresolved_covered += 1;
                 continue;
@@ -464,7 +464,7 @@ fn settle_locally(
     for i in from..given_up.len() {
         let g = given_up[i];
         let own = (first..out.len()).map(|j| (j as u32, &out[j]));
-        if let Some((j, needed)) = cover_by(own, g.point, g.extent, radius) {
+        if let Some((j, needed)) = cover_by(own, g.point, g.extent, radius, |_| true) {
             grow_radius(out, j, needed);
             stats.unresolved_covered += g.count;
         } else {
@@ -622,12 +622,10 @@ impl<'a> SampleIndex<'a> {
                 .get(&(x + dx, y + dy, z + dz, quadric))
                 .map_or(&[][..], Vec::as_slice)
         });
-        let drawn = candidates
-            .map(|&i| (i, &self.samples[i as usize]))
-            .filter(|(_, s)| {
-                s.term == term || inside_term(self.dnf, s, term, point.position, extent)
-            });
-        cover_by(drawn, point, extent, self.radius)
+        let samples = candidates.map(|&i| (i, &self.samples[i as usize]));
+        cover_by(samples, point, extent, self.radius, |s| {
+            s.term == term || inside_term(self.dnf, s, term, point.position, extent)
+        })
     }
 }
 
@@ -670,12 +668,14 @@ impl SurfacePoint {
 
 /// Of `samples`, the first whose disc already covers the ball of radius `extent` around
 /// `point` ([`Sample::covers`]), else the nearest on the same side that would with a radius of
-/// at most `radius`: its index and the radius it needs.
+/// at most `radius`: its index and the radius it needs. Only samples `draws` accepts count; it is
+/// asked last, of the samples near enough, as it can cost more than the distance.
 pub fn cover_by<'s>(
     samples: impl Iterator<Item = (u32, &'s Sample)>,
     point: SurfacePoint,
     extent: f64,
     radius: f64,
+    draws: impl Fn(&Sample) -> bool,
 ) -> Option<(u32, f64)> {
     let mut nearest: Option<(u32, f64)> = None;
     for (i, sample) in samples {
@@ -684,9 +684,11 @@ pub fn cover_by<'s>(
         }
         let needed = (sample.position - point.position).length() + extent;
         if needed <= sample.radius {
-            return Some((i, sample.radius));
-        }
-        if needed <= radius && nearest.is_none_or(|(_, best)| needed < best) {
+            if draws(sample) {
+                return Some((i, sample.radius));
+            }
+        } else if needed <= radius && nearest.is_none_or(|(_, best)| needed < best) && draws(sample)
+        {
             nearest = Some((i, needed));
         }
     }
