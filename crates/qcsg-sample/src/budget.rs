@@ -103,11 +103,6 @@ impl Budget {
     pub fn crossed(&self) -> Option<Crossed> {
         self.crossed.get().copied()
     }
-
-    /// The limits.
-    pub fn limits(&self) -> SampleLimits {
-        self.limits
-    }
 }
 
 /// One worker's view of the budget: charges what it did since the last charge.

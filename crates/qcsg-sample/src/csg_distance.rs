@@ -323,11 +323,6 @@ impl NearDistance<'_> {
         let others = self.terms.iter().map(|&i| &self.base.others[i as usize]);
         self.base.distance_over(p, others, self.far)
     }
-
-    /// How many other terms are kept.
-    pub fn terms(&self) -> usize {
-        self.terms.len()
-    }
 }
 
 /// The Euclidean gap between two boxes (0 when they touch or overlap, `+∞` if either is empty).

@@ -540,24 +540,21 @@ pub fn check_guarantee(
     }
     // A surface shared by several quadrics (a plane that is the face of two parts) is one
     // surface: a reference point on it may be covered by a sample of any quadric through it.
-    let missing = uncovered_on_any(dnf, &sampling.samples, &refs, r, slack);
-    if !missing.is_empty() {
-        return Err(format!(
-            "{} of {} reference points are in no disc of a sample of their quadric (r = {r}), e.g. {:?}; {stats:?}",
-            missing.len(),
-            refs.len(),
-            &missing[..missing.len().min(3)]
-        ));
-    }
     let edges = edge_points(dnf, strictness.edge_rays, 7);
-    let missing = uncovered_on_any(dnf, &sampling.samples, &edges, r, slack);
-    if !missing.is_empty() {
-        return Err(format!(
-            "{} of {} feature-curve points are in no disc of a sample of their quadric (r = {r}), e.g. {:?}",
-            missing.len(),
-            edges.len(),
-            &missing[..missing.len().min(3)]
-        ));
+    for (points, what) in [
+        (&refs, "reference points"),
+        (&edges, "feature-curve points"),
+    ] {
+        let missing = uncovered_on_any(dnf, &sampling.samples, points, r, slack);
+        if !missing.is_empty() {
+            return Err(format!(
+                "{} of {} {what} are in no disc of a sample of their quadric (r = {r}), e.g. \
+                 {:?}; {stats:?}",
+                missing.len(),
+                points.len(),
+                &missing[..missing.len().min(3)]
+            ));
+        }
     }
     if stats.subdivision.unresolved != 0 && strictness.require_proof {
         return Err(format!(
