@@ -76,6 +76,16 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// An empty frame of `size`, with room for all its pixels, to be filled row by row.
+    fn with_capacity(size: ImageSize) -> Self {
+        Frame {
+            size,
+            rgb: Vec::with_capacity(3 * size.pixel_count()),
+            depth: Vec::with_capacity(size.pixel_count()),
+            ids: Vec::with_capacity(size.pixel_count()),
+        }
+    }
+
     /// Number of pixels that show the solid.
     pub fn hit_count(&self) -> usize {
         self.ids
@@ -113,12 +123,7 @@ pub fn render(
             row
         })
         .collect();
-    let mut frame = Frame {
-        size,
-        rgb: Vec::with_capacity(3 * size.pixel_count()),
-        depth: Vec::with_capacity(size.pixel_count()),
-        ids: Vec::with_capacity(size.pixel_count()),
-    };
+    let mut frame = Frame::with_capacity(size);
     for row in rows {
         frame.rgb.extend(row.rgb);
         frame.depth.extend(row.depth);
@@ -267,12 +272,7 @@ pub fn frame_from_pixels(size: ImageSize, pixel: &(dyn Fn(u32, u32) -> Pixel + S
         .into_par_iter()
         .map(|y| (0..size.width()).map(|x| pixel(x, y)).collect())
         .collect();
-    let mut frame = Frame {
-        size,
-        rgb: Vec::with_capacity(3 * size.pixel_count()),
-        depth: Vec::with_capacity(size.pixel_count()),
-        ids: Vec::with_capacity(size.pixel_count()),
-    };
+    let mut frame = Frame::with_capacity(size);
     for pixel in rows.into_iter().flatten() {
         frame.rgb.extend(pixel.rgb);
         frame.depth.push(pixel.depth);
