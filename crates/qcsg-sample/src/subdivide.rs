@@ -228,6 +228,18 @@ fn classify(
 /// Samples [`covered_by_recent`] looks back over.
 const RECENT_SAMPLES: usize = 16;
 
+/// The surface point over the centre of `rect`, with the quadric's normal there; `None` where
+/// there is no surface or the normal is undefined (a cone's apex).
+fn centre_point(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    rect: &Rect,
+) -> Option<SurfacePoint> {
+    let (x, y) = rect.centre();
+    let position = region_point(ctx.frame, &region.heightfield, region.sheet, x, y)?;
+    Some(SurfacePoint::new(position, ctx.quadric.normal(position)?))
+}
+
 /// Whether one of the last samples emitted covers the whole rectangle (of footprint
 /// `footprint`): depth-first order puts a small rectangle's neighbours among them, and along a
 /// feature curve one sample often covers several small rectangles.
@@ -238,18 +250,13 @@ fn covered_by_recent(
     footprint: f64,
     out: &[Sample],
 ) -> bool {
-    let (cx, cy) = rect.centre();
-    let Some(centre) = region_point(ctx.frame, &region.heightfield, region.sheet, cx, cy) else {
-        return false;
-    };
-    let Some(normal) = ctx.quadric.normal(centre) else {
+    let Some(centre) = centre_point(ctx, region, rect) else {
         return false;
     };
     let recent = &out[out.len().saturating_sub(RECENT_SAMPLES)..];
-    recent
-        .iter()
-        .rev()
-        .any(|s| s.quadric == region.quadric && s.covers(centre, normal, 0.5 * footprint))
+    recent.iter().rev().any(|s| {
+        s.quadric == region.quadric && s.covers(centre.position, centre.normal, 0.5 * footprint)
+    })
 }
 
 /// The two halves of a cell across its longer edge, with their corner distances; `None` when
@@ -352,17 +359,20 @@ pub fn refine_deferred(
     let mut stack = vec![(deferred.cell, true)];
     let mut meter = Meter::new(ctx.budget, region.quadric);
     let queries_before = stats.distance_queries;
+    let done = |out: &[Sample], stats: &SubdivisionStats| {
+        let samples = (out.len() - first_sample) as u64;
+        (samples, stats.distance_queries - queries_before)
+    };
+    let root_footprint =
+        rect_distortion(region, &deferred.cell.rect) * deferred.cell.rect.diagonal();
     while let Some((cell, classified)) = stack.pop() {
-        let done = (
-            (out.len() - first_sample) as u64,
-            stats.distance_queries - queries_before,
-        );
-        if !meter.tick(done.0, done.1) {
+        let (samples, queries) = done(out, stats);
+        if !meter.tick(samples, queries) {
             break;
         }
         let footprint = if classified {
-            // The first pass has classified this one already.
-            rect_distortion(region, &cell.rect) * cell.rect.diagonal()
+            // The first pass has classified this one (the deferred rectangle) already.
+            root_footprint
         } else {
             match classify(ctx, region, &cell, out, stats) {
                 Verdict::Discarded | Verdict::Filled | Verdict::Small => continue,
@@ -370,11 +380,8 @@ pub fn refine_deferred(
                 Verdict::Split => f64::INFINITY,
             }
         };
-        let (cx, cy) = cell.rect.centre();
         let extent = 0.5 * footprint;
-        let point = region_point(ctx.frame, &region.heightfield, region.sheet, cx, cy)
-            .filter(|_| extent < ctx.radius)
-            .and_then(|p| Some(SurfacePoint::new(p, ctx.quadric.normal(p)?)));
+        let point = centre_point(ctx, region, &cell.rect).filter(|_| extent < ctx.radius);
         if let Some(point) = point {
             let own = (first_sample..out.len()).map(|i| (i as u32, &out[i]));
             if let Some((i, needed)) = cover_by(own, point, extent, ctx.radius, |_| true) {
@@ -430,10 +437,8 @@ pub fn refine_deferred(
         stats,
     );
     if overflow > 0 {
-        let root = deferred.cell.rect;
-        let extent = 0.5 * rect_distortion(region, &root) * root.diagonal();
-        let centre = deferred.centre_point(ctx, region);
-        match centre.and_then(|p| Some(SurfacePoint::new(p, ctx.quadric.normal(p)?))) {
+        let extent = 0.5 * root_footprint;
+        match centre_point(ctx, region, &deferred.cell.rect) {
             Some(point) if extent < ctx.radius => given_up.push(GivenUp {
                 quadric: region.quadric,
                 term: region.term,
@@ -444,11 +449,8 @@ pub fn refine_deferred(
             _ => stats.unresolved += overflow,
         }
     }
-    let done = (
-        (out.len() - first_sample) as u64,
-        stats.distance_queries - queries_before,
-    );
-    meter.finish(done.0, done.1);
+    let (samples, queries) = done(out, stats);
+    meter.finish(samples, queries);
 }
 
 /// Settles the given-up rectangles `given_up[from..]` against the samples `out[first..]` of the
