@@ -103,6 +103,9 @@ pub struct SubdivisionStats {
     pub filled: u64,
     /// Rectangles proven off the surface.
     pub discarded: u64,
+    /// Rectangles of border regions left to another sampling plane, and fill cells skipped
+    /// for the same reason ([`BasicRegion::owns_none_of`]).
+    pub other_plane: u64,
     /// Small rectangles settled by a single sample: their own, or a recent one that covers them.
     pub small: u64,
     /// Rectangles given up unclassified and not covered by any sample of their quadric (see
@@ -120,6 +123,7 @@ impl SubdivisionStats {
         self.rectangles += other.rectangles;
         self.filled += other.filled;
         self.discarded += other.discarded;
+        self.other_plane += other.other_plane;
         self.small += other.small;
         self.unresolved += other.unresolved;
         self.unresolved_covered += other.unresolved_covered;
@@ -317,6 +321,10 @@ pub fn sample_region(
         if !meter.tick(pending(out, deferred), stats.distance_queries) {
             break;
         }
+        if region.owns_none_of(&cell.rect) {
+            stats.other_plane += 1;
+            continue;
+        }
         match classify(ctx, region, &cell, out, stats) {
             Verdict::Discarded | Verdict::Filled | Verdict::Small => {}
             Verdict::Unproven { .. } => deferred.push(Deferred { cell }),
@@ -373,6 +381,9 @@ pub fn refine_deferred(
         let footprint = if classified {
             // The first pass has classified this one (the deferred rectangle) already.
             root_footprint
+        } else if region.owns_none_of(&cell.rect) {
+            stats.other_plane += 1;
+            continue;
         } else {
             match classify(ctx, region, &cell, out, stats) {
                 Verdict::Discarded | Verdict::Filled | Verdict::Small => continue,
@@ -786,10 +797,21 @@ fn fill(
     }
     let (dx, dy) = (rect.width() / nx, rect.height() / ny);
     let radius = (0.5 * distortion * dx.hypot(dy)).min(ctx.radius);
+    // In a border region, cells where another plane is the best throughout are that plane's.
+    let clipped = !region.owns_all_of(rect);
     for iy in 0..ny as u32 {
         let y = rect.y.0 + (f64::from(iy) + 0.5) * dy;
         for ix in 0..nx as u32 {
             let x = rect.x.0 + (f64::from(ix) + 0.5) * dx;
+            if clipped {
+                let cell = Rect {
+                    x: (x - 0.5 * dx, x + 0.5 * dx),
+                    y: (y - 0.5 * dy, y + 0.5 * dy),
+                };
+                if region.owns_none_of(&cell) {
+                    continue;
+                }
+            }
             emit(ctx, region, x, y, radius, out);
         }
     }

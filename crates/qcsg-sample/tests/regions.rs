@@ -1,12 +1,15 @@
 //! Layer 1: the basic regions of the three sampling planes cover every quadric kind inside a box,
-//! and each covered point is reached by a region where its distortion is at most √3.
+//! and each covered point is reached by a region where its distortion is at most √3 and that
+//! owns it (a border region's subdivision drops the parts another plane is best on).
 
 mod common;
 
 use common::{Rng, points_on};
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DMat4, DVec3, HeightfieldForm, Quadric, QuadricKind};
-use qcsg_sample::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds, region_point};
+use qcsg_sample::regions::{
+    BasicRegion, Rect, RegionStats, basic_regions, patch_bounds, region_point,
+};
 
 fn kinds() -> Vec<(&'static str, Quadric)> {
     let rotation = DMat4::from_axis_angle(DVec3::new(0.3, -0.7, 0.5).normalize(), 0.9)
@@ -54,7 +57,7 @@ fn kinds() -> Vec<(&'static str, Quadric)> {
     out
 }
 
-/// Whether some region maps to `p` with distortion at most √3 there.
+/// Whether some region that owns `p` maps to it with distortion at most √3 there.
 fn reached(
     frame: &qcsg_quadric::PrincipalFrame,
     regions: &[BasicRegion],
@@ -66,7 +69,11 @@ fn reached(
         let hf = &r.heightfield;
         let (i, j) = hf.plane_axes;
         let (x, y, t) = (f[i], f[j], f[hf.normal_axis]);
-        if !r.rect.contains(x, y) {
+        let point = Rect {
+            x: (x, x),
+            y: (y, y),
+        };
+        if !r.rect.contains(x, y) || r.owns_none_of(&point) {
             return false;
         }
         let Some(h) = hf.height(x, y) else {
