@@ -11,6 +11,7 @@
 //! sample order, so the buffer is the same for any thread count.
 
 use qcsg_csg::Dnf;
+use qcsg_quadric::DVec3;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
@@ -66,7 +67,13 @@ struct RawClipLists {
 
 impl RawClipLists {
     /// Appends the clip list of each sample (the other literals of its term within its radius).
+    ///
+    /// Neighbouring samples mostly lie far from the same literals, so each literal keeps the
+    /// last point where its conservative distance `L` was evaluated: the true distance is
+    /// 1-Lipschitz, so at a sample `Δ` away it is at least `L − Δ`, and the literal is left out
+    /// without evaluating it again when that exceeds the radius.
     fn push_samples(&mut self, dnf: &Dnf, samples: &[Sample]) {
+        let mut anchors: Vec<Option<(DVec3, f64)>> = vec![None; dnf.quadrics.len()];
         for sample in samples {
             let start = self.indices.len();
             if let Some(term) = dnf.terms.get(sample.term as usize) {
@@ -74,13 +81,24 @@ impl RawClipLists {
                     if literal == sample.quadric {
                         continue;
                     }
-                    let Some(entry) = dnf.quadrics.get(literal as usize) else {
+                    let (Some(entry), Some(anchor)) = (
+                        dnf.quadrics.get(literal as usize),
+                        anchors.get_mut(literal as usize),
+                    ) else {
                         continue;
                     };
-                    let distance = entry.quadric.conservative_distance(sample.position);
+                    if let Some((point, distance)) = *anchor
+                        && distance - (sample.position - point).length() > sample.radius
+                    {
+                        continue;
+                    }
+                    let distance = entry.quadric.conservative_distance(sample.position).abs();
                     // NaN (never for finite samples) keeps the literal: conservative.
-                    if distance.is_nan() || distance.abs() <= sample.radius {
+                    if distance.is_nan() || distance <= sample.radius {
                         self.indices.push(literal);
+                        *anchor = None;
+                    } else {
+                        *anchor = Some((sample.position, distance));
                     }
                 }
             }

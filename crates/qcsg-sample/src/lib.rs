@@ -340,65 +340,77 @@ pub fn sample_with_limits(
             budget: &budget,
         })
     };
-    // First pass: every region on its own.
+    // First pass: every region on its own. Regions are folded into one output per run of
+    // consecutive regions that a thread takes: concatenated in order, the output is the same
+    // for any thread count, and one thread copies nothing.
     type FirstPass = (Vec<Sample>, Vec<Deferred>, SubdivisionStats);
-    let first: Vec<FirstPass> = (0..regions.len())
+    let (mut samples, deferred, counters) = (0..regions.len())
         .into_par_iter()
-        .map(|region| {
-            let mut out = Vec::new();
-            let mut deferred = Vec::new();
-            let mut counters = SubdivisionStats::default();
-            if let Some(ctx) = context(region) {
-                let region = &regions[region].1;
-                sample_region(&ctx, region, &mut out, &mut deferred, &mut counters);
-            }
-            progress(Progress::RegionDone);
-            (out, deferred, counters)
-        })
-        .collect();
-    let mut samples = Vec::with_capacity(first.iter().map(|(s, ..)| s.len()).sum());
-    let mut deferred = Vec::new();
-    for (region, (region_samples, region_deferred, counters)) in first.into_iter().enumerate() {
-        samples.extend(region_samples);
-        deferred.extend(region_deferred.into_iter().map(|d| (region, d)));
-        stats.subdivision.add(&counters);
-    }
+        .fold(
+            FirstPass::default,
+            |(mut out, mut deferred, mut counters), index| {
+                if let Some(ctx) = context(index) {
+                    let region = (index, &regions[index].1);
+                    sample_region(&ctx, region, &mut out, &mut deferred, &mut counters);
+                }
+                progress(Progress::RegionDone);
+                (out, deferred, counters)
+            },
+        )
+        .collect::<Vec<FirstPass>>()
+        .into_iter()
+        .reduce(
+            |(mut out, mut deferred, mut counters), (more, later, other)| {
+                out.extend(more);
+                deferred.extend(later);
+                counters.add(&other);
+                (out, deferred, counters)
+            },
+        )
+        .unwrap_or_default();
+    stats.subdivision.add(&counters);
     crossed(&budget)?;
     // Second pass: the rectangles the first left unproven, against all first-pass samples.
     let centres: Vec<(u32, DVec3)> = deferred
         .iter()
-        .filter_map(|&(region, d)| {
-            let ctx = context(region)?;
-            let region = &regions[region].1;
+        .filter_map(|d| {
+            let ctx = context(d.region)?;
+            let region = &regions[d.region].1;
             Some((region.quadric, d.centre_point(&ctx, region)?))
         })
         .collect();
     let index = SampleIndex::new(dnf, &samples, &centres, radius);
     let share = given_up_share(deferred.len());
     type SecondPass = (Vec<Sample>, Vec<GivenUp>, Vec<(u32, f64)>, SubdivisionStats);
-    let second: Vec<SecondPass> = deferred
+    let (more, given_up, grown, counters) = deferred
         .par_iter()
-        .map(|&(region, ref d)| {
-            let (mut out, mut given_up, mut grown) = (Vec::new(), Vec::new(), Vec::new());
-            let mut counters = SubdivisionStats::default();
-            if let Some(ctx) = context(region) {
-                let (region, index) = (&regions[region].1, &index);
-                let outputs = (&mut out, &mut given_up, &mut grown);
-                refine_deferred(&ctx, region, d, index, outputs, share, &mut counters);
-            }
+        .fold(
+            SecondPass::default,
+            |(mut out, mut given_up, mut grown, mut counters), d| {
+                if let Some(ctx) = context(d.region) {
+                    let (region, index) = (&regions[d.region].1, &index);
+                    let outputs = (&mut out, &mut given_up, &mut grown);
+                    refine_deferred(&ctx, region, d, index, outputs, share, &mut counters);
+                }
+                (out, given_up, grown, counters)
+            },
+        )
+        .collect::<Vec<SecondPass>>()
+        .into_iter()
+        .reduce(|(mut out, mut given_up, mut grown, mut counters), more| {
+            out.extend(more.0);
+            given_up.extend(more.1);
+            grown.extend(more.2);
+            counters.add(&more.3);
             (out, given_up, grown, counters)
         })
-        .collect();
+        .unwrap_or_default();
     drop(index);
-    let mut given_up = Vec::new();
-    for (more, region_given_up, grown, counters) in second {
-        for (i, needed) in grown {
-            grow_radius(&mut samples, i, needed);
-        }
-        samples.extend(more);
-        given_up.extend(region_given_up);
-        stats.subdivision.add(&counters);
+    for (i, needed) in grown {
+        grow_radius(&mut samples, i, needed);
     }
+    samples.extend(more);
+    stats.subdivision.add(&counters);
     crossed(&budget)?;
     // Last: what the second pass gave up, against every sample.
     settle_given_up(dnf, &given_up, &mut samples, radius, &mut stats.subdivision);

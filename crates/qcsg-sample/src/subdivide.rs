@@ -158,6 +158,8 @@ struct Cell {
 /// its centre on the surface): [`refine_deferred`] settles it once every region has its samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Deferred {
+    /// Index of the basic region it belongs to.
+    pub region: usize,
     cell: Cell,
 }
 
@@ -183,12 +185,13 @@ enum Verdict {
     Split,
 }
 
-/// Classifies one cell, emitting its samples when it is on the surface.
+/// Classifies one cell, emitting its samples when it is on the surface; `out[first..]` are the
+/// samples of the same region (or refinement) so far.
 fn classify(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
     cell: &Cell,
-    out: &mut Vec<Sample>,
+    (out, first): (&mut Vec<Sample>, usize),
     stats: &mut SubdivisionStats,
 ) -> Verdict {
     stats.rectangles += 1;
@@ -211,7 +214,7 @@ fn classify(
         return Verdict::Split;
     }
     if let Some(k) = cell.d.iter().position(|&d| d < 0.0) {
-        if covered_by_recent(ctx, region, &rect, footprint, out) {
+        if covered_by_recent(ctx, region, &rect, footprint, &out[first..]) {
             stats.small += 1;
             return Verdict::Small;
         }
@@ -244,9 +247,9 @@ fn centre_point(
     Some(SurfacePoint::new(position, ctx.quadric.normal(position)?))
 }
 
-/// Whether one of the last samples emitted covers the whole rectangle (of footprint
-/// `footprint`): depth-first order puts a small rectangle's neighbours among them, and along a
-/// feature curve one sample often covers several small rectangles.
+/// Whether one of the last samples of `out` (the region's so far) covers the whole rectangle (of
+/// footprint `footprint`): depth-first order puts a small rectangle's neighbours among them, and
+/// along a feature curve one sample often covers several small rectangles.
 fn covered_by_recent(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
@@ -298,16 +301,18 @@ fn split(
     ))
 }
 
-/// First pass over one basic region, appending its samples to `out` in a deterministic
-/// (depth-first) order. Rectangles of footprint at most `r` that it cannot prove go to
-/// `deferred`, for [`refine_deferred`].
+/// First pass over basic region number `index`, appending its samples to `out` in a
+/// deterministic (depth-first) order. Rectangles of footprint at most `r` that it cannot prove
+/// go to `deferred`, for [`refine_deferred`]. Both may hold earlier regions' output already.
 pub fn sample_region(
     ctx: &RegionContext<'_>,
-    region: &BasicRegion,
+    (index, region): (usize, &BasicRegion),
     out: &mut Vec<Sample>,
     deferred: &mut Vec<Deferred>,
     stats: &mut SubdivisionStats,
 ) {
+    let (first_sample, first_deferred) = (out.len(), deferred.len());
+    let first_queries = stats.distance_queries;
     let root = region.rect;
     let d = [0, 1, 2, 3].map(|k| {
         let (x, y) = corner(&root, k);
@@ -316,28 +321,37 @@ pub fn sample_region(
     let mut stack = vec![Cell { rect: root, d }];
     let mut meter = Meter::new(ctx.budget, region.quadric);
     // Deferred rectangles count as samples: each one is held in memory until the second pass.
-    let pending = |out: &[Sample], deferred: &[Deferred]| (out.len() + deferred.len()) as u64;
+    let pending = |out: &[Sample], deferred: &[Deferred], stats: &SubdivisionStats| {
+        let held = out.len() - first_sample + deferred.len() - first_deferred;
+        (held as u64, stats.distance_queries - first_queries)
+    };
+    let defer = |cell| Deferred {
+        region: index,
+        cell,
+    };
     while let Some(cell) = stack.pop() {
-        if !meter.tick(pending(out, deferred), stats.distance_queries) {
+        let (held, queries) = pending(out, deferred, stats);
+        if !meter.tick(held, queries) {
             break;
         }
         if region.owns_none_of(&cell.rect) {
             stats.other_plane += 1;
             continue;
         }
-        match classify(ctx, region, &cell, out, stats) {
+        match classify(ctx, region, &cell, (out, first_sample), stats) {
             Verdict::Discarded | Verdict::Filled | Verdict::Small => {}
-            Verdict::Unproven { .. } => deferred.push(Deferred { cell }),
+            Verdict::Unproven { .. } => deferred.push(defer(cell)),
             Verdict::Split => match split(ctx, region, &cell, stats) {
                 Some((low, high)) => {
                     stack.push(high);
                     stack.push(low);
                 }
-                None => deferred.push(Deferred { cell }),
+                None => deferred.push(defer(cell)),
             },
         }
     }
-    meter.finish(pending(out, deferred), stats.distance_queries);
+    let (held, queries) = pending(out, deferred, stats);
+    meter.finish(held, queries);
 }
 
 /// Second pass over one deferred rectangle. It is covered as soon as a sample of the same
@@ -385,7 +399,7 @@ pub fn refine_deferred(
             stats.other_plane += 1;
             continue;
         } else {
-            match classify(ctx, region, &cell, out, stats) {
+            match classify(ctx, region, &cell, (out, first_sample), stats) {
                 Verdict::Discarded | Verdict::Filled | Verdict::Small => continue,
                 Verdict::Unproven { footprint } => footprint,
                 Verdict::Split => f64::INFINITY,
@@ -629,11 +643,21 @@ impl<'a> SampleIndex<'a> {
         point: SurfacePoint,
         extent: f64,
     ) -> Option<(u32, f64)> {
-        let (x, y, z) = self.key(point.position);
-        let candidates = NEIGHBOURS.iter().flat_map(|(dx, dy, dz)| {
-            self.buckets
-                .get(&(x + dx, y + dy, z + dz, quadric))
-                .map_or(&[][..], Vec::as_slice)
+        // A sample within `r` of the point lies in a cube that the ball of radius `r` around
+        // it touches: with cubes of side `2r`, at most two along each axis.
+        let reach = DVec3::splat(self.radius);
+        let (low, high) = (
+            self.key(point.position - reach),
+            self.key(point.position + reach),
+        );
+        let candidates = (low.2..=high.2).flat_map(move |z| {
+            (low.1..=high.1).flat_map(move |y| {
+                (low.0..=high.0).flat_map(move |x| {
+                    self.buckets
+                        .get(&(x, y, z, quadric))
+                        .map_or(&[][..], Vec::as_slice)
+                })
+            })
         });
         let samples = candidates.map(|&i| (i, &self.samples[i as usize]));
         cover_by(samples, point, extent, self.radius, |s| {
