@@ -206,7 +206,13 @@ impl Quadric {
     /// underflow for any finite gradient.
     #[inline]
     pub fn normal(&self, p: DVec3) -> Option<DVec3> {
-        let g = self.gradient(p);
+        Self::normal_from_gradient(self.gradient(p))
+    }
+
+    /// The unit vector along a gradient `g` (as [`Self::normal`] makes it, for a caller that
+    /// has the gradient already); `None` where it vanishes or is not finite.
+    #[inline]
+    pub fn normal_from_gradient(g: DVec3) -> Option<DVec3> {
         let length_squared = g.length_squared();
         if (f64::MIN_POSITIVE..=f64::MAX).contains(&length_squared) {
             return Some(g / length_squared.sqrt());

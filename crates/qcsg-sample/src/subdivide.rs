@@ -566,7 +566,8 @@ pub struct SampleIndex<'a> {
     samples: &'a [Sample],
     radius: f64,
     anchor: DVec3,
-    cell: f64,
+    /// Fine cubes per unit length, `1 / 2r`.
+    per_length: f64,
     buckets: FxHashMap<(i64, i64, i64, u32), Vec<u32>>,
 }
 
@@ -579,7 +580,7 @@ impl<'a> SampleIndex<'a> {
             samples,
             radius,
             anchor: centres.first().map_or(DVec3::ZERO, |c| c.1),
-            cell: 2.0 * radius,
+            per_length: 0.5 / radius,
             buckets: FxHashMap::default(),
         };
         // Wanted: the coarse cubes (of WANTED_CELLS fine cubes a side) around the centres,
@@ -609,12 +610,26 @@ impl<'a> SampleIndex<'a> {
         if wanted.is_empty() {
             return index;
         }
+        // Per quadric, the box of its wanted cubes: most samples lie outside it, and the test is
+        // cheaper than the set's.
+        let mut boxes = vec![None::<([i64; 3], [i64; 3])>; dnf.quadrics.len()];
+        for &(x, y, z, quadric) in &wanted {
+            if let Some(entry) = boxes.get_mut(quadric as usize) {
+                let (low, high) = entry.get_or_insert(([x, y, z], [x, y, z]));
+                *low = [low[0].min(x), low[1].min(y), low[2].min(z)];
+                *high = [high[0].max(x), high[1].max(y), high[2].max(z)];
+            }
+        }
         let hits: Vec<((i64, i64, i64, u32), u32)> = samples
             .par_iter()
             .enumerate()
             .filter_map(|(i, sample)| {
                 let (x, y, z) = coarse(sample.position);
-                if !wanted.contains(&(x, y, z, sample.quadric)) {
+                let (low, high) = boxes.get(sample.quadric as usize).copied().flatten()?;
+                let inside = (low[0]..=high[0]).contains(&x)
+                    && (low[1]..=high[1]).contains(&y)
+                    && (low[2]..=high[2]).contains(&z);
+                if !inside || !wanted.contains(&(x, y, z, sample.quadric)) {
                     return None;
                 }
                 let (x, y, z) = index.key(sample.position);
@@ -628,7 +643,7 @@ impl<'a> SampleIndex<'a> {
     }
 
     fn key(&self, p: DVec3) -> (i64, i64, i64) {
-        let c = (p - self.anchor) / self.cell;
+        let c = (p - self.anchor) * self.per_length;
         (floor(c.x), floor(c.y), floor(c.z))
     }
 
@@ -884,12 +899,12 @@ fn emit(
     let Some(position) = region_point(ctx.frame, &region.heightfield, region.sheet, x, y) else {
         return;
     };
-    let position = match ctx.snap {
+    let (position, gradient) = match ctx.snap {
         Some(settled) => snap_to_surface(ctx.quadric, position, settled),
-        None => position,
+        None => (position, ctx.quadric.gradient(position)),
     };
     let axis = ctx.frame.axes[region.heightfield.normal_axis];
-    let normal = ctx.quadric.normal(position).unwrap_or(axis * region.sheet);
+    let normal = Quadric::normal_from_gradient(gradient).unwrap_or(axis * region.sheet);
     out.push(Sample {
         position,
         normal,
@@ -908,8 +923,8 @@ const SNAP_STEPS: usize = 2;
 /// can be off by more than the required `1e-9` of the scene where its square root cancels (a slab
 /// of half-width `1e-6`); the move is of that size, far below any sample radius. Cones are left
 /// alone: next to the apex, where the gradient vanishes, a step can cross the bounding literal at
-/// the tip.
-fn snap_to_surface(q: &Quadric, mut p: DVec3, settled: f64) -> DVec3 {
+/// the tip. Returns the point with the gradient there.
+fn snap_to_surface(q: &Quadric, mut p: DVec3, settled: f64) -> (DVec3, DVec3) {
     let residual = |p: DVec3| {
         let g = q.gradient(p);
         let length = g.length();
@@ -933,5 +948,5 @@ fn snap_to_surface(q: &Quadric, mut p: DVec3, settled: f64) -> DVec3 {
         }
         (p, current, value, gradient) = (next, after, next_value, next_gradient);
     }
-    p
+    (p, gradient)
 }
