@@ -536,8 +536,9 @@ fn report(
         "Counters: *samples* are the emitted samples, *distance queries* the evaluations of the \
          CSG distance of eq. 22 (paper: `d_Q(S, p)`), *clip indices* the length of the \
          deduplicated clip indirection buffer (§6). Each sample here also carries its clip \
-         list; the basic regions are axis-aligned rectangles (see the crate docs), not the \
-         paper's analytic triangles, which changes the number of queries near region borders."
+         list; the basic regions are axis-aligned rectangles clipped to where their plane is \
+         the best (see the crate docs), not the paper's analytic triangles, which changes the \
+         number of queries near region borders."
     );
     out
 }

@@ -12,10 +12,12 @@
 //! deferred order, so it is byte-identical for any thread count.
 //!
 //! Decisions where the paper leaves room, each documented and tested in its module:
-//! - basic regions are axis-aligned rectangles found by conservative refinement with the §3.4
-//!   distortion bound instead of the analytic split into triangles, elliptic and hyperbolic
-//!   triangles ([`regions`]; kept regions have distortion at most
-//!   [`regions::KEEP_DISTORTION`] rather than `√3`);
+//! - basic regions are axis-aligned rectangles found by an exact refinement of eqs. 15-16 with
+//!   the §3.4 distortion bound instead of the analytic split into triangles, elliptic and
+//!   hyperbolic triangles ([`regions`]); a rectangle across the border between two planes'
+//!   regions (distortion at most [`regions::KEEP_DISTORTION`]) keeps only its part where its
+//!   plane is the best, so the regions still end at the paper's conics, to the resolution of
+//!   the subdivision;
 //! - eq. 22 leaves out terms sharing the sampled quadric and complementary literals, and uses
 //!   the DNF's region, not the per-term boxes ([`csg_distance`]);
 //! - small regions get one sample at a corner or the centre proven on the surface, with the

@@ -8,6 +8,11 @@
 //! the rectangle is wholly on the CSG surface (all `d < 0`: filled with a grid of samples) or
 //! wholly off it (all `d > 0`: dropped). Otherwise it is split at its longer edge.
 //!
+//! **Border regions.** A basic region across the border between two sampling planes' regions
+//! is only the part of its rectangle where its plane is the best: sub-rectangles and fill cells
+//! where another plane is the best throughout are dropped before anything else
+//! ([`BasicRegion::owns_none_of`]), since that plane's regions hold those surface points.
+//!
 //! **Small regions.** A rectangle whose world footprint `δ_max · diagonal` is at most `r` needs
 //! only one sample on the CSG surface anywhere inside it: the first corner with `d < 0` gets it
 //! (the paper's special case), else the centre if `d(centre) < 0`. The sample's radius is reduced
