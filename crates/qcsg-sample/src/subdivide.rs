@@ -565,7 +565,8 @@ const WANTED_CELLS: i64 = 4;
 
 /// The first pass's samples near deferred rectangles, bucketed by quadric and by cubes of side
 /// `2r`: every sample within `r` of a point within `r / 2` of a deferred centre is found (it
-/// lies in a fine cube next to the point's, inside a coarse cube next to the centre's).
+/// lies in one of the fine cubes that the ball of radius `r` around the point touches, inside a
+/// coarse cube next to the centre's).
 pub struct SampleIndex<'a> {
     dnf: &'a Dnf,
     samples: &'a [Sample],
@@ -573,7 +574,10 @@ pub struct SampleIndex<'a> {
     anchor: DVec3,
     /// Fine cubes per unit length, `1 / 2r`.
     per_length: f64,
-    buckets: FxHashMap<(i64, i64, i64, u32), Vec<u32>>,
+    /// Each fine cube's samples: a range of `members`.
+    buckets: FxHashMap<(i64, i64, i64, u32), (u32, u32)>,
+    /// Sample indices, grouped by fine cube, ascending within each.
+    members: Vec<u32>,
 }
 
 impl<'a> SampleIndex<'a> {
@@ -587,6 +591,7 @@ impl<'a> SampleIndex<'a> {
             anchor: centres.first().map_or(DVec3::ZERO, |c| c.1),
             per_length: 0.5 / radius,
             buckets: FxHashMap::default(),
+            members: Vec::new(),
         };
         // Wanted: the coarse cubes (of WANTED_CELLS fine cubes a side) around the centres,
         // each with its neighbours. One entry per coarse cube, not per centre: millions of
@@ -625,7 +630,7 @@ impl<'a> SampleIndex<'a> {
                 *high = [high[0].max(x), high[1].max(y), high[2].max(z)];
             }
         }
-        let hits: Vec<((i64, i64, i64, u32), u32)> = samples
+        let mut hits: Vec<((i64, i64, i64, u32), u32)> = samples
             .par_iter()
             .enumerate()
             .filter_map(|(i, sample)| {
@@ -641,9 +646,17 @@ impl<'a> SampleIndex<'a> {
                 Some(((x, y, z, sample.quadric), i as u32))
             })
             .collect();
-        for (key, i) in hits {
-            index.buckets.entry(key).or_default().push(i);
+        // Sorted in parallel and grouped, rather than pushed into a vector per cube one by one
+        // (an allocation per cube, and all on one thread).
+        hits.par_sort_unstable();
+        index.buckets.reserve(hits.len() / 4);
+        let mut start = 0;
+        for run in hits.chunk_by(|a, b| a.0 == b.0) {
+            let end = start + run.len() as u32;
+            index.buckets.insert(run[0].0, (start, end));
+            start = end;
         }
+        index.members = hits.into_iter().map(|(_, i)| i).collect();
         index
     }
 
@@ -673,9 +686,10 @@ impl<'a> SampleIndex<'a> {
         let candidates = (low.2..=high.2).flat_map(move |z| {
             (low.1..=high.1).flat_map(move |y| {
                 (low.0..=high.0).flat_map(move |x| {
-                    self.buckets
-                        .get(&(x, y, z, quadric))
-                        .map_or(&[][..], Vec::as_slice)
+                    let range = self.buckets.get(&(x, y, z, quadric));
+                    range.map_or(&[][..], |&(start, end)| {
+                        &self.members[start as usize..end as usize]
+                    })
                 })
             })
         });
