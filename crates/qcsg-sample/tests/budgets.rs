@@ -25,7 +25,7 @@ const BUDGETS: &[Budget] = &[
         max_queries: 45_000,
         max_unresolved: 0,
         guards: "the second pass: the lens edge lies on a region border, and splitting the \
-                 rectangles beside it down to the cutoff took 512,704 queries (now 22,320)",
+                 rectangles beside it down to the cutoff took 512,704 queries (now 21,968)",
     },
     Budget {
         example: "examples/chess_bishop.qcsg",
@@ -34,7 +34,7 @@ const BUDGETS: &[Budget] = &[
         max_unresolved: 8_000,
         guards: "merged abutting terms: the foot's ellipsoid touches the plane between the cone \
                  and the stem at its pole (without them 10,020 unproven rectangles and 132,273 \
-                 queries, now 6,556 and 92,191; what stays unproven lies along the rim \
+                 queries, now 6,556 and 91,504; what stays unproven lies along the rim \
                  where the foot's disc and cone meet with equal radii, on the face between them)",
     },
     Budget {
@@ -43,7 +43,7 @@ const BUDGETS: &[Budget] = &[
         max_queries: 550_000,
         max_unresolved: 60_000,
         guards: "the second pass and the per-region terms of eq. 22 on 50 terms (919,814 queries \
-                 before them, now 271,298); 34,342 rectangles stay unproven along lines where \
+                 before them, now 271,370); 34,342 rectangles stay unproven along lines where \
                  corner cylinders touch the walls (a sample of another term may not cover them: \
                  its splat is clipped to its own term)",
     },
