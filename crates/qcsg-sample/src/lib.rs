@@ -280,6 +280,18 @@ pub enum Progress {
     RegionDone,
 }
 
+/// The most consecutive items of `count` that one thread folds into one output. Rayon splits
+/// an indexed range only a few times and does not split a run a thread is working through, so
+/// without a cap one thread could be left with a quarter of the regions while the others idle;
+/// about eight runs per thread keep them busy. One thread takes them all at once (nothing to
+/// balance, nothing to concatenate).
+fn fold_run(count: usize) -> usize {
+    match rayon::current_num_threads() {
+        0 | 1 => usize::MAX,
+        threads => count.div_ceil(8 * threads).max(1),
+    }
+}
+
 /// [`sample`], calling `progress` when the work is known and as it gets done (from any thread;
 /// the output does not depend on it).
 pub fn sample_with_progress(
@@ -343,11 +355,12 @@ pub fn sample_with_limits(
         })
     };
     // First pass: every region on its own. Regions are folded into one output per run of
-    // consecutive regions that a thread takes: concatenated in order, the output is the same
-    // for any thread count, and one thread copies nothing.
+    // consecutive regions (`fold_run`): concatenated in order, the output is the same for any
+    // thread count, and one thread copies nothing.
     type FirstPass = (Vec<Sample>, Vec<Deferred>, SubdivisionStats);
     let (mut samples, deferred, counters) = (0..regions.len())
         .into_par_iter()
+        .with_max_len(fold_run(regions.len()))
         .fold(
             FirstPass::default,
             |(mut out, mut deferred, mut counters), index| {
@@ -386,6 +399,7 @@ pub fn sample_with_limits(
     type SecondPass = (Vec<Sample>, Vec<GivenUp>, Vec<(u32, f64)>, SubdivisionStats);
     let (more, given_up, grown, counters) = deferred
         .par_iter()
+        .with_max_len(fold_run(deferred.len()))
         .fold(
             SecondPass::default,
             |(mut out, mut given_up, mut grown, mut counters), d| {
