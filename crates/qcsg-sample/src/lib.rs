@@ -280,15 +280,15 @@ pub enum Progress {
     RegionDone,
 }
 
-/// The most consecutive items of `count` that one thread folds into one output. Rayon splits
-/// an indexed range only a few times and does not split a run a thread is working through, so
-/// without a cap one thread could be left with a quarter of the regions while the others idle;
-/// about eight runs per thread keep them busy. One thread takes them all at once (nothing to
-/// balance, nothing to concatenate).
-fn fold_run(count: usize) -> usize {
+/// The fewest and the most consecutive items of `count` that one thread folds into one output.
+/// Rayon splits an indexed range only a few times and does not split a run a thread is working
+/// through, so without a cap one thread could be left with a quarter of the regions while the
+/// others idle: about eight runs per thread keep them busy. One thread takes them all as one run
+/// (nothing to balance, nothing to concatenate).
+fn fold_runs(count: usize) -> (usize, usize) {
     match rayon::current_num_threads() {
-        0 | 1 => usize::MAX,
-        threads => count.div_ceil(8 * threads).max(1),
+        0 | 1 => (usize::MAX, usize::MAX),
+        threads => (1, count.div_ceil(8 * threads).max(1)),
     }
 }
 
@@ -355,12 +355,14 @@ pub fn sample_with_limits(
         })
     };
     // First pass: every region on its own. Regions are folded into one output per run of
-    // consecutive regions (`fold_run`): concatenated in order, the output is the same for any
+    // consecutive regions (`fold_runs`): concatenated in order, the output is the same for any
     // thread count, and one thread copies nothing.
     type FirstPass = (Vec<Sample>, Vec<Deferred>, SubdivisionStats);
+    let (shortest, longest) = fold_runs(regions.len());
     let (mut samples, deferred, counters) = (0..regions.len())
         .into_par_iter()
-        .with_max_len(fold_run(regions.len()))
+        .with_min_len(shortest)
+        .with_max_len(longest)
         .fold(
             FirstPass::default,
             |(mut out, mut deferred, mut counters), index| {
@@ -397,9 +399,11 @@ pub fn sample_with_limits(
     let index = SampleIndex::new(dnf, &samples, &centres, radius);
     let share = given_up_share(deferred.len());
     type SecondPass = (Vec<Sample>, Vec<GivenUp>, Vec<(u32, f64)>, SubdivisionStats);
+    let (shortest, longest) = fold_runs(deferred.len());
     let (more, given_up, grown, counters) = deferred
         .par_iter()
-        .with_max_len(fold_run(deferred.len()))
+        .with_min_len(shortest)
+        .with_max_len(longest)
         .fold(
             SecondPass::default,
             |(mut out, mut given_up, mut grown, mut counters), d| {
