@@ -21,7 +21,9 @@
 //! - eq. 22 leaves out terms sharing the sampled quadric and complementary literals, and uses
 //!   the DNF's region, not the per-term boxes ([`csg_distance`]);
 //! - small regions get one sample at a corner or the centre proven on the surface, with the
-//!   radius reduced to the region's footprint; unproven ones wait for a second pass, where a
+//!   radius reduced to the region's footprint (at the centre, up to a footprint of `2r`), or
+//!   none when a recent sample of the region reaches them with its radius grown to at most `r`;
+//!   unproven ones wait for a second pass, where a
 //!   nearby sample whose splat draws them (same side, same term or one holding them) covers
 //!   them, or they are split down to
 //!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint and counted when given up
