@@ -106,16 +106,10 @@ pub struct Sample {
 }
 
 impl Sample {
-    /// Whether the sample's disc reaches every point within `extent` of `point`, a surface
-    /// point of the same quadric with outward unit normal `normal`: `|position − point| + extent
-    /// ≤ radius`, and the normals less than 90° apart. The second condition keeps a sample
-    /// on one face of a thin slab (or the far side of a small ball) from covering the other:
-    /// a splat draws only the side of its quadric it lies on.
-    pub fn covers(&self, point: DVec3, normal: DVec3, extent: f64) -> bool {
-        (self.position - point).length() + extent <= self.radius && self.same_side(normal)
-    }
-
-    /// Whether the sample's normal is less than 90° from `normal` (the two face the same way).
+    /// Whether the sample's normal is less than 90° from `normal`, the outward unit normal of
+    /// a point of the same quadric (the two face the same way). Coverage asks for it besides
+    /// the distance: a splat draws only the side of its quadric it lies on, so a sample on one
+    /// face of a thin slab (or the far side of a small ball) must not cover the other.
     pub fn same_side(&self, normal: DVec3) -> bool {
         self.normal.dot(normal) > 0.0
     }

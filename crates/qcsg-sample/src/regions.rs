@@ -33,10 +33,10 @@
 //! component is zero). Planes overlap only in the cells the border crosses. Earlier rules
 //! sampled more of the surface from two planes: keeping every rectangle of distortion at most 2
 //! sampled most of a sphere twice, and a staircase of whole border rectangles (1/16 of the
-//! domain) took 8 % to 25 % more samples than border regions on the benchmark scenes. Rectangles still undecided
-//! after [`MAX_REGION_DEPTH`] splits (only around points where the distortion is undefined, like
-//! a cone's apex seen from the side, at `2⁻⁴⁰` of the domain) are counted in
-//! [`RegionStats::unresolved`] and dropped.
+//! domain) took 8 % to 25 % more samples than border regions on the benchmark scenes.
+//! Rectangles still undecided after [`MAX_REGION_DEPTH`] splits (only around points where the
+//! distortion is undefined, like a cone's apex seen from the side, at `2⁻⁴⁰` of the domain) are
+//! counted in [`RegionStats::unresolved`] and dropped.
 
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DVec3, Heightfield, HeightfieldForm, PrincipalFrame};

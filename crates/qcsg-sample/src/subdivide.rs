@@ -21,10 +21,9 @@
 //! classify is covered by a sample at its centre when `d(centre) < 0`, and split otherwise. Most
 //! such rectangles lie along feature curves; the examples at 1 % of the diagonal take 8 % to 73 %
 //! fewer samples in all than when they were split (a quarter to a third on most). If one of the
-//! last samples of the region
-//! is near enough to cover a small rectangle with a radius of at most `r`, no new sample is made
-//! and that sample's radius grows to reach it: along a feature curve one sample often covers
-//! several small rectangles.
+//! last samples of the region is near enough to cover a small rectangle with a radius of at most
+//! `r`, no new sample is made and that sample's radius grows to reach it: along a feature curve
+//! one sample often covers several small rectangles.
 //!
 //! **Coverage is by what a sample's splat draws.** Wherever a rectangle counts as covered by an
 //! existing sample, that sample's disc must reach all of it: its radius is at most `r` and is the
@@ -84,9 +83,8 @@ const MAX_UNPROVEN_PER_DEFERRED: usize = 512;
 /// Given-up rectangles kept one by one for [`settle_given_up`] over all deferred rectangles
 /// (about 200 MB); each deferred rectangle may keep its share of them (at most
 /// [`MAX_UNPROVEN_PER_DEFERRED`]) and settles the rest together, as the whole deferred
-/// rectangle. Nested balls `1e-9` apart at 1 % had given up
-/// 13 M rectangles. The share depends only on the number of deferred rectangles, so the output
-/// does not depend on the thread count.
+/// rectangle. Nested balls `1e-9` apart at 1 % had given up 13 M rectangles. The share depends
+/// only on the number of deferred rectangles, so the output does not depend on the thread count.
 const MAX_GIVEN_UP_TOTAL: usize = 1 << 22;
 
 /// How many given-up rectangles each of `deferred` deferred rectangles keeps one by one.
@@ -767,9 +765,10 @@ impl SurfacePoint {
     }
 }
 
-/// Of `samples`, the first whose disc already covers the ball of radius `extent` around
-/// `point` ([`Sample::covers`]), else the nearest on the same side that would with a radius of
-/// at most `radius`: its index and the radius it needs. Only samples `draws` accepts count; it is
+/// Of `samples` on the same side as `point` ([`Sample::same_side`]), the first whose disc
+/// already covers the ball of radius `extent` around it (`|position − point| + extent ≤ its
+/// radius`), else the nearest that would with a radius of at most `radius`: its index and the
+/// radius it needs. Only samples `draws` accepts count; it is
 /// asked last, of the samples near enough, as it can cost more than the distance.
 pub fn cover_by<'s>(
     samples: impl Iterator<Item = (u32, &'s Sample)>,
