@@ -249,35 +249,27 @@ fn build(analysis: &mut Analysis, args: &SampleArgs) -> Option<Dnf> {
 
 /// The diagnostic of a crossed sampling limit, at the source of the quadric being sampled.
 fn limit_diagnostic(dnf: &Dnf, error: &SampleError) -> Option<Diagnostic> {
-    let (code, flag, what, limit, quadric) = match *error {
+    let (code, what, limit, quadric, help) = match *error {
         SampleError::TooManySamples { limit, quadric } => (
             codes::SAMPLE_LIMIT,
-            "--max-samples",
             "samples",
             limit,
             quadric,
+            "use a larger `--radius`, or raise the limit with `--max-samples N` (each sample \
+             takes about 72 bytes)",
         ),
         SampleError::TooManyQueries { limit, quadric } => (
             codes::QUERY_LIMIT,
-            "--max-queries",
             "distance queries",
             limit,
             quadric,
+            "surfaces that nearly coincide over an area (a gap far below the radius) cannot be \
+             told apart by the subdivision; use a larger `--radius`, separate the surfaces, or \
+             raise the limit with `--max-queries N`",
         ),
         SampleError::InvalidRadius(_) => return None,
     };
     let source = dnf.quadrics.get(quadric as usize)?.source;
-    let help = match error {
-        SampleError::TooManySamples { .. } => format!(
-            "use a larger `--radius`, or raise the limit with `{flag} N` (each sample takes \
-             about 72 bytes)"
-        ),
-        _ => format!(
-            "surfaces that nearly coincide over an area (a gap far below the radius) cannot be \
-             told apart by the subdivision; use a larger `--radius`, separate the surfaces, or \
-             raise the limit with `{flag} N`"
-        ),
-    };
     Some(
         Diagnostic::error(
             code,
