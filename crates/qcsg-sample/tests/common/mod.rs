@@ -339,8 +339,8 @@ pub fn edge_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> {
 /// radius (at most `r`, smaller where the sampler reduced it), plus `r · 1e-9 + slack`. A
 /// renderer draws each sample at its own radius, on its own side of the quadric, clipped to its
 /// term, so this is the coverage a picture gets (the sample's normal must not point against the
-/// quadric's at the point, and the point must lie in the sample's term). The
-/// third field is how far the nearest disc falls short (`+∞`: no sample within `r`).
+/// quadric's at the point, and the point must lie in the sample's term). The third field is how
+/// far the nearest disc falls short (`+∞`: no sample within `r`).
 pub fn uncovered(
     dnf: &Dnf,
     samples: &[Sample],
