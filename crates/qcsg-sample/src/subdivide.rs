@@ -60,7 +60,7 @@
 //! says whether a hole was possible at all.
 
 use rayon::prelude::*;
-use rustc_hash::{FxHashMap, FxHashSet};
+use rustc_hash::FxHashMap;
 
 use qcsg_csg::Dnf;
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
@@ -588,13 +588,118 @@ pub fn grow_radius(samples: &mut [Sample], i: u32, needed: f64) {
     }
 }
 
-/// Fine cubes per side of the coarse cubes that select which samples [`SampleIndex`] keeps.
-const WANTED_CELLS: i64 = 4;
+/// Fine cubes per side (as a power of two) of the coarsest cubes that select which samples
+/// [`SampleIndex`] keeps.
+const WANTED_SHIFT: u32 = 2;
+
+/// Most bits of one quadric's map of wanted cubes (256 KiB); past it the cubes grow.
+const MAX_WANTED_BITS: i128 = 1 << 21;
+
+/// The cubes around one quadric's deferred centres, as a bit map over their box: a cube of
+/// `2^shift` fine cubes a side is wanted when a centre lies in it or in a neighbour. Testing a
+/// sample costs a shift and a bit, where a hash set cost a hash and a probe for every sample.
+#[derive(Clone)]
+struct WantedCubes {
+    shift: u32,
+    /// The box's lowest cube, one below the lowest centre's on each axis.
+    low: [i64; 3],
+    size: [i64; 3],
+    bits: Vec<u64>,
+}
+
+impl WantedCubes {
+    /// An empty map for centres in the fine cubes from `low` to `high`, with cubes just large
+    /// enough that the map's box holds at most [`MAX_WANTED_BITS`] of them.
+    fn new(low: [i64; 3], high: [i64; 3]) -> Self {
+        let mut shift = WANTED_SHIFT;
+        let size = loop {
+            let size =
+                [0, 1, 2].map(|a| i128::from(high[a] >> shift) - i128::from(low[a] >> shift) + 3);
+            if size.iter().product::<i128>() <= MAX_WANTED_BITS || shift >= 63 {
+                break size.map(|s| s as i64);
+            }
+            shift += 1;
+        };
+        let volume = size.iter().map(|&s| s as usize).product::<usize>();
+        Self {
+            shift,
+            low: low.map(|v| (v >> shift) - 1),
+            size,
+            bits: vec![0; volume.div_ceil(64)],
+        }
+    }
+
+    /// The bit of a coarse cube, if it lies in the box.
+    fn bit(&self, cube: [i64; 3]) -> Option<usize> {
+        let mut bit = 0usize;
+        for axis in (0..3).rev() {
+            let offset = cube[axis] - self.low[axis];
+            if !(0..self.size[axis]).contains(&offset) {
+                return None;
+            }
+            bit = bit * self.size[axis] as usize + offset as usize;
+        }
+        Some(bit)
+    }
+
+    /// Marks the cube holding fine cube `fine` (a centre's).
+    fn mark(&mut self, fine: [i64; 3]) {
+        self.mark_cube(fine.map(|v| v >> self.shift));
+    }
+
+    /// The map with every marked cube's neighbours marked too. Marking cubes, not centres,
+    /// first: millions of deferred rectangles (nested balls `1e-9` apart at a tiny radius)
+    /// crowd into far fewer cubes.
+    fn with_neighbours(&self) -> Self {
+        let mut out = Self {
+            bits: vec![0; self.bits.len()],
+            ..*self
+        };
+        let [sx, sy, _] = self.size;
+        for (word, &bits) in self.bits.iter().enumerate() {
+            let mut rest = bits;
+            while rest != 0 {
+                let bit = (word * 64 + rest.trailing_zeros() as usize) as i64;
+                rest &= rest - 1;
+                let cube = [
+                    self.low[0] + bit % sx,
+                    self.low[1] + bit / sx % sy,
+                    self.low[2] + bit / (sx * sy),
+                ];
+                for (dx, dy, dz) in NEIGHBOURS {
+                    out.mark_cube([cube[0] + dx, cube[1] + dy, cube[2] + dz]);
+                }
+            }
+        }
+        out
+    }
+
+    fn mark_cube(&mut self, cube: [i64; 3]) {
+        if let Some(bit) = self.bit(cube) {
+            self.bits[bit / 64] |= 1 << (bit % 64);
+        }
+    }
+
+    /// Whether the cube holding fine cube `fine` is wanted.
+    fn contains(&self, fine: [i64; 3]) -> bool {
+        self.bit(fine.map(|v| v >> self.shift))
+            .is_some_and(|bit| self.bits[bit / 64] & (1 << (bit % 64)) != 0)
+    }
+}
+
+/// A fine cube of one quadric as one hashable number. Coordinates wrap at 2³²: cubes that far
+/// apart share a bucket, which only adds candidates that [`cover_by`] then rejects by distance.
+fn bucket_key([x, y, z]: [i64; 3], quadric: u32) -> u128 {
+    (u128::from(x as u32) << 96)
+        | (u128::from(y as u32) << 64)
+        | (u128::from(z as u32) << 32)
+        | u128::from(quadric)
+}
 
 /// The first pass's samples near deferred rectangles, bucketed by quadric and by cubes of side
 /// `2r`: every sample within `r` of a point within `r / 2` of a deferred centre is found (it
 /// lies in one of the fine cubes that the ball of radius `r` around the point touches, inside a
-/// coarse cube next to the centre's).
+/// wanted cube next to the centre's).
 pub struct SampleIndex<'a> {
     dnf: &'a Dnf,
     samples: &'a [Sample],
@@ -602,8 +707,8 @@ pub struct SampleIndex<'a> {
     anchor: DVec3,
     /// Fine cubes per unit length, `1 / 2r`.
     per_length: f64,
-    /// Each fine cube's samples: a range of `members`.
-    buckets: FxHashMap<(i64, i64, i64, u32), (u32, u32)>,
+    /// Each fine cube's samples ([`bucket_key`]): a range of `members`.
+    buckets: FxHashMap<u128, (u32, u32)>,
     /// Sample indices, grouped by fine cube, ascending within each.
     members: Vec<u32>,
 }
@@ -621,57 +726,42 @@ impl<'a> SampleIndex<'a> {
             buckets: FxHashMap::default(),
             members: Vec::new(),
         };
-        // Wanted: the coarse cubes (of WANTED_CELLS fine cubes a side) around the centres,
-        // each with its neighbours. One entry per coarse cube, not per centre: millions of
-        // deferred rectangles (nested balls 1e-9 apart at a tiny radius) crowd into far fewer
-        // cubes.
-        let coarse = |p: DVec3| {
-            let (x, y, z) = index.key(p);
-            (
-                x.div_euclid(WANTED_CELLS),
-                y.div_euclid(WANTED_CELLS),
-                z.div_euclid(WANTED_CELLS),
-            )
-        };
-        let mut centre_cubes = FxHashSet::default();
-        for &(quadric, point) in centres {
-            let (x, y, z) = coarse(point);
-            centre_cubes.insert((x, y, z, quadric));
-        }
-        let mut wanted = FxHashSet::default();
-        for &(x, y, z, quadric) in &centre_cubes {
-            for (dx, dy, dz) in NEIGHBOURS {
-                wanted.insert((x + dx, y + dy, z + dz, quadric));
-            }
-        }
-        drop(centre_cubes);
-        if wanted.is_empty() {
+        if centres.is_empty() {
             return index;
         }
-        // Per quadric, the box of its wanted cubes: most samples lie outside it, and the test is
-        // cheaper than the set's.
+        // Per quadric: the box of its centres' cubes, then a map over it.
         let mut boxes = vec![None::<([i64; 3], [i64; 3])>; dnf.quadrics.len()];
-        for &(x, y, z, quadric) in &wanted {
+        for &(quadric, point) in centres {
             if let Some(entry) = boxes.get_mut(quadric as usize) {
-                let (low, high) = entry.get_or_insert(([x, y, z], [x, y, z]));
-                *low = [low[0].min(x), low[1].min(y), low[2].min(z)];
-                *high = [high[0].max(x), high[1].max(y), high[2].max(z)];
+                let cube = index.key(point);
+                let (low, high) = entry.get_or_insert((cube, cube));
+                *low = [0, 1, 2].map(|a| low[a].min(cube[a]));
+                *high = [0, 1, 2].map(|a| high[a].max(cube[a]));
             }
         }
-        let mut hits: Vec<((i64, i64, i64, u32), u32)> = samples
+        let mut marked: Vec<Option<WantedCubes>> = boxes
+            .into_iter()
+            .map(|entry| entry.map(|(low, high)| WantedCubes::new(low, high)))
+            .collect();
+        for &(quadric, point) in centres {
+            if let Some(Some(map)) = marked.get_mut(quadric as usize) {
+                map.mark(index.key(point));
+            }
+        }
+        let wanted: Vec<Option<WantedCubes>> = marked
+            .par_iter()
+            .map(|map| map.as_ref().map(WantedCubes::with_neighbours))
+            .collect();
+        drop(marked);
+        let mut hits: Vec<(u128, u32)> = samples
             .par_iter()
             .enumerate()
             .filter_map(|(i, sample)| {
-                let (x, y, z) = coarse(sample.position);
-                let (low, high) = boxes.get(sample.quadric as usize).copied().flatten()?;
-                let inside = (low[0]..=high[0]).contains(&x)
-                    && (low[1]..=high[1]).contains(&y)
-                    && (low[2]..=high[2]).contains(&z);
-                if !inside || !wanted.contains(&(x, y, z, sample.quadric)) {
-                    return None;
-                }
-                let (x, y, z) = index.key(sample.position);
-                Some(((x, y, z, sample.quadric), i as u32))
+                let wanted = wanted.get(sample.quadric as usize)?.as_ref()?;
+                let cube = index.key(sample.position);
+                wanted
+                    .contains(cube)
+                    .then(|| (bucket_key(cube, sample.quadric), i as u32))
             })
             .collect();
         // Sorted in parallel and grouped, rather than pushed into a vector per cube one by one
@@ -688,9 +778,9 @@ impl<'a> SampleIndex<'a> {
         index
     }
 
-    fn key(&self, p: DVec3) -> (i64, i64, i64) {
+    fn key(&self, p: DVec3) -> [i64; 3] {
         let c = (p - self.anchor) * self.per_length;
-        (floor(c.x), floor(c.y), floor(c.z))
+        [floor(c.x), floor(c.y), floor(c.z)]
     }
 
     /// A sample of `quadric` that covers the ball of radius `extent` around `point`, with the
@@ -711,16 +801,24 @@ impl<'a> SampleIndex<'a> {
             self.key(point.position - reach),
             self.key(point.position + reach),
         );
-        let candidates = (low.2..=high.2).flat_map(move |z| {
-            (low.1..=high.1).flat_map(move |y| {
-                (low.0..=high.0).flat_map(move |x| {
-                    let range = self.buckets.get(&(x, y, z, quadric));
-                    range.map_or(&[][..], |&(start, end)| {
-                        &self.members[start as usize..end as usize]
-                    })
-                })
-            })
-        });
+        let mut ranges = [(0, 0); 27];
+        let mut found = 0;
+        for z in low[2]..=high[2] {
+            for y in low[1]..=high[1] {
+                for x in low[0]..=high[0] {
+                    if let (Some(&range), Some(slot)) = (
+                        self.buckets.get(&bucket_key([x, y, z], quadric)),
+                        ranges.get_mut(found),
+                    ) {
+                        *slot = range;
+                        found += 1;
+                    }
+                }
+            }
+        }
+        let candidates = ranges[..found]
+            .iter()
+            .flat_map(|&(start, end)| &self.members[start as usize..end as usize]);
         let samples = candidates.map(|&i| (i, &self.samples[i as usize]));
         cover_by(samples, point, extent, self.radius, |s| {
             s.term == term || inside_term(self.dnf, s, term, point.position, extent)
