@@ -87,10 +87,13 @@ impl RawClipLists {
                     ) else {
                         continue;
                     };
-                    if let Some((point, distance)) = *anchor
-                        && distance - (sample.position - point).length() > sample.radius
-                    {
-                        continue;
+                    // `L − Δ > radius`, squared: no square root per literal and sample.
+                    if let Some((point, distance)) = *anchor {
+                        let slack = distance - sample.radius;
+                        if slack > 0.0 && (sample.position - point).length_squared() < slack * slack
+                        {
+                            continue;
+                        }
                     }
                     let distance = entry.quadric.conservative_distance(sample.position).abs();
                     // NaN (never for finite samples) keeps the literal: conservative.
