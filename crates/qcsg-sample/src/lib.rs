@@ -211,10 +211,10 @@ fn term_box(dnf: &Dnf, term: usize) -> Option<Aabb> {
 }
 
 /// Every basic region of every literal of every term, in a fixed order (term, literal, plane,
-/// sheet, rectangle), with the patch each belongs to.
+/// sheet, rectangle), with the patch each belongs to. Literals are decomposed in parallel: a
+/// scene of many parts has thousands of them.
 fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, BasicRegion)>) {
-    let mut patches = Vec::new();
-    let mut regions = Vec::new();
+    let mut literals = Vec::new();
     for (term_index, term) in dnf.terms.iter().enumerate() {
         let Some(bounds) = term_box(dnf, term_index) else {
             continue;
@@ -226,38 +226,51 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, B
             stats.unbounded_terms += 1;
             continue;
         }
-        for &literal in &term.literals {
-            let Some(entry) = dnf.quadrics.get(literal as usize) else {
-                continue;
-            };
+        literals.extend(
+            term.literals
+                .iter()
+                .map(|&l| (term_index as u32, l, bounds)),
+        );
+    }
+    let decomposed: Vec<Option<(Patch, Vec<BasicRegion>, RegionStats)>> = literals
+        .par_iter()
+        .map(|&(term, literal, bounds)| {
+            let entry = dnf.quadrics.get(literal as usize)?;
             let kind = entry.quadric.kind();
             if kind.has_no_surface() || matches!(kind, QuadricKind::Point | QuadricKind::Line) {
-                continue;
+                return None;
             }
-            let Some(distance) = CsgDistance::new(dnf, literal, term_index as u32) else {
-                continue;
-            };
+            let distance = CsgDistance::new(dnf, literal, term)?;
             let frame = entry.quadric.frame();
-            let patch_index = patches.len();
             let mut found = Vec::new();
+            let mut counters = RegionStats::default();
             for heightfield in frame.heightfields() {
+                let key = (literal, term);
                 basic_regions(
                     &frame,
                     &heightfield,
                     &bounds,
-                    (literal, term_index as u32),
+                    key,
                     &mut found,
-                    &mut stats.regions,
+                    &mut counters,
                 );
             }
-            regions.extend(found.into_iter().map(|r| (patch_index, r)));
-            patches.push(Patch {
+            let patch = Patch {
                 frame,
                 distance,
                 quadric: literal,
                 kind,
-            });
-        }
+            };
+            Some((patch, found, counters))
+        })
+        .collect();
+    let mut patches = Vec::new();
+    let mut regions = Vec::new();
+    for (patch, found, counters) in decomposed.into_iter().flatten() {
+        regions.extend(found.into_iter().map(|r| (patches.len(), r)));
+        patches.push(patch);
+        stats.regions.examined += counters.examined;
+        stats.regions.unresolved += counters.unresolved;
     }
     (patches, regions)
 }
