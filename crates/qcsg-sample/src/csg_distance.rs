@@ -85,8 +85,9 @@ struct SheetPlane {
 }
 
 impl SheetPlane {
-    fn shared(&self, literal: &Literal, p: DVec3) -> Shared {
-        if !literal.planar || literal.quadric.conservative_distance(p).abs() > self.tolerance {
+    /// `distance` is the literal's conservative distance at `p`.
+    fn shared(&self, literal: &Literal, p: DVec3, distance: f64) -> Shared {
+        if !literal.planar || distance.abs() > self.tolerance {
             return Shared::No;
         }
         let Some(n) = literal.quadric.normal(p) else {
@@ -148,10 +149,16 @@ impl TermView {
     fn distance(&self, p: DVec3, plane: Option<&SheetPlane>, own: bool) -> f64 {
         let mut d = box_distance(&self.bounds, p);
         for literal in &self.literals {
-            let shared = plane.map_or(Shared::No, |plane| plane.shared(literal, p));
+            let on_plane = plane.filter(|_| literal.planar);
+            if !own && literal.in_own_term && on_plane.is_none() {
+                continue;
+            }
+            // Evaluated once: a planar literal needs it for the plane test too.
+            let distance = literal.quadric.conservative_distance(p);
+            let shared = on_plane.map_or(Shared::No, |plane| plane.shared(literal, p, distance));
             match (shared, own) {
                 (Shared::No, false) if literal.in_own_term => {}
-                (Shared::No, _) => d = d.max(literal.quadric.conservative_distance(p)),
+                (Shared::No, _) => d = d.max(distance),
                 (Shared::SameSide, true) | (Shared::OtherSide, false) => {}
                 (Shared::OtherSide, true) | (Shared::SameSide, false) => return f64::INFINITY,
             }
