@@ -194,15 +194,25 @@ impl Heightfield {
     pub fn distortion_bounds(&self, x: (f64, f64), y: (f64, f64)) -> Option<(f64, f64)> {
         let (xs, nx) = candidates(x);
         let (ys, ny) = candidates(y);
-        // Track the extremes of |∇h|² = num / den and take the two square roots at the end.
-        // Matching on the form once, outside the loop, keeps the loop branch-light.
+        // Track the extremes of |∇h|² and take the two square roots at the end.
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-        let mut visit = |num: f64, den: f64| {
-            let ratio = if num == 0.0 { 0.0 } else { num / den };
-            lo = lo.min(ratio);
-            hi = hi.max(ratio);
-        };
-        match self.form {
+        for &cx in &xs[..nx] {
+            for &cy in &ys[..ny] {
+                let slope = self.slope_squared(cx, cy)?;
+                lo = lo.min(slope);
+                hi = hi.max(slope);
+            }
+        }
+        Some(((1.0 + lo).sqrt(), (1.0 + hi).sqrt()))
+    }
+
+    /// `|∇h|² = δ² − 1` at `(x, y)`, rounded exactly as [`Self::distortion_bounds`] rounds it at
+    /// its candidates: over a rectangle inside one quadrant the bound is `√(1 + max)` of the
+    /// corners' values, so a subdivision that keeps its corners' values needs no more. `None`
+    /// where the heightfield is undefined (or ruled).
+    #[inline]
+    pub fn slope_squared(&self, x: f64, y: f64) -> Option<f64> {
+        let (num, den) = match self.form {
             HeightfieldForm::Root {
                 alpha_x,
                 alpha_y,
@@ -210,34 +220,23 @@ impl Heightfield {
                 beta_x,
                 beta_y,
             } => {
-                for &cx in &xs[..nx] {
-                    let gx = alpha_x * cx + beta_x;
-                    let sx = (alpha_x * cx + 2.0 * beta_x) * cx + alpha_c;
-                    for &cy in &ys[..ny] {
-                        let gy = alpha_y * cy + beta_y;
-                        let s = sx + (alpha_y * cy + 2.0 * beta_y) * cy;
-                        if s < 0.0 {
-                            return None;
-                        }
-                        visit(gx * gx + gy * gy, s);
-                    }
+                let s =
+                    (alpha_x * x + 2.0 * beta_x) * x + alpha_c + (alpha_y * y + 2.0 * beta_y) * y;
+                if s < 0.0 {
+                    return None;
                 }
+                let (gx, gy) = (alpha_x * x + beta_x, alpha_y * y + beta_y);
+                (gx * gx + gy * gy, s)
             }
             HeightfieldForm::Polynomial {
                 gamma_x, gamma_y, ..
-            } => {
-                // δ grows with |x| and |y|: the extremes are at the smallest and largest |x|, |y|.
-                let gx = xs[..nx].iter().map(|v| (2.0 * gamma_x * v).powi(2));
-                let gy: [f64; 3] = ys.map(|v| (2.0 * gamma_y * v).powi(2));
-                for g in gx {
-                    for &h in &gy[..ny] {
-                        visit(g + h, 1.0);
-                    }
-                }
-            }
+            } => (
+                (2.0 * gamma_x * x).powi(2) + (2.0 * gamma_y * y).powi(2),
+                1.0,
+            ),
             HeightfieldForm::Ruled => return None,
-        }
-        Some(((1.0 + lo).sqrt(), (1.0 + hi).sqrt()))
+        };
+        Some(if num == 0.0 { 0.0 } else { num / den })
     }
 }
 

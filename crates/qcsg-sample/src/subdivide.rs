@@ -156,11 +156,47 @@ pub struct RegionContext<'a> {
     pub snap: Option<f64>,
 }
 
-/// A rectangle with its corner distances `[x0y0, x1y0, x0y1, x1y1]`.
+/// A rectangle with its corner distances `[x0y0, x1y0, x0y1, x1y1]` and the heightfield's
+/// squared slopes there ([`qcsg_quadric::Heightfield::slope_squared`]), from which its distortion bound
+/// follows ([`cell_distortion`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Cell {
     rect: Rect,
     d: [f64; 4],
+    slope: [Option<f64>; 4],
+}
+
+impl Cell {
+    /// The cell over `rect`, its corners evaluated.
+    fn new(
+        ctx: &RegionContext<'_>,
+        region: &BasicRegion,
+        rect: Rect,
+        stats: &mut SubdivisionStats,
+    ) -> Self {
+        let mut cell = Self {
+            rect,
+            d: [0.0; 4],
+            slope: [None; 4],
+        };
+        for k in 0..4 {
+            let (x, y) = corner(&rect, k);
+            (cell.d[k], cell.slope[k]) = corner_values(ctx, region, x, y, stats);
+        }
+        cell
+    }
+}
+
+/// Eq. 22 ([`query`]) and the squared slope at a corner.
+fn corner_values(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    x: f64,
+    y: f64,
+    stats: &mut SubdivisionStats,
+) -> (f64, Option<f64>) {
+    let slope = region.heightfield.slope_squared(x, y);
+    (query(ctx, region, x, y, stats), slope)
 }
 
 /// A rectangle of footprint at most `r` that the first pass left unproven (no corner and not
@@ -205,7 +241,7 @@ fn classify(
 ) -> Verdict {
     stats.rectangles += 1;
     let rect = cell.rect;
-    let distortion = rect_distortion(region, &rect);
+    let distortion = cell_distortion(region, cell);
     let diagonal = rect.diagonal();
     let radii = cell.d.map(|d| d.abs() / distortion);
     let covered =
@@ -312,26 +348,23 @@ fn split(
     if low.diagonal() >= rect.diagonal() || high.diagonal() >= rect.diagonal() {
         return None;
     }
-    let [d00, d10, d01, d11] = cell.d;
-    let (low_d, high_d) = if along_x {
-        let m0 = query(ctx, region, low.x.1, rect.y.0, stats);
-        let m1 = query(ctx, region, low.x.1, rect.y.1, stats);
-        ([d00, m0, d01, m1], [m0, d10, m1, d11])
+    // The two new corners, shared by both halves: `k0` (`k1`) of the low half is `j0` (`j1`)
+    // of the high one.
+    let ((x0, y0), (x1, y1), [k0, k1], [j0, j1]) = if along_x {
+        ((low.x.1, rect.y.0), (low.x.1, rect.y.1), [1, 3], [0, 2])
     } else {
-        let m0 = query(ctx, region, rect.x.0, low.y.1, stats);
-        let m1 = query(ctx, region, rect.x.1, low.y.1, stats);
-        ([d00, d10, m0, m1], [m0, m1, d01, d11])
+        ((rect.x.0, low.y.1), (rect.x.1, low.y.1), [2, 3], [0, 1])
     };
-    Some((
-        Cell {
-            rect: low,
-            d: low_d,
-        },
-        Cell {
-            rect: high,
-            d: high_d,
-        },
-    ))
+    let m0 = corner_values(ctx, region, x0, y0, stats);
+    let m1 = corner_values(ctx, region, x1, y1, stats);
+    let (mut low_cell, mut high_cell) = (*cell, *cell);
+    low_cell.rect = low;
+    high_cell.rect = high;
+    for (k, j, (d, slope)) in [(k0, j0, m0), (k1, j1, m1)] {
+        (low_cell.d[k], low_cell.slope[k]) = (d, slope);
+        (high_cell.d[j], high_cell.slope[j]) = (d, slope);
+    }
+    Some((low_cell, high_cell))
 }
 
 /// First pass over basic region number `index`, appending its samples to `out` in a
@@ -346,12 +379,7 @@ pub fn sample_region(
 ) {
     let (first_sample, first_deferred) = (out.len(), deferred.len());
     let first_queries = stats.distance_queries;
-    let root = region.rect;
-    let d = [0, 1, 2, 3].map(|k| {
-        let (x, y) = corner(&root, k);
-        query(ctx, region, x, y, stats)
-    });
-    let mut stack = vec![Cell { rect: root, d }];
+    let mut stack = vec![Cell::new(ctx, region, region.rect, stats)];
     let mut meter = Meter::new(ctx.budget, region.quadric);
     // Deferred rectangles count as samples: each one is held in memory until the second pass.
     let pending = |out: &[Sample], deferred: &[Deferred], stats: &SubdivisionStats| {
@@ -418,8 +446,7 @@ pub fn refine_deferred(
         let samples = (out.len() - first_sample) as u64;
         (samples, stats.distance_queries - queries_before)
     };
-    let root_footprint =
-        rect_distortion(region, &deferred.cell.rect) * deferred.cell.rect.diagonal();
+    let root_footprint = cell_distortion(region, &deferred.cell) * deferred.cell.rect.diagonal();
     while let Some((cell, classified)) = stack.pop() {
         let (samples, queries) = done(out, stats);
         if !meter.tick(samples, queries) {
@@ -916,8 +943,28 @@ const NEIGHBOURS: [(i64, i64, i64); 27] = {
 
 /// The maximum distortion over a sub-rectangle (§3.4), falling back to the region's bound.
 fn rect_distortion(region: &BasicRegion, rect: &Rect) -> f64 {
-    match region.heightfield.distortion_bounds(rect.x, rect.y) {
-        Some((_, high)) if high.is_finite() && high >= 1.0 => high.min(region.max_distortion),
+    let high = region.heightfield.distortion_bounds(rect.x, rect.y);
+    bounded_distortion(region, high.map(|(_, high)| high))
+}
+
+/// [`rect_distortion`] of a cell, from its corners' slopes: basic regions lie in one quadrant
+/// of their plane, where the corners bound the distortion, and so do their sub-rectangles.
+fn cell_distortion(region: &BasicRegion, cell: &Cell) -> f64 {
+    let (x, y) = (cell.rect.x, cell.rect.y);
+    if (x.0 < 0.0 && x.1 > 0.0) || (y.0 < 0.0 && y.1 > 0.0) {
+        return rect_distortion(region, &cell.rect);
+    }
+    let highest = cell
+        .slope
+        .iter()
+        .try_fold(0.0f64, |high, slope| slope.map(|s| high.max(s)));
+    bounded_distortion(region, highest.map(|s| (1.0 + s).sqrt()))
+}
+
+/// A rectangle's distortion bound `high` (`None` where undefined), within the region's.
+fn bounded_distortion(region: &BasicRegion, high: Option<f64>) -> f64 {
+    match high {
+        Some(high) if high.is_finite() && high >= 1.0 => high.min(region.max_distortion),
         _ => region.max_distortion,
     }
 }
