@@ -76,6 +76,9 @@ pub mod subdivide;
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, QuadricKind};
 use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use crate::budget::{Budget, Crossed};
 pub use crate::budget::{DEFAULT_MAX_QUERIES, DEFAULT_MAX_SAMPLES, SampleLimits};
@@ -301,29 +304,91 @@ fn fold_runs(count: usize) -> (usize, usize) {
     }
 }
 
-/// The runs' items in order in one vector. One run is taken as it is; more are copied by all
-/// threads, each writing its share of the output: copied on one thread, the first pass's output
-/// had taken a third as long again as the pass itself on two.
-fn concat_runs<T: Copy + Send + Sync>(mut runs: Vec<Vec<T>>) -> Vec<T> {
-    if runs.len() <= 1 {
-        return runs.pop().unwrap_or_default();
+/// The first pass's output of a run of regions.
+type FirstPass = (Vec<Sample>, Vec<Deferred>, SubdivisionStats);
+
+/// The first pass's runs, appended in run order by whichever thread finishes a run whose
+/// predecessors are all in: the thread that holds the output appends every run that is ready,
+/// and one that finds the output busy leaves its run to that thread. A run's buffers go back to
+/// a pool once appended, so the next runs write to memory that is already mapped: page faults
+/// were most of the cost of concatenating the runs at the end, and more threads now fault in
+/// about as much memory as one.
+#[derive(Default)]
+struct InOrder {
+    /// The next run to append, and the finished runs waiting for their predecessors.
+    pending: Mutex<(usize, BTreeMap<usize, FirstPass>)>,
+    output: Mutex<FirstPass>,
+    spare: Mutex<Vec<FirstPass>>,
+}
+
+impl InOrder {
+    /// Empty buffers for a run.
+    fn buffer(&self) -> FirstPass {
+        lock(&self.spare).pop().unwrap_or_default()
     }
-    let mut starts = Vec::with_capacity(runs.len());
-    let mut total = 0;
-    for run in &runs {
-        starts.push(total);
-        total += run.len();
+
+    /// Hands in run `run`'s output.
+    fn finish(&self, run: usize, output: FirstPass) {
+        lock(&self.pending).1.insert(run, output);
+        loop {
+            let Ok(mut all) = self.output.try_lock() else {
+                // The holder looks for ready runs again after letting go.
+                return;
+            };
+            while let Some((mut samples, mut deferred, counters)) = {
+                let mut pending = lock(&self.pending);
+                let (next, waiting) = &mut *pending;
+                let ready = waiting.remove(next);
+                *next += usize::from(ready.is_some());
+                ready
+            } {
+                append(&mut all.0, &mut samples);
+                append(&mut all.1, &mut deferred);
+                all.2.add(&counters);
+                lock(&self.spare).push((samples, deferred, SubdivisionStats::default()));
+            }
+            drop(all);
+            let pending = lock(&self.pending);
+            if !pending.1.contains_key(&pending.0) {
+                return;
+            }
+        }
     }
-    let mut all = Vec::new();
-    (0..total)
-        .into_par_iter()
-        .map(|i| {
-            // The last run starting at or before `i` holds it (empty runs share a start).
-            let k = starts.partition_point(|&start| start <= i) - 1;
-            runs[k][i - starts[k]]
-        })
-        .collect_into_vec(&mut all);
-    all
+
+    /// The whole output, once every run is in.
+    fn into_output(self) -> FirstPass {
+        let mut all = self
+            .output
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner);
+        // Nothing is left waiting when every run has been handed in; appending what is keeps
+        // the output whole regardless.
+        let (_, waiting) = self
+            .pending
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner);
+        for (_, (mut samples, mut deferred, counters)) in waiting {
+            append(&mut all.0, &mut samples);
+            append(&mut all.1, &mut deferred);
+            all.2.add(&counters);
+        }
+        all
+    }
+}
+
+/// Moves `more` to the end of `all`, leaving `more` empty (its buffer kept when copied).
+fn append<T: Copy>(all: &mut Vec<T>, more: &mut Vec<T>) {
+    if all.is_empty() {
+        std::mem::swap(all, more);
+    } else {
+        all.extend_from_slice(more);
+    }
+    more.clear();
+}
+
+/// The mutex's value, also after a panic elsewhere (the runs' data stay consistent).
+fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// [`sample`], calling `progress` when the work is known and as it gets done (from any thread;
@@ -388,37 +453,37 @@ pub fn sample_with_limits(
             budget: &budget,
         })
     };
-    // First pass: every region on its own. Regions are folded into one output per run of
-    // consecutive regions (`fold_runs`): concatenated in order, the output is the same for any
-    // thread count, and one thread copies nothing.
-    type FirstPass = (Vec<Sample>, Vec<Deferred>, SubdivisionStats);
-    let (shortest, longest) = fold_runs(regions.len());
-    let runs = (0..regions.len())
+    // First pass: every region on its own. Threads take runs of consecutive regions in order
+    // (`fold_runs`), and each run's output is appended to the whole as soon as its
+    // predecessors' are ([`InOrder`]): the output is the same for any thread count, one thread
+    // copies nothing, and on more the copying overlaps the sampling.
+    let (_, longest) = fold_runs(regions.len());
+    let run_length = longest.clamp(1, regions.len().max(1));
+    let runs = regions.len().div_ceil(run_length);
+    let first_pass = InOrder::default();
+    let next_run = AtomicUsize::new(0);
+    (0..rayon::current_num_threads())
         .into_par_iter()
-        .with_min_len(shortest)
-        .with_max_len(longest)
-        .fold(
-            FirstPass::default,
-            |(mut out, mut deferred, mut counters), index| {
-                if let Some(ctx) = context(index) {
-                    let region = (index, &regions[index].1);
-                    sample_region(&ctx, region, &mut out, &mut deferred, &mut counters);
+        .for_each(|_| {
+            loop {
+                let run = next_run.fetch_add(1, Ordering::Relaxed);
+                if run >= runs {
+                    break;
                 }
-                progress(Progress::RegionDone);
-                (out, deferred, counters)
-            },
-        )
-        .collect::<Vec<FirstPass>>();
-    let mut counters = SubdivisionStats::default();
-    let (sample_runs, deferred_runs): (Vec<_>, Vec<_>) = runs
-        .into_iter()
-        .map(|(out, deferred, other)| {
-            counters.add(&other);
-            (out, deferred)
-        })
-        .unzip();
-    let mut samples = concat_runs(sample_runs);
-    let deferred = concat_runs(deferred_runs);
+                let (mut out, mut deferred, mut counters) = first_pass.buffer();
+                let start = run * run_length;
+                let end = (start + run_length).min(regions.len());
+                for (index, (_, region)) in (start..end).zip(&regions[start..end]) {
+                    if let Some(ctx) = context(index) {
+                        let region = (index, region);
+                        sample_region(&ctx, region, &mut out, &mut deferred, &mut counters);
+                    }
+                    progress(Progress::RegionDone);
+                }
+                first_pass.finish(run, (out, deferred, counters));
+            }
+        });
+    let (mut samples, deferred, counters) = first_pass.into_output();
     stats.subdivision.add(&counters);
     crossed(&budget)?;
     // Second pass: the rectangles the first left unproven, against all first-pass samples.
