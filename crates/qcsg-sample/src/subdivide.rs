@@ -615,11 +615,8 @@ pub fn grow_radius(samples: &mut [Sample], i: u32, needed: f64) {
     }
 }
 
-/// Fine cubes per side (as a power of two) of the coarsest cubes that select which samples
-/// [`SampleIndex`] keeps.
-const WANTED_SHIFT: u32 = 2;
-
-/// Most bits of one quadric's map of wanted cubes (256 KiB); past it the cubes grow.
+/// Most bits of one quadric's map of wanted cubes (256 KiB); past it the cubes grow (by
+/// powers of two).
 const MAX_WANTED_BITS: i128 = 1 << 21;
 
 /// The cubes around one quadric's deferred centres, as a bit map over their box: a cube of
@@ -638,7 +635,10 @@ impl WantedCubes {
     /// An empty map for centres in the fine cubes from `low` to `high`, with cubes just large
     /// enough that the map's box holds at most [`MAX_WANTED_BITS`] of them.
     fn new(low: [i64; 3], high: [i64; 3]) -> Self {
-        let mut shift = WANTED_SHIFT;
+        // The index's own cubes where the map holds them: a sample within `r` of a point within
+        // `r / 2` of a centre lies in the centre's cube of side `2r` or a neighbour. Cubes of four
+        // a side let through more samples to sort, and made runs up to a tenth slower.
+        let mut shift = 0;
         let size = loop {
             let size =
                 [0, 1, 2].map(|a| i128::from(high[a] >> shift) - i128::from(low[a] >> shift) + 3);
