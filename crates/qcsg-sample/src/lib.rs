@@ -23,10 +23,11 @@
 //! - small regions get one sample at a corner or the centre proven on the surface, with the
 //!   radius reduced to the region's footprint (at the centre, up to a footprint of `2r`), or
 //!   none when a recent sample of the region reaches them with its radius grown to at most `r`;
-//!   unproven ones wait for a second pass, where a
-//!   nearby sample whose splat draws them (same side, same term or one holding them) covers
-//!   them, or they are split down to
-//!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint and counted when given up
+//!   unproven ones wait for a second pass, where a nearby sample whose splat draws them (same
+//!   side, same term or one holding them) covers them, or they are split down to
+//!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint; what is given up there and no
+//!   sample reaches is probed a few levels further down within a budget
+//!   ([`subdivide::probe_given_up`], `PROBE_QUERIES`), and counted when still unsettled
 //!   ([`subdivide::SubdivisionStats::unresolved`]);
 //! - eq. 22 of each basic region keeps only the other terms whose box comes near the region's
 //!   patch ([`csg_distance::CsgDistance::near`]), so a query costs what the nearby parts cost;
@@ -87,8 +88,8 @@ use crate::csg_distance::CsgDistance;
 use crate::csg_distance::NearDistance;
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
-    Deferred, GivenUp, RegionContext, SampleIndex, SubdivisionStats, given_up_share, grow_radius,
-    refine_deferred, sample_region, settle_given_up,
+    Deferred, GivenUp, Probed, RegionContext, SampleIndex, SubdivisionStats, given_up_share,
+    grow_radius, probe_given_up, refine_deferred, sample_region, settle_given_up,
 };
 
 /// One sample on the CSG surface.
@@ -199,6 +200,13 @@ struct Patch {
     quadric: u32,
     kind: QuadricKind,
 }
+
+/// Distance queries that probing given-up rectangles ([`probe_given_up`]) may make, on top of
+/// a sixteenth of the run's queries before it; once they are spent, the rest are counted
+/// unresolved. Ordinary scenes leave a handful of such rectangles, which probing mostly
+/// settles; tangent and nearly coincident surfaces leave up to millions, most of which it
+/// cannot settle, and this bounds what it adds to the run.
+const PROBE_QUERIES: u64 = 16_384;
 
 /// Fraction of the DNF's diagonal within which a sample counts as on its quadric without
 /// Newton steps.
@@ -532,7 +540,26 @@ pub fn sample_with_limits(
     stats.subdivision.add(&counters);
     crossed(&budget)?;
     // Last: what the second pass gave up, against every sample.
-    settle_given_up(dnf, &given_up, &mut samples, radius, &mut stats.subdivision);
+    let uncovered = settle_given_up(dnf, &given_up, &mut samples, radius, &mut stats.subdivision);
+    let first_probed = samples.len();
+    let mut allowance = PROBE_QUERIES + stats.subdivision.distance_queries / 16;
+    for leaf in &uncovered {
+        let before = stats.subdivision.distance_queries;
+        let probed = match context(leaf.region) {
+            Some(ctx) if allowance > 0 => {
+                let (region, out) = (&regions[leaf.region].1, (&mut samples, first_probed));
+                probe_given_up(&ctx, region, leaf, out, &mut stats.subdivision)
+            }
+            _ => Probed::Unresolved,
+        };
+        allowance = allowance.saturating_sub(stats.subdivision.distance_queries - before);
+        let counter = match probed {
+            Probed::Covered => &mut stats.subdivision.unresolved_covered,
+            Probed::Off => &mut stats.subdivision.discarded,
+            Probed::Unresolved => &mut stats.subdivision.unresolved,
+        };
+        *counter += leaf.count;
+    }
     let clip_lists = clip::assign(dnf, &mut samples);
     stats.samples = samples.len() as u64;
     stats.clip_lists = clip_lists.len() as u64;
