@@ -496,7 +496,7 @@ pub fn sample_with_limits(
     crossed(&budget)?;
     // Second pass: the rectangles the first left unproven, against all first-pass samples.
     let centres: Vec<(u32, DVec3)> = deferred
-        .iter()
+        .par_iter()
         .filter_map(|d| {
             let ctx = context(d.region)?;
             let region = &regions[d.region].1;
