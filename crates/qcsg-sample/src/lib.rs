@@ -343,17 +343,15 @@ impl InOrder {
                 // The holder looks for ready runs again after letting go.
                 return;
             };
-            while let Some((mut samples, mut deferred, counters)) = {
+            while let Some(mut run) = {
                 let mut pending = lock(&self.pending);
                 let (next, waiting) = &mut *pending;
                 let ready = waiting.remove(next);
                 *next += usize::from(ready.is_some());
                 ready
             } {
-                append(&mut all.0, &mut samples);
-                append(&mut all.1, &mut deferred);
-                all.2.add(&counters);
-                lock(&self.spare).push((samples, deferred, SubdivisionStats::default()));
+                append(&mut all, &mut run);
+                lock(&self.spare).push(run);
             }
             drop(all);
             let pending = lock(&self.pending);
@@ -375,23 +373,27 @@ impl InOrder {
             .pending
             .into_inner()
             .unwrap_or_else(PoisonError::into_inner);
-        for (_, (mut samples, mut deferred, counters)) in waiting {
-            append(&mut all.0, &mut samples);
-            append(&mut all.1, &mut deferred);
-            all.2.add(&counters);
+        for (_, mut run) in waiting {
+            append(&mut all, &mut run);
         }
         all
     }
 }
 
-/// Moves `more` to the end of `all`, leaving `more` empty (its buffer kept when copied).
-fn append<T: Copy>(all: &mut Vec<T>, more: &mut Vec<T>) {
-    if all.is_empty() {
-        std::mem::swap(all, more);
-    } else {
-        all.extend_from_slice(more);
+/// Moves run `more` to the end of `all`, leaving `more` empty, with its buffers when they were
+/// copied (the first run's are taken over instead).
+fn append(all: &mut FirstPass, more: &mut FirstPass) {
+    fn move_items<T: Copy>(all: &mut Vec<T>, more: &mut Vec<T>) {
+        if all.is_empty() {
+            std::mem::swap(all, more);
+        } else {
+            all.extend_from_slice(more);
+        }
+        more.clear();
     }
-    more.clear();
+    move_items(&mut all.0, &mut more.0);
+    move_items(&mut all.1, &mut more.1);
+    all.2.add(&std::mem::take(&mut more.2));
 }
 
 /// The mutex's value, also after a panic elsewhere (the runs' data stay consistent).
