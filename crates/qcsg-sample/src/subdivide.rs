@@ -322,18 +322,16 @@ fn covered_by_recent(
     let Some(centre) = centre_point(ctx, region, rect) else {
         return false;
     };
-    let first = out.len().saturating_sub(RECENT_SAMPLES);
-    let recent = (first..out.len())
-        .rev()
-        .map(|i| (i as u32, &out[i]))
-        .filter(|(_, s)| s.quadric == region.quadric);
-    match cover_by(recent, centre, 0.5 * footprint, ctx.radius, |_| true) {
-        Some((i, needed)) => {
-            grow_radius(out, i, needed);
-            true
-        }
-        None => false,
-    }
+    let recent = (out.len().saturating_sub(RECENT_SAMPLES)..out.len()).rev();
+    let own_quadric = |s: &Sample| s.quadric == region.quadric;
+    grow_to_cover(
+        out,
+        recent,
+        centre,
+        0.5 * footprint,
+        ctx.radius,
+        own_quadric,
+    )
 }
 
 /// The two halves of a cell across its longer edge, with their corner distances; `None` when
@@ -469,9 +467,8 @@ pub fn refine_deferred(
         let extent = 0.5 * footprint;
         let point = centre_point(ctx, region, &cell.rect).filter(|_| extent < ctx.radius);
         if let Some(point) = point {
-            let own = (first_sample..out.len()).map(|i| (i as u32, &out[i]));
-            if let Some((i, needed)) = cover_by(own, point, extent, ctx.radius, |_| true) {
-                grow_radius(out, i, needed);
+            let own = first_sample..out.len();
+            if grow_to_cover(out, own, point, extent, ctx.radius, |_| true) {
                 stats.unresolved_covered += 1;
                 continue;
             }
@@ -555,9 +552,7 @@ fn settle_locally(
     let mut kept = from;
     for i in from..given_up.len() {
         let g = given_up[i];
-        let own = (first..out.len()).map(|j| (j as u32, &out[j]));
-        if let Some((j, needed)) = cover_by(own, g.point, g.extent, radius, |_| true) {
-            grow_radius(out, j, needed);
+        if grow_to_cover(out, first..out.len(), g.point, g.extent, radius, |_| true) {
             stats.unresolved_covered += g.count;
         } else {
             given_up[kept] = g;
@@ -644,11 +639,9 @@ pub fn probe_given_up(
     (out, first): (&mut Vec<Sample>, usize),
     stats: &mut SubdivisionStats,
 ) -> Probed {
-    let made = (first..out.len())
-        .map(|i| (i as u32, &out[i]))
-        .filter(|(_, s)| s.quadric == leaf.quadric && s.term == leaf.term);
-    if let Some((i, needed)) = cover_by(made, leaf.point, leaf.extent, ctx.radius, |_| true) {
-        grow_radius(out, i, needed);
+    let same = |s: &Sample| s.quadric == leaf.quadric && s.term == leaf.term;
+    let made = first..out.len();
+    if grow_to_cover(out, made, leaf.point, leaf.extent, ctx.radius, same) {
         return Probed::Covered;
     }
     if leaf.count != 1 {
@@ -725,6 +718,27 @@ pub enum Probed {
     Off,
     /// Neither is proven.
     Unresolved,
+}
+
+/// Whether one of the samples `out[i]` for `i` in `indices` that `draws` accepts covers the
+/// ball of radius `extent` around `point` with a radius of at most `radius` ([`cover_by`]);
+/// that sample's radius grows to reach it if need be.
+fn grow_to_cover(
+    out: &mut [Sample],
+    indices: impl Iterator<Item = usize>,
+    point: SurfacePoint,
+    extent: f64,
+    radius: f64,
+    draws: impl Fn(&Sample) -> bool,
+) -> bool {
+    let candidates = indices.map(|i| (i as u32, &out[i]));
+    match cover_by(candidates, point, extent, radius, draws) {
+        Some((i, needed)) => {
+            grow_radius(out, i, needed);
+            true
+        }
+        None => false,
+    }
 }
 
 /// Grows sample `i`'s radius to `needed` (never shrinks it).
