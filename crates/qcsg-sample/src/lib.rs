@@ -421,6 +421,22 @@ pub fn sample_with_limits(
     if !(radius.is_finite() && radius > 0.0) {
         return Err(SampleError::InvalidRadius(radius));
     }
+    // Called from outside the pool, every parallel step below would hand its work to the pool
+    // and wait for it: a wake-up of a sleeping thread each, tens of microseconds on a virtual
+    // machine. Moving the whole run onto a pool thread costs one.
+    if rayon::current_thread_index().is_none() {
+        return rayon::scope(|_| sample_on_pool(dnf, radius, limits, progress));
+    }
+    sample_on_pool(dnf, radius, limits, progress)
+}
+
+/// [`sample_with_limits`] on a thread of the current pool.
+fn sample_on_pool(
+    dnf: &Dnf,
+    radius: f64,
+    limits: SampleLimits,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Sampling, SampleError> {
     let budget = Budget::new(limits);
     let crossed = |budget: &Budget| match budget.crossed() {
         Some(Crossed::Samples { quadric }) => Err(SampleError::TooManySamples {
