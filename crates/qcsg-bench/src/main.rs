@@ -382,7 +382,7 @@ fn run(args: &Args) -> Result<(), String> {
                 cov / m.radius,
                 sci(cov / scene.diag),
                 sci(m.on_surface),
-                m.sampling.stats.subdivision.unresolved
+                m.sampling.stats.unresolved()
             );
             for img in &row.images {
                 let _ = write!(
@@ -625,7 +625,7 @@ fn summary(
         .sum();
     let images = all().map(|r| r.images.len()).sum::<usize>();
     let unresolved = all()
-        .filter(|r| r.m.sampling.stats.subdivision.unresolved > 0)
+        .filter(|r| r.m.sampling.stats.unresolved() > 0)
         .count();
     let measurements = all().count();
     let mut text = String::from("## Summary\n\n");

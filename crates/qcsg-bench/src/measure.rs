@@ -107,7 +107,7 @@ impl Measured {
             && self.off_csg_surface == 0
             && self.coverage.beyond_reach == 0
             && self.edge_coverage.beyond_reach == 0
-            && self.sampling.stats.subdivision.unresolved == 0
+            && self.sampling.stats.unresolved() == 0
             && self.reach(diag).is_finite()
     }
 }

@@ -325,7 +325,7 @@ pub fn run_case(path: &Path) -> Result<CaseResult, String> {
                 if m.coverage.beyond_reach > 0 || m.edge_coverage.beyond_reach > 0 {
                     failed.push(Check::Coverage);
                 }
-                if m.sampling.stats.subdivision.unresolved > 0 {
+                if m.sampling.stats.unresolved() > 0 {
                     failed.push(Check::Unresolved);
                 }
                 result.measured = Some(m);

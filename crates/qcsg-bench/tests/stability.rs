@@ -43,7 +43,7 @@ fn describe(name: &str, r: &CaseResult) -> String {
             m.coverage.beyond_reach,
             m.edge_coverage.beyond_reach,
             m.off_csg_surface,
-            m.sampling.stats.subdivision.unresolved,
+            m.sampling.stats.unresolved(),
         ));
     }
     line.push_str(&format!(

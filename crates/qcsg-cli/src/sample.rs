@@ -211,7 +211,7 @@ pub fn run(args: SampleArgs) -> u8 {
                 stats.unbounded_terms
             );
         }
-        let unresolved = stats.subdivision.unresolved + stats.regions.unresolved;
+        let unresolved = stats.unresolved();
         if unresolved > 0 {
             eprintln!(
                 "warning: {unresolved} small rectangles were given up unproven: no corner or \
@@ -303,7 +303,7 @@ pub fn stats_json(
         "clip_indices": stats.clip_indices,
         "basic_regions": stats.basic_regions,
         "rectangles": subdivision.rectangles,
-        "unresolved": subdivision.unresolved + stats.regions.unresolved,
+        "unresolved": stats.unresolved(),
         "unbounded_terms": stats.unbounded_terms,
         "diagonal": (dnf.bounds.max - dnf.bounds.min).length(),
     })

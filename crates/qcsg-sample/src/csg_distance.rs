@@ -3,7 +3,9 @@
 //! For a point `p` on quadric `Q_ab` (literal `b` of term `a`):
 //! `d = max(−min_{i≠a} max_j d(Q_ij, p), max_{j≠b} d(Q_aj, p))`, with `d(Q, p)` the conservative
 //! distance of eqs. 10-12. Negative: `p` is on the CSG surface, and so is every point of `Q_ab`
-//! within `|d|`; positive: neither `p` nor any point of `Q_ab` within `d` is.
+//! within `|d|`; positive: neither `p` nor any point of `Q_ab` within `d` is. For a planar
+//! `Q_ab` (a slab has two planes) "points of `Q_ab`" are those of the plane through `p` (see
+//! "Planar sections").
 //!
 //! Decisions beyond the paper, each keeping the two properties above:
 //! - **The region as a literal.** With a region ([`qcsg_csg::Dnf::region`]) the solid is clipped
@@ -51,9 +53,37 @@
 //!   solid and the two properties of eq. 22 hold with it; at the crossing it is well inside, so
 //!   the curve is classified. Planes count as shared within the tolerance of "Shared planes";
 //!   at most four merged terms per other term are made (`MAX_MERGED_PER_TERM`).
+//! - **Tangent planes.** Where a plane touches a curved surface without crossing it (a
+//!   rounded rectangle's corner cylinder against the walls of its two boxes, a ball resting on
+//!   a slab's face), the literal's distance vanishes quadratically towards the line or point of
+//!   contact, and eq. 22 touches 0 there without a sign change. So, between a planar literal
+//!   and a sampled ellipsoid or elliptic cylinder (and the other way round: an ellipsoidal
+//!   literal and a sampled plane), the surface's extent along the plane's normal is computed
+//!   exactly (`Ellipsoidal`; a cylinder only across its axis). A literal that holds on all of
+//!   the sampled surface up to touching it is left out of every term (it changes no term's
+//!   interior but on the contact, which is a curve or point of the surface, covered by the
+//!   other quadric's samples); a literal that holds on none of it but the contact empties its
+//!   term there: term `a` samples nothing, another term is left out (after its abutting unions
+//!   are made: a merged term may still reach the surface). Rounding in transformed primitives
+//!   is absorbed within `1e-12` of the diagonal (`TANGENT_SLACK`).
+//! - **Planar sections.** Each sheet (plane) of a planar quadric gets its own view of the
+//!   terms. A literal that crosses the sheet is replaced by its section by the sheet, extruded
+//!   along the sheet's normal, where that section is planar: a cylinder cut along its axis
+//!   becomes the slab between its two lines, another plane its line. On the sheet the section
+//!   equals the literal, and its distance is the distance within the sheet, which bounds the
+//!   distance along the sheet from below; so eq. 22's two properties hold for the points of the
+//!   sheet, which is all a basic region holds. This lets "Literals of both terms" see half-spaces
+//!   that two terms share on the sheet (a face between two boxes ends where a cylinder's section
+//!   begins), and tells nearly parallel planes apart at their distance within the sheet rather
+//!   than in space (planes at 3e-4 rad). It holds half-space by half-space: a slab of another
+//!   term that shares one side with term `a` keeps only its other side. Planes within `1e-6`
+//!   rad of the sheet keep their distance in space ("Shared planes" handles them).
+//! - **One side of a slab.** The outside of a slab is a union of two half-spaces, which no rule
+//!   above can pair. Where a term's box lies on the inner side of one of the slab's planes, the
+//!   literal is the half-space beyond the other plane within the term, and stands as that.
 
 use qcsg_csg::{Aabb, Dnf};
-use qcsg_quadric::{DVec3, Quadric, QuadricKind};
+use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind, Tolerances};
 
 /// Relative tolerance for "the same quadric" when comparing literals.
 const SAME_QUADRIC: f64 = 1e-12;
@@ -123,9 +153,10 @@ struct TermView {
 }
 
 impl TermView {
-    /// The view of `literals`, each with whether term `a` holds it too.
+    /// The view of `literals`, each with whether it is planar and whether term `a` holds it
+    /// too.
     fn new(
-        literals: impl IntoIterator<Item = (Quadric, bool)>,
+        literals: impl IntoIterator<Item = (Quadric, bool, bool)>,
         bounds: Aabb,
         extent: Aabb,
     ) -> Self {
@@ -133,8 +164,8 @@ impl TermView {
             extent,
             literals: literals
                 .into_iter()
-                .map(|(quadric, in_own_term)| Literal {
-                    planar: is_planar(&quadric),
+                .map(|(quadric, planar, in_own_term)| Literal {
+                    planar,
                     in_own_term,
                     quadric,
                 })
@@ -170,111 +201,102 @@ impl TermView {
 /// `d_{Q_ab}(S, ·)` for one literal of one term, with the DNF's quadrics copied in.
 #[derive(Clone, Debug)]
 pub struct CsgDistance {
-    own: TermView,
-    others: Vec<TermView>,
+    /// The terms as seen from each sheet of the sampled quadric: one per plane of a planar
+    /// quadric (see "Planar sections"), else one for the whole quadric.
+    sheets: Vec<SheetViews>,
     /// The sampled quadric, when it is planar (see "Shared planes" in the module docs).
     planar: Option<Quadric>,
     /// Length below which a point is on a plane: `1e-9` of the DNF's diagonal.
     tolerance: f64,
 }
 
+/// The terms as seen from one sheet of the sampled quadric.
+#[derive(Clone, Debug)]
+struct SheetViews {
+    /// The sheet's plane (`normal · x = offset`), for a planar quadric.
+    plane: Option<HalfSpace>,
+    own: TermView,
+    /// A literal of term `a` holds on the sheet only where it touches it (see "Tangent
+    /// planes"): no point of the sheet is on the surface through term `a`.
+    own_empty: bool,
+    others: Vec<TermView>,
+}
+
 impl CsgDistance {
     /// The distance for quadric `quadric` sampled as a literal of term `term` of `dnf`.
     /// `None` if the indices are out of range.
     pub fn new(dnf: &Dnf, quadric: u32, term: u32) -> Option<Self> {
+        Self::with_shapes(dnf, &Shapes::new(dnf), quadric, term)
+    }
+
+    /// [`Self::new`] with the shapes of `dnf`'s quadrics computed once for all its literals.
+    pub(crate) fn with_shapes(dnf: &Dnf, shapes: &Shapes, quadric: u32, term: u32) -> Option<Self> {
         let q = dnf.quadrics.get(quadric as usize)?.quadric;
-        let own_term = dnf.terms.get(term as usize)?;
-        let complement = q.negated();
-        let is_same =
-            |i: u32, other: &Quadric| i == quadric || q.approx_eq_up_to_scale(other, SAME_QUADRIC);
-        let is_complement = |other: &Quadric| complement.approx_eq_up_to_scale(other, SAME_QUADRIC);
-        let region = dnf.region.unwrap_or(Aabb::new(
-            DVec3::splat(f64::NEG_INFINITY),
-            DVec3::splat(f64::INFINITY),
-        ));
-        let literal = |i: u32| dnf.quadrics.get(i as usize).map(|d| d.quadric);
-        let own_literals: Vec<(u32, Quadric)> = own_term
-            .literals
-            .iter()
-            .filter_map(|&i| literal(i).map(|o| (i, o)))
-            .collect();
-        let in_own_term = |i: u32, other: &Quadric| {
-            own_literals
-                .iter()
-                .any(|(j, o)| *j == i || o.approx_eq_up_to_scale(other, SAME_QUADRIC))
-        };
-        let own = TermView::new(
-            own_term
-                .literals
-                .iter()
-                .filter_map(|&i| literal(i).filter(|o| !is_same(i, o)))
-                .map(|o| (o, false)),
-            region,
-            own_term.bounds,
-        );
+        dnf.terms.get(term as usize)?;
         let diagonal = (dnf.bounds.max - dnf.bounds.min).length();
         let tolerance = if diagonal.is_finite() {
             1e-9 * diagonal
         } else {
             0.0
         };
-        let mut kept: Vec<TermLiterals> = Vec::new();
-        let mut extents = Vec::new();
-        for (index, other) in dnf.terms.iter().enumerate() {
-            if index == term as usize {
-                continue;
-            }
-            let literals: Vec<(u32, Quadric)> = other
-                .literals
-                .iter()
-                .filter_map(|&i| literal(i).map(|o| (i, o)))
-                .collect();
-            if literals.iter().any(|(i, o)| is_same(*i, o)) {
-                continue;
-            }
-            kept.push(literals);
-            extents.push(other.bounds);
-        }
-        let merged = abutting_unions(&kept, tolerance, MAX_MERGED_PER_TERM * kept.len().max(1));
-        let merged = merged
+        let planes: Vec<Option<HalfSpace>> = match &shapes.of(quadric).planar {
+            Some((planes, _)) => planes.iter().copied().map(Some).collect(),
+            None => vec![None],
+        };
+        let sheets = planes
             .into_iter()
-            .map(|(literals, (i, k))| (literals, extents[i].union(&extents[k])))
-            .filter(|(l, _)| !l.iter().any(|(i, o)| is_same(*i, o)));
-        let others = kept
-            .into_iter()
-            .zip(extents.iter().copied())
-            .chain(merged)
-            .map(|(literals, extent)| {
-                TermView::new(
-                    literals
-                        .into_iter()
-                        .filter(|(_, o)| !is_complement(o))
-                        .map(|(i, o)| (o, in_own_term(i, &o))),
-                    region,
-                    extent,
-                )
+            .map(|plane| {
+                SheetViews::new(dnf, shapes, (quadric, term), plane, (diagonal, tolerance))
             })
             .collect();
         Some(Self {
-            own,
-            others,
+            sheets,
             planar: is_planar(&q).then_some(q),
             tolerance,
+        })
+    }
+
+    /// The sheet `p` lies on (the nearest plane of a planar quadric).
+    fn sheet_at(&self, p: DVec3) -> usize {
+        let off = |s: &SheetViews| s.plane.map_or(0.0, |h| (h.normal.dot(p) - h.offset).abs());
+        (1..self.sheets.len()).fold(0, |best, i| {
+            if off(&self.sheets[i]) < off(&self.sheets[best]) {
+                i
+            } else {
+                best
+            }
         })
     }
 
     /// `d_{Q_ab}(S, p)` (eq. 22) for a point `p` on the quadric: negative on the CSG surface.
     /// NaN for non-finite `p`.
     pub fn distance(&self, p: DVec3) -> f64 {
-        self.distance_over(p, self.others.iter(), f64::INFINITY)
+        let sheet = &self.sheets[self.sheet_at(p)];
+        self.distance_over(p, sheet, sheet.others.iter(), f64::INFINITY)
     }
 
     /// Eq. 22 restricted to a part of the quadric inside `bounds` (a box around a basic region's
-    /// patch): only the other terms whose box comes within `margin` of it are kept.
+    /// patch, on one sheet): only the other terms whose box comes within `margin` of it are kept.
     pub fn near(&self, bounds: &Aabb, margin: f64) -> NearDistance<'_> {
+        // The sheet every corner of the box is nearest to; none when they differ (an unbounded
+        // box), and then each point finds its own among all the terms.
+        let corners = bounds.corners();
+        let sheet = self.sheet_at(corners[0]);
+        let Some(sheet) = corners
+            .iter()
+            .all(|c| self.sheet_at(*c) == sheet)
+            .then_some(sheet)
+        else {
+            return NearDistance {
+                base: self,
+                sheet: None,
+                terms: Vec::new(),
+                far: f64::INFINITY,
+            };
+        };
         let mut terms = Vec::new();
         let mut far = f64::INFINITY;
-        for (i, term) in self.others.iter().enumerate() {
+        for (i, term) in self.sheets[sheet].others.iter().enumerate() {
             let gap = box_gap(bounds, &term.extent);
             if gap < margin {
                 terms.push(i as u32);
@@ -284,15 +306,18 @@ impl CsgDistance {
         }
         NearDistance {
             base: self,
+            sheet: Some(sheet),
             terms,
             far,
         }
     }
 
-    /// Eq. 22 over the other terms `others`; the terms left out are at least `far` from `p`.
+    /// Eq. 22 on `sheet` over its other terms `others`; the terms left out are at least `far`
+    /// from `p`.
     fn distance_over<'a>(
         &'a self,
         p: DVec3,
+        sheet: &SheetViews,
         others: impl Iterator<Item = &'a TermView>,
         far: f64,
     ) -> f64 {
@@ -304,13 +329,227 @@ impl CsgDistance {
                     .max(8.0 * f64::EPSILON * p.abs().max_element()),
             })
         });
-        let own = self.own.distance(p, plane.as_ref(), true);
+        if sheet.own_empty {
+            return f64::INFINITY;
+        }
+        let own = sheet.own.distance(p, plane.as_ref(), true);
         let mut nearest_other = far;
         for term in others {
             nearest_other = nearest_other.min(term.distance(p, plane.as_ref(), false));
         }
         own.max(-nearest_other)
     }
+}
+
+impl SheetViews {
+    /// The views of every term from `plane`, a sheet of the sampled quadric `quadric` of term
+    /// `term` (the whole quadric when `None`).
+    fn new(
+        dnf: &Dnf,
+        shapes: &Shapes,
+        (quadric, term): (u32, u32),
+        plane: Option<HalfSpace>,
+        (diagonal, tolerance): (f64, f64),
+    ) -> Self {
+        let q = dnf.quadrics[quadric as usize].quadric;
+        let own_term = &dnf.terms[term as usize];
+        let region = dnf.region.unwrap_or(Aabb::new(
+            DVec3::splat(f64::NEG_INFINITY),
+            DVec3::splat(f64::INFINITY),
+        ));
+        let contact = Tangency::new(&shapes.of(quadric), plane, &own_term.bounds, diagonal);
+        let complement = q.negated();
+        let same_value = |o: &Quadric| q.approx_eq_up_to_scale(o, SAME_QUADRIC);
+        let complement_value = |o: &Quadric| complement.approx_eq_up_to_scale(o, SAME_QUADRIC);
+        // Each quadric of the DNF as a literal seen from the sheet, found once.
+        let seen: Vec<Seen> = dnf
+            .quadrics
+            .iter()
+            .zip(&shapes.0)
+            .enumerate()
+            .map(|(i, (entry, shape))| {
+                let o = entry.quadric;
+                let contact = contact.of(shape);
+                let same = i == quadric as usize || same_value(&o);
+                let complement = complement_value(&o);
+                let section = (!(same || complement) && contact == Contact::Crosses)
+                    .then(|| plane.and_then(|h| planar_section(&o, &h)))
+                    .flatten();
+                let (refined, planar, parts) = match section {
+                    Some((section, parts)) => (section, true, Some(parts)),
+                    None => (o, shape.is_planar, shape.planar.clone()),
+                };
+                Seen {
+                    contact,
+                    same,
+                    complement,
+                    refined,
+                    planar,
+                    parts,
+                }
+            })
+            .collect();
+        // A literal made here (merged terms) is looked at on its own.
+        let made = |o: &Quadric| {
+            let shape = Shape::of(o);
+            Seen {
+                contact: contact.of(&shape),
+                same: same_value(o),
+                complement: complement_value(o),
+                refined: *o,
+                planar: shape.is_planar,
+                parts: shape.planar,
+            }
+        };
+        let look = |i: u32, o: &Quadric| -> std::borrow::Cow<'_, Seen> {
+            match seen.get(i as usize) {
+                Some(s) if i != MADE_LITERAL => std::borrow::Cow::Borrowed(s),
+                _ => std::borrow::Cow::Owned(made(o)),
+            }
+        };
+        // The literals of a term as the sheet sees them: those that hold on all of it left out.
+        let literals = |t: &qcsg_csg::Term| -> TermLiterals {
+            t.literals
+                .iter()
+                .filter(|&&i| {
+                    seen.get(i as usize)
+                        .is_some_and(|s| s.contact != Contact::Holds)
+                })
+                .map(|&i| (i, dnf.quadrics[i as usize].quadric))
+                .collect()
+        };
+        // Those that cross it replaced by their section by the plane where that is planar, and
+        // the outside of a slab by one half-space where the term lies beyond the slab's other
+        // plane (`bounds` holds the term). Each keeps its index: another term holding it holds
+        // the same set ("Literals of both terms" compares indices). The sampled quadric and its
+        // complement stay as they are: eq. 22 finds them by index and value. Abutting terms are
+        // found before this: planes made here would pair up many more of them, each merged
+        // term spanning two terms' boxes, for little.
+        let refine = |literals: &TermLiterals, bounds: &Aabb| -> Vec<Refined> {
+            literals
+                .iter()
+                .map(|&(index, o)| {
+                    let seen = look(index, &o);
+                    let as_is = seen.same || seen.complement || seen.contact == Contact::Excludes;
+                    let side = (!as_is)
+                        .then(|| one_side(seen.parts.as_ref(), bounds, tolerance))
+                        .flatten();
+                    match side {
+                        Some(half) => Refined {
+                            index,
+                            quadric: Quadric::half_space(half.point, half.normal)
+                                .unwrap_or(seen.refined),
+                            planar: true,
+                            parts: Some((vec![half], false)),
+                            same: false,
+                            complement: false,
+                        },
+                        None => Refined {
+                            index,
+                            quadric: seen.refined,
+                            planar: seen.planar,
+                            parts: seen.parts.clone(),
+                            same: seen.same,
+                            complement: seen.complement,
+                        },
+                    }
+                })
+                .collect()
+        };
+        // A term with a literal that holds on the sheet only where it touches it has no
+        // interior point on it: term `a` samples nothing there, another term is left out.
+        let excludes = |literals: &TermLiterals| {
+            literals
+                .iter()
+                .any(|(i, o)| look(*i, o).contact == Contact::Excludes)
+        };
+        let own_raw = literals(own_term);
+        let own_empty = excludes(&own_raw);
+        let own_literals = refine(&own_raw, &own_term.bounds);
+        let in_own_term = |r: &Refined| {
+            own_literals.iter().any(|o| {
+                o.index == r.index || o.quadric.approx_eq_up_to_scale(&r.quadric, SAME_QUADRIC)
+            })
+        };
+        let own = TermView::new(
+            own_literals
+                .iter()
+                .filter(|r| !r.same)
+                .map(|r| (r.quadric, r.planar, false)),
+            region,
+            own_term.bounds,
+        );
+        let own_sides = own_half_spaces(&own_literals, plane.as_ref());
+        let mut kept: Vec<TermLiterals> = Vec::new();
+        let mut extents = Vec::new();
+        for (index, other) in dnf.terms.iter().enumerate() {
+            if index == term as usize {
+                continue;
+            }
+            let literals = literals(other);
+            if literals.iter().any(|(i, o)| look(*i, o).same) {
+                continue;
+            }
+            kept.push(literals);
+            extents.push(other.bounds);
+        }
+        // Terms that the sheet excludes still abut others: their merged unions may reach it.
+        let merged = abutting_unions(&kept, tolerance, MAX_MERGED_PER_TERM * kept.len().max(1));
+        let merged = merged
+            .into_iter()
+            .map(|(literals, (i, k))| (literals, extents[i].union(&extents[k])))
+            .filter(|(l, _)| !l.iter().any(|(i, o)| look(*i, o).same));
+        let others = kept
+            .into_iter()
+            .zip(extents.iter().copied())
+            .chain(merged)
+            .filter(|(literals, _)| !excludes(literals))
+            .map(|(literals, extent)| {
+                let literals = refine(&literals, &extent)
+                    .into_iter()
+                    .filter(|r| !r.complement)
+                    .flat_map(|r| {
+                        if in_own_term(&r) {
+                            return vec![(r.quadric, r.planar, true)];
+                        }
+                        without_own_sides(&r, &own_sides, tolerance)
+                    });
+                TermView::new(literals, region, extent)
+            })
+            .collect();
+        Self {
+            plane,
+            own,
+            own_empty,
+            others,
+        }
+    }
+}
+
+/// A quadric of the DNF as a literal seen from one sheet ([`SheetViews::new`]).
+#[derive(Clone)]
+struct Seen {
+    contact: Contact,
+    /// The sampled quadric (by index or value).
+    same: bool,
+    /// Its complement.
+    complement: bool,
+    /// The literal, or its planar section by the sheet.
+    refined: Quadric,
+    planar: bool,
+    /// The half-spaces of `refined`, when planar ([`planar_parts`]).
+    parts: Option<(Vec<HalfSpace>, bool)>,
+}
+
+/// A literal of a term as the view holds it.
+struct Refined {
+    /// Its index in the DNF ([`MADE_LITERAL`] if made here).
+    index: u32,
+    quadric: Quadric,
+    planar: bool,
+    parts: Option<(Vec<HalfSpace>, bool)>,
+    same: bool,
+    complement: bool,
 }
 
 /// [`CsgDistance`] for the points of one box ([`CsgDistance::near`]). A term whose box is at
@@ -320,6 +559,8 @@ impl CsgDistance {
 #[derive(Clone, Debug)]
 pub struct NearDistance<'a> {
     base: &'a CsgDistance,
+    /// The sheet of the box, when it has one.
+    sheet: Option<usize>,
     terms: Vec<u32>,
     far: f64,
 }
@@ -327,8 +568,12 @@ pub struct NearDistance<'a> {
 impl NearDistance<'_> {
     /// Eq. 22 at `p`, for `p` inside the box given to [`CsgDistance::near`].
     pub fn distance(&self, p: DVec3) -> f64 {
-        let others = self.terms.iter().map(|&i| &self.base.others[i as usize]);
-        self.base.distance_over(p, others, self.far)
+        let Some(sheet) = self.sheet else {
+            return self.base.distance(p);
+        };
+        let sheet = &self.base.sheets[sheet];
+        let others = self.terms.iter().map(|&i| &sheet.others[i as usize]);
+        self.base.distance_over(p, sheet, others, self.far)
     }
 }
 
@@ -471,6 +716,375 @@ fn abutting_unions(
         }
     }
     out
+}
+
+/// How a literal meets the sampled surface inside its term's box, when one of the two is
+/// planar and the other a bounded ellipse in cross-section (see "Tangent planes").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Contact {
+    /// The literal holds on all of it (up to rounding): its surface may touch it, never cross.
+    Holds,
+    /// The literal holds nowhere on it but where the two touch.
+    Excludes,
+    /// Anything else, or not known.
+    Crosses,
+}
+
+/// Rounding slack of [`Tangency`], relative to the scene's diagonal: far below any radius (a
+/// surface that bulges this far past a plane does so over a sliver about `2 sqrt(2 R · slack)`
+/// wide), far above the rounding of an exact tangency built from transformed primitives.
+const TANGENT_SLACK: f64 = 1e-12;
+
+/// A quadric `Σ λ_k u_k² + κ = 0` in its frame whose non-zero `λ_k` share a sign opposite to
+/// `κ`'s: an ellipsoid or an elliptic cylinder (or their complements).
+#[derive(Clone)]
+struct Ellipsoidal {
+    frame: PrincipalFrame,
+    /// Whether its solid is the inside (`λ_k > 0`), not the outside.
+    inside: bool,
+}
+
+impl Ellipsoidal {
+    /// The ellipsoidal form of a quadric that is not planar, from its frame.
+    fn from_frame(frame: PrincipalFrame) -> Option<Self> {
+        let nonzero = || frame.eigenvalues.iter().filter(|&&l| l != 0.0);
+        let inside = nonzero().all(|&l| l > 0.0) && frame.constant < 0.0;
+        let outside = nonzero().all(|&l| l < 0.0) && frame.constant > 0.0;
+        (frame.linear == [0.0; 3] && nonzero().count() > 0 && (inside || outside))
+            .then_some(Self { frame, inside })
+    }
+
+    /// The range of `n · x` over the points `x` of its inside (the surface spans the same)
+    /// within `bounds`, and how far either end may be off by rounding. Along the axes with
+    /// `λ_k ≠ 0` the inside spans `±sqrt(−κ Σ n_k² / λ_k)` around the centre. `None` unless
+    /// `n` is perpendicular to the null axes (a cylinder's), up to a tilt that moves `n · x` by
+    /// at most the slack over the box: where the box cuts a cylinder, its faces would bound the
+    /// span, and a plane through such a face meets the inside over an area, not a line.
+    fn span(&self, n: DVec3, bounds: &Aabb, slack: f64) -> Option<(f64, f64, f64)> {
+        let frame = &self.frame;
+        let mut ellipse = 0.0;
+        let mut along_axes = 0.0;
+        for (axis, lambda) in frame.axes.iter().zip(frame.eigenvalues) {
+            let n_k = n.dot(*axis);
+            if lambda != 0.0 {
+                ellipse += n_k * n_k / lambda;
+            } else if n_k != 0.0 {
+                let reach = bounds
+                    .corners()
+                    .iter()
+                    .map(|c| (*c - frame.centre).dot(*axis).abs())
+                    .fold(0.0, f64::max);
+                along_axes += n_k.abs() * reach;
+            }
+        }
+        if along_axes > slack || along_axes.is_nan() {
+            return None;
+        }
+        let half_width = (-frame.constant * ellipse).sqrt() + along_axes;
+        let centre = n.dot(frame.centre);
+        let rounding = 64.0 * f64::EPSILON * (centre.abs() + half_width) + slack;
+        (half_width.is_finite() && rounding.is_finite()).then_some((
+            centre - half_width,
+            centre + half_width,
+            rounding,
+        ))
+    }
+}
+
+/// What the tangency rules need of a quadric (see "Tangent planes"), found once per quadric of
+/// a DNF.
+#[derive(Clone)]
+struct Shape {
+    is_planar: bool,
+    /// Its half-spaces, when planar ([`planar_parts`]).
+    planar: Option<(Vec<HalfSpace>, bool)>,
+    ellipsoidal: Option<Ellipsoidal>,
+}
+
+impl Shape {
+    fn of(q: &Quadric) -> Self {
+        let frame = q.frame();
+        let is_planar = matches!(
+            qcsg_quadric::classify_frame(&frame, &Tolerances::default()),
+            QuadricKind::Plane | QuadricKind::ParallelPlanes
+        );
+        Self {
+            is_planar,
+            planar: is_planar.then(|| planar_parts(q)).flatten(),
+            ellipsoidal: (!is_planar)
+                .then(|| Ellipsoidal::from_frame(frame))
+                .flatten(),
+        }
+    }
+}
+
+/// The [`Shape`] of every quadric of a DNF, for [`CsgDistance::with_shapes`].
+pub(crate) struct Shapes(Vec<Shape>);
+
+impl Shapes {
+    /// The shapes of `dnf`'s quadrics.
+    pub(crate) fn new(dnf: &Dnf) -> Self {
+        Self(dnf.quadrics.iter().map(|d| Shape::of(&d.quadric)).collect())
+    }
+
+    /// The shape of a quadric of the DNF (checked by the caller).
+    fn of(&self, quadric: u32) -> Shape {
+        self.0[quadric as usize].clone()
+    }
+}
+
+/// The sampled quadric as [`Contact`] sees it.
+enum Sampled {
+    /// Curved, with bounded cross-sections: planar literals may touch it.
+    Ellipsoidal(Ellipsoidal),
+    /// One sheet of a planar quadric, as the half-space it bounds; ellipsoidal literals may
+    /// touch it.
+    Planar(HalfSpace),
+    Other,
+}
+
+/// Which literals touch the sampled surface without crossing it, inside its term's box.
+struct Tangency {
+    sampled: Sampled,
+    bounds: Aabb,
+    /// [`TANGENT_SLACK`] times the scene's diagonal.
+    slack: f64,
+}
+
+impl Tangency {
+    /// Contacts with `q`, or with its sheet `plane` when it is planar.
+    fn new(q: &Shape, plane: Option<HalfSpace>, bounds: &Aabb, diagonal: f64) -> Self {
+        let sampled = match (plane, &q.ellipsoidal) {
+            (Some(plane), _) => Sampled::Planar(plane),
+            (None, Some(curved)) => Sampled::Ellipsoidal(curved.clone()),
+            (None, None) => Sampled::Other,
+        };
+        Self {
+            sampled,
+            bounds: *bounds,
+            slack: if diagonal.is_finite() {
+                TANGENT_SLACK * diagonal
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// How `literal` meets the sampled surface.
+    fn of(&self, literal: &Shape) -> Contact {
+        match &self.sampled {
+            // Each half-space of the literal holds on all of the surface, or one on none of it
+            // (the other way round for the outside of a slab).
+            Sampled::Ellipsoidal(surface) => {
+                let Some((spaces, complement)) = &literal.planar else {
+                    return Contact::Crosses;
+                };
+                let mut contact = Contact::Holds;
+                for h in spaces {
+                    let Some((low, high, rounding)) =
+                        surface.span(h.normal, &self.bounds, self.slack)
+                    else {
+                        return Contact::Crosses;
+                    };
+                    if low >= h.offset - rounding {
+                        contact = Contact::Excludes;
+                        break;
+                    }
+                    if high > h.offset + rounding {
+                        contact = Contact::Crosses;
+                    }
+                }
+                match (contact, complement) {
+                    (Contact::Holds, true) => Contact::Excludes,
+                    (Contact::Excludes, true) => Contact::Holds,
+                    (contact, _) => contact,
+                }
+            }
+            // No sheet of the surface meets the literal's inside: the surface lies in its
+            // closed outside, which is its solid when it is a complement.
+            Sampled::Planar(sheet) => {
+                let Some(solid) = &literal.ellipsoidal else {
+                    return Contact::Crosses;
+                };
+                let Some((low, high, rounding)) =
+                    solid.span(sheet.normal, &self.bounds, self.slack)
+                else {
+                    return Contact::Crosses;
+                };
+                if sheet.offset > low + rounding && sheet.offset < high - rounding {
+                    return Contact::Crosses;
+                }
+                if solid.inside {
+                    Contact::Excludes
+                } else {
+                    Contact::Holds
+                }
+            }
+            Sampled::Other => Contact::Crosses,
+        }
+    }
+}
+
+/// The half-spaces of a planar literal ([`half_spaces`]), or those of the slab whose outside
+/// it is, flagged `true`.
+fn planar_parts(q: &Quadric) -> Option<(Vec<HalfSpace>, bool)> {
+    if !is_planar(q) {
+        return None;
+    }
+    half_spaces(q)
+        .map(|spaces| (spaces, false))
+        .or_else(|| half_spaces(&q.negated()).map(|spaces| (spaces, true)))
+}
+
+/// The section of `literal` by the sheet plane `plane`, as a quadric constant along the plane's
+/// normal, when that section is planar: a cylinder cut along its axis gives the slab between
+/// the two lines, another plane its line (a half-space across the sheet). On
+/// the plane it equals the literal, and off it its distance to its surface is the distance
+/// within the plane, so it stands for the literal in eq. 22 at points of the sheet (see
+/// "Planar sections"). With `P = I − n nᵀ` and the literal's origin moved onto the plane by
+/// `δ = t n`: `A' = P A P`, `l' = P (A δ + l)`, `j' = δᵀ A δ + 2 l·δ + j`.
+///
+/// Planar means `A'` of rank at most one, `λ u uᵀ`, with `l'` along `u`. Rounding leaves noise
+/// in the other directions (a cylinder cut exactly along its axis after a rotation), which
+/// would make the section a parabolic cylinder with its vertex at `10³¹`: parts below
+/// [`SECTION_NOISE`] of the section's scale are dropped, which moves its surface by about that
+/// fraction of the scene.
+fn planar_section(
+    literal: &Quadric,
+    plane: &HalfSpace,
+) -> Option<(Quadric, (Vec<HalfSpace>, bool))> {
+    let n = plane.normal;
+    let origin = literal.origin();
+    let delta = (plane.offset - n.dot(origin)) * n;
+    let rows = literal.matrix_a().map(DVec3::from);
+    let a = |v: DVec3| DVec3::new(rows[0].dot(v), rows[1].dot(v), rows[2].dot(v));
+    let project = |v: DVec3| v - n.dot(v) * n;
+    // P A P, column by column: P A P e_k (symmetric, so also its rows).
+    let columns = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| project(a(project(e))));
+    let norm = |m: &[DVec3; 3]| m.iter().map(|c| c.length_squared()).sum::<f64>().sqrt();
+    let (a_norm, section_norm) = (norm(&rows), norm(&columns));
+    let l = literal.linear();
+    let mut linear = project(a(delta) + l);
+    let constant = delta.dot(a(delta)) + 2.0 * l.dot(delta) + literal.constant();
+    let matrix = if section_norm <= SECTION_NOISE * a_norm {
+        // Linear on the plane: a line, unless the literal is (nearly) parallel to the plane,
+        // where `l'` is rounding noise and its line could lie anywhere ("Shared planes" handles
+        // planes parallel to the sheet).
+        let significant = if a_norm > 0.0 {
+            l.length() + (constant.abs() * a_norm).sqrt()
+        } else {
+            l.length()
+        };
+        if linear.length() <= SECTION_TILT * significant || linear.length().is_nan() {
+            return None;
+        }
+        [[0.0; 3]; 3]
+    } else {
+        // Rank one: every column is a multiple of `u`, the longest one's direction.
+        let longest = columns
+            .iter()
+            .copied()
+            .max_by(|p, q| p.length_squared().total_cmp(&q.length_squared()))?;
+        let u = longest.try_normalize()?;
+        let lambda = u.dot(columns[0] * u.x + columns[1] * u.y + columns[2] * u.z);
+        let rest: f64 = columns
+            .iter()
+            .zip([u.x, u.y, u.z])
+            .map(|(c, u_k)| (*c - lambda * u_k * u).length_squared())
+            .sum::<f64>()
+            .sqrt();
+        if rest > SECTION_NOISE * section_norm {
+            return None;
+        }
+        let across = linear - linear.dot(u) * u;
+        let scale = (constant.abs() / section_norm).sqrt();
+        if across.length() <= SECTION_NOISE * (linear.length() + section_norm * scale) {
+            linear -= across;
+        }
+        [0, 1, 2].map(|r| [0, 1, 2].map(|c| lambda * u[r] * u[c]))
+    };
+    let section = Quadric::from_matrix(origin + delta, &matrix, linear, constant)?;
+    planar_parts(&section).map(|parts| (section, parts))
+}
+
+/// Relative size below which [`planar_section`] takes a part of a section for rounding.
+const SECTION_NOISE: f64 = 1e-12;
+
+/// Sine of the smallest angle between a planar literal and the sheet that [`planar_section`]
+/// replaces by its line on the sheet: closer to parallel, the line's position would be mostly
+/// rounding, and the literal stays as it is.
+const SECTION_TILT: f64 = 1e-6;
+
+/// The half-space that the outside of a slab (its `parts`) is within `bounds`, when `bounds`
+/// lies on the inner side of one of the slab's planes (by more than `tolerance`): only the
+/// half-space beyond the other plane is left there.
+fn one_side(
+    parts: Option<&(Vec<HalfSpace>, bool)>,
+    bounds: &Aabb,
+    tolerance: f64,
+) -> Option<HalfSpace> {
+    let Some((spaces, true)) = parts else {
+        return None;
+    };
+    let reach = |n: DVec3| {
+        bounds
+            .corners()
+            .iter()
+            .map(|c| n.dot(*c))
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    // The slab is `n·x ≤ c` for each of its half-spaces; its outside is `n·x ≥ c` for either.
+    let beyond = |h: &HalfSpace| HalfSpace {
+        normal: -h.normal,
+        offset: -h.offset,
+        point: h.point,
+    };
+    match spaces.as_slice() {
+        [a, b] if reach(a.normal) < a.offset - tolerance => Some(beyond(b)),
+        [a, b] if reach(b.normal) < b.offset - tolerance => Some(beyond(a)),
+        _ => None,
+    }
+}
+
+/// The half-spaces of term `a`'s planar literals (not the outsides of slabs), but for those
+/// parallel to the sampled `plane`, which "Shared planes" handles.
+fn own_half_spaces(own: &[Refined], plane: Option<&HalfSpace>) -> Vec<HalfSpace> {
+    own.iter()
+        .filter_map(|r| match &r.parts {
+            Some((spaces, false)) => Some(spaces.iter().copied()),
+            _ => None,
+        })
+        .flatten()
+        .filter(|h| plane.is_none_or(|p| h.normal.cross(p.normal).length() > PARALLEL))
+        .collect()
+}
+
+/// A planar literal of another term without the half-spaces that term `a` holds too (see
+/// "Literals of both terms"), as `(quadric, planar, in term a)`: a slab sharing one side with
+/// term `a` becomes its other side.
+fn without_own_sides(
+    literal: &Refined,
+    own_sides: &[HalfSpace],
+    tolerance: f64,
+) -> Vec<(Quadric, bool, bool)> {
+    let whole = vec![(literal.quadric, literal.planar, false)];
+    let Some((spaces, false)) = &literal.parts else {
+        return whole;
+    };
+    let shared = |h: &HalfSpace| {
+        own_sides.iter().any(|g| {
+            (h.normal - g.normal).length() <= PARALLEL && (h.offset - g.offset).abs() <= tolerance
+        })
+    };
+    if !spaces.iter().any(shared) {
+        return whole;
+    }
+    spaces
+        .iter()
+        .filter(|h| !shared(h))
+        .filter_map(|h| Quadric::half_space(h.point, h.normal))
+        .map(|q| (q, true, false))
+        .collect()
 }
 
 /// Exact signed Euclidean distance to a closed box: positive outside, negative inside (the

@@ -19,7 +19,9 @@
 //!   plane is the best, so the regions still end at the paper's conics, to the resolution of
 //!   the subdivision;
 //! - eq. 22 leaves out terms sharing the sampled quadric and complementary literals, and uses
-//!   the DNF's region, not the per-term boxes ([`csg_distance`]);
+//!   the DNF's region, not the per-term boxes; it leaves out planes that only touch a sampled
+//!   ellipsoid or cylinder, and on a sampled plane it takes each literal by its section with
+//!   that plane where the section is planar ([`csg_distance`]);
 //! - small regions get one sample at a corner or the centre proven on the surface, with the
 //!   radius reduced to the region's footprint (at the centre, up to a footprint of `2r`), or
 //!   none when a recent sample of the region reaches them with its radius grown to at most `r`;
@@ -44,11 +46,15 @@
 //! guarantee against ray-cast reference points on every example and stiff scene:
 //! - where eq. 22 only touches zero without changing sign along a curve, no corner bound
 //!   classifies the rectangles beside it: they are split down to the cutoff and counted as
-//!   unresolved. This is left where surfaces are tangent (a corner cylinder of a rounded box
-//!   touching the walls along a line: `examples/customizer_box.qcsg`), where two parts' rims
-//!   coincide on the face between them (the chess bishop's foot disc and cone, both of radius
-//!   11, at 1 % of the diagonal), and where surfaces nearly coincide (a countersink's top
-//!   `0.01` above a face). Nothing is lost there, but the cost can be high;
+//!   unresolved. Planes touching ellipsoids and cylinders, and cylinders cut along their axes,
+//!   are resolved in eq. 22 ([`csg_distance`], "Tangent planes", "Planar sections": the
+//!   rounded boxes of `examples/customizer_box.qcsg`). This is left where curved surfaces touch
+//!   each other (a ball inside another), where two parts' rims coincide on the face between
+//!   them (the chess bishop's foot disc and cone, both of radius 11, at 1 % of the diagonal),
+//!   where surfaces nearly coincide (a countersink's top `0.01` above a face), and where a
+//!   tilted part's axis-aligned term boxes span both planes of a slab whose outside a term
+//!   holds (`tests/stability/tangent_rounded_tray_tilted.qcsg`). Nothing is lost there, but the
+//!   cost can be high;
 //! - positions come from the heightfields, moved onto the quadric by up to two Newton steps
 //!   (which bring samples on a slab of half-width `1e-6` from `1.2e-7` of the diagonal off the
 //!   quadric to within `1e-9`); cones are left unrefined, because a step next to the apex can
@@ -84,8 +90,8 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 use crate::budget::{Budget, Crossed};
 pub use crate::budget::{DEFAULT_MAX_QUERIES, DEFAULT_MAX_SAMPLES, SampleLimits};
 pub use crate::clip::ClipLists;
-use crate::csg_distance::CsgDistance;
 use crate::csg_distance::NearDistance;
+use crate::csg_distance::{CsgDistance, Shapes};
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
     Deferred, GivenUp, Probed, RegionContext, SampleIndex, SubdivisionStats, given_up_share,
@@ -136,6 +142,14 @@ pub struct SampleStats {
     pub clip_lists: u64,
     /// Quadric indices in the deduplicated clip lists (paper Table 2's "clip indices").
     pub clip_indices: u64,
+}
+
+impl SampleStats {
+    /// Rectangles given up unproven, in the region decomposition (around cone apices, where the
+    /// distortion has no bound) and in the subdivision: where the guarantee is not proven.
+    pub fn unresolved(&self) -> u64 {
+        self.regions.unresolved + self.subdivision.unresolved
+    }
 }
 
 /// Errors of [`sample`].
@@ -243,6 +257,7 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, B
                 .map(|&l| (term_index as u32, l, bounds)),
         );
     }
+    let shapes = Shapes::new(dnf);
     let decomposed: Vec<Option<(Patch, Vec<BasicRegion>, RegionStats)>> = literals
         .par_iter()
         .map(|&(term, literal, bounds)| {
@@ -251,7 +266,7 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, B
             if kind.has_no_surface() || matches!(kind, QuadricKind::Point | QuadricKind::Line) {
                 return None;
             }
-            let distance = CsgDistance::new(dnf, literal, term)?;
+            let distance = CsgDistance::with_shapes(dnf, &shapes, literal, term)?;
             let frame = entry.quadric.frame();
             let mut found = Vec::new();
             let mut counters = RegionStats::default();

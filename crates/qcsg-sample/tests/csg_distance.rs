@@ -5,7 +5,7 @@ mod common;
 
 use common::{Rng, brute_on_surface, diagonal, points_on};
 use qcsg_csg::Dnf;
-use qcsg_quadric::DVec3;
+use qcsg_quadric::{DVec3, QuadricKind};
 use qcsg_sample::csg_distance::CsgDistance;
 
 /// Checks every literal of every term on random points; returns how many decisive checks ran.
@@ -19,6 +19,7 @@ fn check(dnf: &Dnf, seed: u64) -> (usize, usize) {
         for &quadric in &term.literals {
             let distance = CsgDistance::new(dnf, quadric, term_index as u32).expect("indices");
             let q = dnf.quadrics[quadric as usize].quadric;
+            let planar = matches!(q.kind(), QuadricKind::Plane | QuadricKind::ParallelPlanes);
             for p in points_on(&q, &bounds, 150, &mut rng) {
                 let d = distance.distance(p);
                 let Some(truth) = brute_on_surface(dnf, quadric, term_index as u32, p, tol) else {
@@ -47,6 +48,15 @@ fn check(dnf: &Dnf, seed: u64) -> (usize, usize) {
                     };
                     let nearby = moved + t * n;
                     if (nearby - p).length() >= d.abs() {
+                        continue;
+                    }
+                    // A planar quadric's claim is for the sheet of `p`: eq. 22 sees each sheet
+                    // on its own, and a basic region lies on one.
+                    let other_sheet = planar
+                        && q.normal(nearby)
+                            .zip(q.normal(p))
+                            .is_none_or(|(a, b)| a.dot(b) <= 0.0);
+                    if other_sheet {
                         continue;
                     }
                     if let Some(near_truth) =
@@ -89,6 +99,35 @@ fn cone_slab_and_tangent_spheres_classification() {
     assert!(decisive > 100);
     let (decisive, _) = check(&common::tangent_spheres(), 4);
     assert!(decisive > 100);
+}
+
+/// Surfaces that touch planes without crossing them, cylinders cut by planes through their
+/// axes, nearly parallel planes: the tangency, section and one-sided-slab rules of eq. 22 (the
+/// rounded rectangles of OpenSCAD models, upright and tilted, a rod on a plate, and the scenes
+/// and examples built of them).
+#[test]
+fn tangent_and_sectioned_classification() {
+    let programs = [
+        "tests/stability/tangent_rounded_slab.qcsg",
+        "tests/stability/tangent_rounded_tray.qcsg",
+        "tests/stability/tangent_rounded_tray_tilted.qcsg",
+        "tests/stability/tangent_cylinder_on_face.qcsg",
+        "tests/stability/parallel_planes.qcsg",
+        "tests/stability/hyperboloid_two_sheets_gap.qcsg",
+        "tests/stability/coincident_difference_flush.qcsg",
+        "tests/stability/coincident_difference_flush_tilted.qcsg",
+        "examples/customizer_box.qcsg",
+        "examples/openscad_bracket.scad",
+        "examples/chess_bishop.qcsg",
+    ];
+    for (seed, program) in programs.into_iter().enumerate() {
+        let dnf = common::compile_file(&common::workspace_root().join(program)).expect(program);
+        let (decisive, neighbours) = check(&dnf, 10 + seed as u64);
+        assert!(
+            decisive > 300 && neighbours > 300,
+            "{program}: {decisive} {neighbours}"
+        );
+    }
 }
 
 #[test]

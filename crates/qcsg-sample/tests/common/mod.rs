@@ -194,6 +194,23 @@ pub fn brute_on_surface(dnf: &Dnf, quadric: u32, term: u32, p: DVec3, tol: f64) 
     if !inside_own {
         return Some(false);
     }
+    // Within `tol` of another term's boundary from inside (or outside) it, `p` may be an
+    // interior point of the solid by less than the probes below can tell (a cylinder touching a
+    // box face: its points dip below the face by `Δx² / 2R`).
+    for (index, other) in dnf.terms.iter().enumerate() {
+        if index == term as usize {
+            continue;
+        }
+        let margin = other
+            .literals
+            .iter()
+            .filter(|&&j| j != quadric)
+            .map(|&j| signed_residual(&dnf.quadrics[j as usize].quadric, p))
+            .fold(f64::NEG_INFINITY, f64::max);
+        if margin.abs() <= tol {
+            return None;
+        }
+    }
     let n = q.normal(p)?;
     let near = dnf.contains(p + tol * 2.0 * n);
     let far = dnf.contains(p + tol * 50.0 * n);
