@@ -68,16 +68,19 @@
 //!   is absorbed within `1e-12` of the diagonal (`TANGENT_SLACK`).
 //! - **Planar sections.** Each sheet (plane) of a planar quadric gets its own view of the
 //!   terms. A literal that crosses the sheet is replaced by its section by the sheet, extruded
-//!   along the sheet's normal, where that section is planar: a cylinder cut along its axis
-//!   becomes the slab between its two lines, another plane its line. On the sheet the section
-//!   equals the literal, and its distance is the distance within the sheet, which bounds the
-//!   distance along the sheet from below; so eq. 22's two properties hold for the points of the
-//!   sheet, which is all a basic region holds. This lets "Literals of both terms" see half-spaces
-//!   that two terms share on the sheet (a face between two boxes ends where a cylinder's section
-//!   begins), and tells nearly parallel planes apart at their distance within the sheet rather
-//!   than in space (planes at 3e-4 rad). It holds half-space by half-space: a slab of another
-//!   term that shares one side with term `a` keeps only its other side. Planes within `1e-6`
-//!   rad of the sheet keep their distance in space ("Shared planes" handles them).
+//!   along the sheet's normal: a cylinder cut along its axis becomes the slab between its two
+//!   lines, another plane its line, a cone or a ball its circle. On the sheet the section equals
+//!   the literal, and its distance is the distance within the sheet, which bounds the distance
+//!   along the sheet from below; so eq. 22's two properties hold for the points of the sheet,
+//!   which is all a basic region holds. "Literals of both terms" then sees literals that two
+//!   terms share on the sheet only: two cones (or a cylinder and a cone) whose rims meet with
+//!   equal radii on the plane between their parts have one circle there (a pulley's groove, a
+//!   chess piece's foot), and a face between two boxes ends where a cylinder's slab begins. It
+//!   also tells nearly parallel planes apart at their distance within the sheet rather than in
+//!   space (planes at 3e-4 rad). For planar sections the rule holds half-space by half-space:
+//!   a slab of another term that shares one side with term `a` keeps only its other side.
+//!   Planes within `1e-6` rad of the sheet keep their distance in space ("Shared planes"
+//!   handles them).
 //! - **One side of a slab.** The outside of a slab is a union of two half-spaces, which no rule
 //!   above can pair. Where a term's box lies on the inner side of one of the slab's planes, the
 //!   literal is the half-space beyond the other plane within the term, and stands as that.
@@ -373,10 +376,10 @@ impl SheetViews {
                 let same = i == quadric as usize || same_value(&o);
                 let complement = complement_value(&o);
                 let section = (!(same || complement) && contact == Contact::Crosses)
-                    .then(|| plane.and_then(|h| planar_section(&o, &h)))
+                    .then(|| plane.and_then(|h| section(&o, &h)))
                     .flatten();
                 let (refined, planar, parts) = match section {
-                    Some((section, parts)) => (section, true, Some(parts)),
+                    Some((section, parts)) => (section, parts.is_some(), parts),
                     None => (o, shape.is_planar, shape.planar.clone()),
                 };
                 Seen {
@@ -538,7 +541,7 @@ struct Seen {
     refined: Quadric,
     planar: bool,
     /// The half-spaces of `refined`, when planar ([`planar_parts`]).
-    parts: Option<(Vec<HalfSpace>, bool)>,
+    parts: Option<PlanarParts>,
 }
 
 /// A literal of a term as the view holds it.
@@ -547,7 +550,7 @@ struct Refined {
     index: u32,
     quadric: Quadric,
     planar: bool,
-    parts: Option<(Vec<HalfSpace>, bool)>,
+    parts: Option<PlanarParts>,
     same: bool,
     complement: bool,
 }
@@ -797,7 +800,7 @@ impl Ellipsoidal {
 struct Shape {
     is_planar: bool,
     /// Its half-spaces, when planar ([`planar_parts`]).
-    planar: Option<(Vec<HalfSpace>, bool)>,
+    planar: Option<PlanarParts>,
     ellipsoidal: Option<Ellipsoidal>,
 }
 
@@ -925,9 +928,13 @@ impl Tangency {
     }
 }
 
+/// The half-spaces of a planar quadric, and whether the quadric is the complement of their
+/// intersection (the outside of a slab) rather than the intersection ([`planar_parts`]).
+type PlanarParts = (Vec<HalfSpace>, bool);
+
 /// The half-spaces of a planar literal ([`half_spaces`]), or those of the slab whose outside
 /// it is, flagged `true`.
-fn planar_parts(q: &Quadric) -> Option<(Vec<HalfSpace>, bool)> {
+fn planar_parts(q: &Quadric) -> Option<PlanarParts> {
     if !is_planar(q) {
         return None;
     }
@@ -936,23 +943,21 @@ fn planar_parts(q: &Quadric) -> Option<(Vec<HalfSpace>, bool)> {
         .or_else(|| half_spaces(&q.negated()).map(|spaces| (spaces, true)))
 }
 
-/// The section of `literal` by the sheet plane `plane`, as a quadric constant along the plane's
-/// normal, when that section is planar: a cylinder cut along its axis gives the slab between
-/// the two lines, another plane its line (a half-space across the sheet). On
-/// the plane it equals the literal, and off it its distance to its surface is the distance
-/// within the plane, so it stands for the literal in eq. 22 at points of the sheet (see
-/// "Planar sections"). With `P = I − n nᵀ` and the literal's origin moved onto the plane by
-/// `δ = t n`: `A' = P A P`, `l' = P (A δ + l)`, `j' = δᵀ A δ + 2 l·δ + j`.
+/// The section of `literal` by the sheet plane `plane`, as a quadric constant along the
+/// plane's normal, with its half-spaces when it is planar: a cylinder cut along its axis gives
+/// the slab between the two lines, another plane its line (a half-space across the sheet), a
+/// cone or a ball its circle (a cylinder). On the plane it equals the literal, and off it its
+/// distance to its surface is the distance within the plane, so it stands for the literal in
+/// eq. 22 at points of the sheet (see "Planar sections"). With `P = I − n nᵀ` and the
+/// literal's origin moved onto the plane by `δ = t n`: `A' = P A P`, `l' = P (A δ + l)`,
+/// `j' = δᵀ A δ + 2 l·δ + j`.
 ///
 /// Planar means `A'` of rank at most one, `λ u uᵀ`, with `l'` along `u`. Rounding leaves noise
 /// in the other directions (a cylinder cut exactly along its axis after a rotation), which
 /// would make the section a parabolic cylinder with its vertex at `10³¹`: parts below
 /// [`SECTION_NOISE`] of the section's scale are dropped, which moves its surface by about that
-/// fraction of the scene.
-fn planar_section(
-    literal: &Quadric,
-    plane: &HalfSpace,
-) -> Option<(Quadric, (Vec<HalfSpace>, bool))> {
+/// fraction of the scene. `None` for a plane within [`SECTION_TILT`] of parallel to the sheet.
+fn section(literal: &Quadric, plane: &HalfSpace) -> Option<(Quadric, Option<PlanarParts>)> {
     let n = plane.normal;
     let origin = literal.origin();
     let delta = (plane.offset - n.dot(origin)) * n;
@@ -961,12 +966,18 @@ fn planar_section(
     let project = |v: DVec3| v - n.dot(v) * n;
     // P A P, column by column: P A P e_k (symmetric, so also its rows).
     let columns = [DVec3::X, DVec3::Y, DVec3::Z].map(|e| project(a(project(e))));
+    let matrix_of = |c: &[DVec3; 3]| [0, 1, 2].map(|r| [c[0][r], c[1][r], c[2][r]]);
     let norm = |m: &[DVec3; 3]| m.iter().map(|c| c.length_squared()).sum::<f64>().sqrt();
     let (a_norm, section_norm) = (norm(&rows), norm(&columns));
     let l = literal.linear();
-    let mut linear = project(a(delta) + l);
+    let linear = project(a(delta) + l);
     let constant = delta.dot(a(delta)) + 2.0 * l.dot(delta) + literal.constant();
-    let matrix = if section_norm <= SECTION_NOISE * a_norm {
+    let at = origin + delta;
+    let planar = |matrix: &[[f64; 3]; 3], linear: DVec3| {
+        let section = Quadric::from_matrix(at, matrix, linear, constant)?;
+        planar_parts(&section).map(|parts| (section, Some(parts)))
+    };
+    if section_norm <= SECTION_NOISE * a_norm {
         // Linear on the plane: a line, unless the literal is (nearly) parallel to the plane,
         // where `l'` is rounding noise and its line could lie anywhere ("Shared planes" handles
         // planes parallel to the sheet).
@@ -978,51 +989,48 @@ fn planar_section(
         if linear.length() <= SECTION_TILT * significant || linear.length().is_nan() {
             return None;
         }
-        [[0.0; 3]; 3]
-    } else {
-        // Rank one: every column is a multiple of `u`, the longest one's direction.
-        let longest = columns
-            .iter()
-            .copied()
-            .max_by(|p, q| p.length_squared().total_cmp(&q.length_squared()))?;
-        let u = longest.try_normalize()?;
-        let lambda = u.dot(columns[0] * u.x + columns[1] * u.y + columns[2] * u.z);
-        let rest: f64 = columns
-            .iter()
-            .zip([u.x, u.y, u.z])
-            .map(|(c, u_k)| (*c - lambda * u_k * u).length_squared())
-            .sum::<f64>()
-            .sqrt();
-        if rest > SECTION_NOISE * section_norm {
-            return None;
-        }
+        return planar(&[[0.0; 3]; 3], linear);
+    }
+    // Rank one: every column is a multiple of `u`, the longest one's direction.
+    let longest = columns
+        .iter()
+        .copied()
+        .max_by(|p, q| p.length_squared().total_cmp(&q.length_squared()))?;
+    let u = longest.try_normalize()?;
+    let lambda = u.dot(columns[0] * u.x + columns[1] * u.y + columns[2] * u.z);
+    let rest: f64 = columns
+        .iter()
+        .zip([u.x, u.y, u.z])
+        .map(|(c, u_k)| (*c - lambda * u_k * u).length_squared())
+        .sum::<f64>()
+        .sqrt();
+    if rest <= SECTION_NOISE * section_norm {
         let across = linear - linear.dot(u) * u;
         let scale = (constant.abs() / section_norm).sqrt();
         if across.length() <= SECTION_NOISE * (linear.length() + section_norm * scale) {
-            linear -= across;
+            let rank_one = [0, 1, 2].map(|r| [0, 1, 2].map(|c| lambda * u[r] * u[c]));
+            if let Some(found) = planar(&rank_one, linear - across) {
+                return Some(found);
+            }
         }
-        [0, 1, 2].map(|r| [0, 1, 2].map(|c| lambda * u[r] * u[c]))
-    };
-    let section = Quadric::from_matrix(origin + delta, &matrix, linear, constant)?;
-    planar_parts(&section).map(|parts| (section, parts))
+    }
+    // A conic: an ellipse, a hyperbola or a parabola on the plane.
+    let section = Quadric::from_matrix(at, &matrix_of(&columns), linear, constant)?;
+    Some((section, None))
 }
 
-/// Relative size below which [`planar_section`] takes a part of a section for rounding.
+/// Relative size below which [`section`] takes a part of a section for rounding.
 const SECTION_NOISE: f64 = 1e-12;
 
-/// Sine of the smallest angle between a planar literal and the sheet that [`planar_section`]
-/// replaces by its line on the sheet: closer to parallel, the line's position would be mostly
+/// Sine of the smallest angle between a planar literal and the sheet that [`section`] replaces
+/// by its line on the sheet: closer to parallel, the line's position would be mostly
 /// rounding, and the literal stays as it is.
 const SECTION_TILT: f64 = 1e-6;
 
 /// The half-space that the outside of a slab (its `parts`) is within `bounds`, when `bounds`
 /// lies on the inner side of one of the slab's planes (by more than `tolerance`): only the
 /// half-space beyond the other plane is left there.
-fn one_side(
-    parts: Option<&(Vec<HalfSpace>, bool)>,
-    bounds: &Aabb,
-    tolerance: f64,
-) -> Option<HalfSpace> {
+fn one_side(parts: Option<&PlanarParts>, bounds: &Aabb, tolerance: f64) -> Option<HalfSpace> {
     let Some((spaces, true)) = parts else {
         return None;
     };

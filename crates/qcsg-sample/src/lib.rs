@@ -21,7 +21,7 @@
 //! - eq. 22 leaves out terms sharing the sampled quadric and complementary literals, and uses
 //!   the DNF's region, not the per-term boxes; it leaves out planes that only touch a sampled
 //!   ellipsoid or cylinder, and on a sampled plane it takes each literal by its section with
-//!   that plane where the section is planar ([`csg_distance`]);
+//!   that plane ([`csg_distance`]);
 //! - small regions get one sample at a corner or the centre proven on the surface, with the
 //!   radius reduced to the region's footprint (at the centre, up to a footprint of `2r`), or
 //!   none when a recent sample of the region reaches them with its radius grown to at most `r`;
@@ -46,15 +46,14 @@
 //! guarantee against ray-cast reference points on every example and stiff scene:
 //! - where eq. 22 only touches zero without changing sign along a curve, no corner bound
 //!   classifies the rectangles beside it: they are split down to the cutoff and counted as
-//!   unresolved. Planes touching ellipsoids and cylinders, and cylinders cut along their axes,
-//!   are resolved in eq. 22 ([`csg_distance`], "Tangent planes", "Planar sections": the
-//!   rounded boxes of `examples/customizer_box.qcsg`). This is left where curved surfaces touch
-//!   each other (a ball inside another), where two parts' rims coincide on the face between
-//!   them (the chess bishop's foot disc and cone, both of radius 11, at 1 % of the diagonal),
-//!   where surfaces nearly coincide (a countersink's top `0.01` above a face), and where a
-//!   tilted part's axis-aligned term boxes span both planes of a slab whose outside a term
-//!   holds (`tests/stability/tangent_rounded_tray_tilted.qcsg`). Nothing is lost there, but the
-//!   cost can be high;
+//!   unresolved. Planes touching ellipsoids and cylinders, cylinders cut along their axes and
+//!   parts whose rims meet on the plane between them are resolved in eq. 22 ([`csg_distance`],
+//!   "Tangent planes", "Planar sections": the rounded boxes of `examples/customizer_box.qcsg`,
+//!   the chess bishop's foot). This is left where curved surfaces touch each other (a ball
+//!   inside another), where surfaces nearly coincide (a countersink's top `0.01` above a
+//!   face), and where a tilted part's axis-aligned term boxes span both planes of a slab whose
+//!   outside a term holds (`tests/stability/tangent_rounded_tray_tilted.qcsg`). Nothing is
+//!   lost there, but the cost can be high;
 //! - positions come from the heightfields, moved onto the quadric by up to two Newton steps
 //!   (which bring samples on a slab of half-width `1e-6` from `1.2e-7` of the diagonal off the
 //!   quadric to within `1e-9`); cones are left unrefined, because a step next to the apex can

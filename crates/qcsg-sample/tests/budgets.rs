@@ -30,13 +30,23 @@ const BUDGETS: &[Budget] = &[
     Budget {
         example: "examples/chess_bishop.qcsg",
         radius: 0.1,
-        max_queries: 120_000,
-        max_unresolved: 8_000,
-        guards: "merged abutting terms: the foot's ellipsoid touches the plane between the cone \
-                 and the stem at its pole (without them 10,020 unproven rectangles and 132,273 \
-                 queries before given-up rectangles were probed, now 5,791 and 113,621, of \
-                 which 22,117 probe; what stays unproven lies along the rim where the foot's \
-                 disc and cone meet with equal radii, on the face between them)",
+        max_queries: 50_000,
+        max_unresolved: 0,
+        guards: "sections by the sampled plane: the foot's disc and cone meet with equal radii on \
+                 the plane between them, where their sections are one circle, which the cone's \
+                 term then holds as the disc's term does (without: 113,621 queries and 5,791 \
+                 rectangles unproven; now 33,473 and none; without merged abutting terms, where \
+                 the foot's ellipsoid touches the plane between the cone and the stem, 132,273 \
+                 and 10,020)",
+    },
+    Budget {
+        example: "examples/modifiers.qcsg",
+        radius: 0.01,
+        max_queries: 400_000,
+        max_unresolved: 0,
+        guards: "sections by the sampled plane: the pulley's groove is two cones meeting with equal \
+                 radii on the plane between them (without: 2,462,647 queries and 230,447 \
+                 rectangles unproven; now 234,133 and none)",
     },
     Budget {
         example: "examples/customizer_box.qcsg",

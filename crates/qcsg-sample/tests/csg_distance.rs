@@ -102,9 +102,9 @@ fn cone_slab_and_tangent_spheres_classification() {
 }
 
 /// Surfaces that touch planes without crossing them, cylinders cut by planes through their
-/// axes, nearly parallel planes: the tangency, section and one-sided-slab rules of eq. 22 (the
-/// rounded rectangles of OpenSCAD models, upright and tilted, a rod on a plate, and the scenes
-/// and examples built of them).
+/// axes, cones and cylinders whose rims meet on a plane, nearly parallel planes: the tangency,
+/// section and one-sided-slab rules of eq. 22 (the rounded rectangles of OpenSCAD models,
+/// upright and tilted, a rod on a plate, and the scenes and examples built of them).
 #[test]
 fn tangent_and_sectioned_classification() {
     let programs = [
@@ -119,6 +119,9 @@ fn tangent_and_sectioned_classification() {
         "examples/customizer_box.qcsg",
         "examples/openscad_bracket.scad",
         "examples/chess_bishop.qcsg",
+        "examples/modifiers.qcsg",
+        "examples/precision_part.qcsg",
+        "examples/rocket.qcsg",
     ];
     for (seed, program) in programs.into_iter().enumerate() {
         let dnf = common::compile_file(&common::workspace_root().join(program)).expect(program);
