@@ -637,11 +637,20 @@ fn summary(
         scenes.len(),
         sci(worst_on)
     );
-    let _ = writeln!(
-        text,
-        "- In {unresolved} of the {measurements} samplings the sampler gave up rectangles it \
-         could not prove covered (\"unresolved\"), although the reference points found no hole."
-    );
+    let _ = if unresolved == 0 {
+        writeln!(
+            text,
+            "- In none of the {measurements} samplings did the sampler give up a rectangle it \
+             could not prove covered (\"unresolved\")."
+        )
+    } else {
+        writeln!(
+            text,
+            "- In {unresolved} of the {measurements} samplings the sampler gave up rectangles it \
+             could not prove covered (\"unresolved\"), although the reference points found no \
+             hole."
+        )
+    };
     let _ = writeln!(
         text,
         "- Images from the samples (CPU splat model) against the ray tracer: {wrong} differing \

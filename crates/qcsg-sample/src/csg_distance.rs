@@ -242,6 +242,40 @@ impl CsgDistance {
         } else {
             0.0
         };
+        // The other terms and their abutting unions, as the DNF has them: what each sheet sees
+        // of them follows. Terms holding the sampled quadric are left out ("Shared surfaces"),
+        // and so are unions with them or with term `a`.
+        let same = |i: u32, o: &Quadric| i == quadric || q.approx_eq_up_to_scale(o, SAME_QUADRIC);
+        let kept: Vec<bool> = shapes
+            .terms
+            .iter()
+            .enumerate()
+            .map(|(index, literals)| {
+                index != term as usize && !literals.iter().any(|(i, o)| same(*i, o))
+            })
+            .collect();
+        let limit = MAX_MERGED_PER_TERM * kept.iter().filter(|&&k| k).count().max(1);
+        let merged = shapes
+            .merged
+            .iter()
+            .filter(|(_, (i, k))| kept[*i] && kept[*k])
+            .take(limit)
+            .filter(|(l, _)| !l.iter().any(|(i, o)| same(*i, o)))
+            .map(|(literals, (i, k))| {
+                (
+                    literals.clone(),
+                    dnf.terms[*i].bounds.union(&dnf.terms[*k].bounds),
+                )
+            });
+        let others: Vec<(TermLiterals, Aabb)> = shapes
+            .terms
+            .iter()
+            .zip(&dnf.terms)
+            .zip(&kept)
+            .filter(|(_, kept)| **kept)
+            .map(|((literals, t), _)| (literals.clone(), t.bounds))
+            .chain(merged)
+            .collect();
         let planes: Vec<Option<HalfSpace>> = match &shapes.of(quadric).planar {
             Some((planes, _)) => planes.iter().copied().map(Some).collect(),
             None => vec![None],
@@ -249,7 +283,14 @@ impl CsgDistance {
         let sheets = planes
             .into_iter()
             .map(|plane| {
-                SheetViews::new(dnf, shapes, (quadric, term), plane, (diagonal, tolerance))
+                SheetViews::new(
+                    dnf,
+                    shapes,
+                    (quadric, term),
+                    plane,
+                    (diagonal, tolerance),
+                    &others,
+                )
             })
             .collect();
         Some(Self {
@@ -353,6 +394,7 @@ impl SheetViews {
         (quadric, term): (u32, u32),
         plane: Option<HalfSpace>,
         (diagonal, tolerance): (f64, f64),
+        others: &[(TermLiterals, Aabb)],
     ) -> Self {
         let q = dnf.quadrics[quadric as usize].quadric;
         let own_term = &dnf.terms[term as usize];
@@ -368,7 +410,7 @@ impl SheetViews {
         let seen: Vec<Seen> = dnf
             .quadrics
             .iter()
-            .zip(&shapes.0)
+            .zip(&shapes.shapes)
             .enumerate()
             .map(|(i, (entry, shape))| {
                 let o = entry.quadric;
@@ -411,14 +453,11 @@ impl SheetViews {
             }
         };
         // The literals of a term as the sheet sees them: those that hold on all of it left out.
-        let literals = |t: &qcsg_csg::Term| -> TermLiterals {
-            t.literals
+        let literals = |literals: &TermLiterals| -> TermLiterals {
+            literals
                 .iter()
-                .filter(|&&i| {
-                    seen.get(i as usize)
-                        .is_some_and(|s| s.contact != Contact::Holds)
-                })
-                .map(|&i| (i, dnf.quadrics[i as usize].quadric))
+                .filter(|(i, o)| look(*i, o).contact != Contact::Holds)
+                .copied()
                 .collect()
         };
         // Those that cross it replaced by their section by the plane where that is planar, and
@@ -466,7 +505,13 @@ impl SheetViews {
                 .iter()
                 .any(|(i, o)| look(*i, o).contact == Contact::Excludes)
         };
-        let own_raw = literals(own_term);
+        let own_raw = literals(
+            &own_term
+                .literals
+                .iter()
+                .map(|&i| (i, dnf.quadrics[i as usize].quadric))
+                .collect(),
+        );
         let own_empty = excludes(&own_raw);
         let own_literals = refine(&own_raw, &own_term.bounds);
         let in_own_term = |r: &Refined| {
@@ -483,29 +528,11 @@ impl SheetViews {
             own_term.bounds,
         );
         let own_sides = own_half_spaces(&own_literals, plane.as_ref());
-        let mut kept: Vec<TermLiterals> = Vec::new();
-        let mut extents = Vec::new();
-        for (index, other) in dnf.terms.iter().enumerate() {
-            if index == term as usize {
-                continue;
-            }
-            let literals = literals(other);
-            if literals.iter().any(|(i, o)| look(*i, o).same) {
-                continue;
-            }
-            kept.push(literals);
-            extents.push(other.bounds);
-        }
-        // Terms that the sheet excludes still abut others: their merged unions may reach it.
-        let merged = abutting_unions(&kept, tolerance, MAX_MERGED_PER_TERM * kept.len().max(1));
-        let merged = merged
-            .into_iter()
-            .map(|(literals, (i, k))| (literals, extents[i].union(&extents[k])))
-            .filter(|(l, _)| !l.iter().any(|(i, o)| look(*i, o).same));
-        let others = kept
-            .into_iter()
-            .zip(extents.iter().copied())
-            .chain(merged)
+        // Terms that the sheet excludes still abut others: their merged unions (made before)
+        // may reach it.
+        let others = others
+            .iter()
+            .map(|(list, extent)| (literals(list), *extent))
             .filter(|(literals, _)| !excludes(literals))
             .map(|(literals, extent)| {
                 let literals = refine(&literals, &extent)
@@ -821,18 +848,46 @@ impl Shape {
     }
 }
 
-/// The [`Shape`] of every quadric of a DNF, for [`CsgDistance::with_shapes`].
-pub(crate) struct Shapes(Vec<Shape>);
+/// What every distance of a DNF shares, found once ([`CsgDistance::with_shapes`]): the
+/// [`Shape`] of each quadric, each term's literals, and the abutting unions of its terms
+/// ("Abutting terms"), each with the indices of its two terms.
+pub(crate) struct Shapes {
+    shapes: Vec<Shape>,
+    terms: Vec<TermLiterals>,
+    merged: Vec<(TermLiterals, (usize, usize))>,
+}
 
 impl Shapes {
-    /// The shapes of `dnf`'s quadrics.
+    /// The shapes of `dnf`'s quadrics and the unions of its terms.
     pub(crate) fn new(dnf: &Dnf) -> Self {
-        Self(dnf.quadrics.iter().map(|d| Shape::of(&d.quadric)).collect())
+        let diagonal = (dnf.bounds.max - dnf.bounds.min).length();
+        let tolerance = if diagonal.is_finite() {
+            1e-9 * diagonal
+        } else {
+            0.0
+        };
+        let terms: Vec<TermLiterals> = dnf
+            .terms
+            .iter()
+            .map(|t| {
+                t.literals
+                    .iter()
+                    .filter_map(|&i| Some((i, dnf.quadrics.get(i as usize)?.quadric)))
+                    .collect()
+            })
+            .collect();
+        // Each distance keeps at most `MAX_MERGED_PER_TERM` unions per other term, in this order.
+        let merged = abutting_unions(&terms, tolerance, MAX_MERGED_PER_TERM * terms.len().max(1));
+        Self {
+            shapes: dnf.quadrics.iter().map(|d| Shape::of(&d.quadric)).collect(),
+            terms,
+            merged,
+        }
     }
 
     /// The shape of a quadric of the DNF (checked by the caller).
     fn of(&self, quadric: u32) -> Shape {
-        self.0[quadric as usize].clone()
+        self.shapes[quadric as usize].clone()
     }
 }
 
