@@ -65,7 +65,9 @@
 //!   other quadric's samples); a literal that holds on none of it but the contact empties its
 //!   term there: term `a` samples nothing, another term is left out (after its abutting unions
 //!   are made: a merged term may still reach the surface). Rounding in transformed primitives
-//!   is absorbed within `1e-12` of the diagonal (`TANGENT_SLACK`).
+//!   is absorbed within `1e-12` of the diagonal (`TANGENT_SLACK`). Likewise a planar literal
+//!   parallel to a sampled plane, but farther from it than the tolerance of "Shared planes",
+//!   holds on all of the plane or on none of it (a countersink's top `0.01` above a face).
 //! - **Planar sections.** Each sheet (plane) of a planar quadric gets its own view of the
 //!   terms. A literal that crosses the sheet is replaced by its section by the sheet, extruded
 //!   along the sheet's normal: a cylinder cut along its axis becomes the slab between its two
@@ -907,6 +909,8 @@ struct Tangency {
     bounds: Aabb,
     /// [`TANGENT_SLACK`] times the scene's diagonal.
     slack: f64,
+    /// The length below which planes count as one ("Shared planes").
+    shared: f64,
 }
 
 impl Tangency {
@@ -922,6 +926,11 @@ impl Tangency {
             bounds: *bounds,
             slack: if diagonal.is_finite() {
                 TANGENT_SLACK * diagonal
+            } else {
+                0.0
+            },
+            shared: if diagonal.is_finite() {
+                1e-9 * diagonal
             } else {
                 0.0
             },
@@ -961,6 +970,9 @@ impl Tangency {
             // No sheet of the surface meets the literal's inside: the surface lies in its
             // closed outside, which is its solid when it is a complement.
             Sampled::Planar(sheet) => {
+                if let Some((spaces, complement)) = &literal.planar {
+                    return self.parallel(sheet, spaces, *complement);
+                }
                 let Some(solid) = &literal.ellipsoidal else {
                     return Contact::Crosses;
                 };
@@ -979,6 +991,40 @@ impl Tangency {
                 }
             }
             Sampled::Other => Contact::Crosses,
+        }
+    }
+
+    /// A planar literal (its half-spaces `spaces`, the outside of their slab if `complement`)
+    /// seen from the sheet `sheet`: a half-space parallel to the sheet holds on all of it or on
+    /// none of it (a countersink's top `0.01` above a face). Planes within the tolerance of
+    /// "Shared planes" are that rule's, and a half-space across the sheet crosses it.
+    fn parallel(&self, sheet: &HalfSpace, spaces: &[HalfSpace], complement: bool) -> Contact {
+        let reach = self
+            .bounds
+            .corners()
+            .iter()
+            .map(|c| c.abs().max_element())
+            .fold(0.0, f64::max);
+        let mut contact = Contact::Holds;
+        for h in spaces {
+            let side = h.normal.dot(sheet.normal).signum();
+            let tilt = (h.normal - side * sheet.normal).length();
+            // On the sheet `n·x = c`: `h.normal·x − h.offset = side c − h.offset` up to the tilt.
+            let value = side * sheet.offset - h.offset;
+            let margin = self.shared
+                + 3.0 * tilt * reach
+                + 64.0 * f64::EPSILON * (sheet.offset.abs() + h.offset.abs() + reach);
+            if !(margin.is_finite() && tilt <= PARALLEL) || value.abs() <= margin {
+                return Contact::Crosses;
+            }
+            if value > 0.0 {
+                contact = Contact::Excludes;
+            }
+        }
+        match (contact, complement) {
+            (Contact::Holds, true) => Contact::Excludes,
+            (Contact::Excludes, true) => Contact::Holds,
+            (contact, _) => contact,
         }
     }
 }

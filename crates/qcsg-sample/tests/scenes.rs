@@ -226,3 +226,10 @@ fn random_scenes() {
         "only {solids} of 16 random scenes have a solid"
     );
 }
+
+/// The examples again at a tenth of that radius, where the subdivision goes ten times deeper
+/// into the contacts between parts that eq. 22 resolves ([`qcsg_sample::csg_distance`]).
+#[test]
+fn every_example_at_a_fine_radius() {
+    check_programs(&programs_in("examples"), RELATIVE_RADIUS / 10.0);
+}
