@@ -234,7 +234,7 @@ impl CsgDistance {
         Self::with_shapes(dnf, &Shapes::new(dnf), quadric, term)
     }
 
-    /// [`Self::new`] with the shapes of `dnf`'s quadrics computed once for all its literals.
+    /// [`Self::new`] with what every distance of `dnf` shares ([`Shapes`]) found once.
     pub(crate) fn with_shapes(dnf: &Dnf, shapes: &Shapes, quadric: u32, term: u32) -> Option<Self> {
         let q = dnf.quadrics.get(quadric as usize)?.quadric;
         dnf.terms.get(term as usize)?;
