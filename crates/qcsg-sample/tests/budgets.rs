@@ -35,7 +35,7 @@ const BUDGETS: &[Budget] = &[
         guards: "sections by the sampled plane: the foot's disc and cone meet with equal radii on \
                  the plane between them, where their sections are one circle, which the cone's \
                  term then holds as the disc's term does (without: 113,621 queries and 5,791 \
-                 rectangles unproven; now 33,473 and none; without merged abutting terms, where \
+                 rectangles unproven; now 33,325 and none; without merged abutting terms, where \
                  the foot's ellipsoid touches the plane between the cone and the stem, 132,273 \
                  and 10,020)",
     },
@@ -46,7 +46,7 @@ const BUDGETS: &[Budget] = &[
         max_unresolved: 0,
         guards: "sections by the sampled plane: the pulley's groove is two cones meeting with equal \
                  radii on the plane between them (without: 2,462,647 queries and 230,447 \
-                 rectangles unproven; now 234,133 and none)",
+                 rectangles unproven; now 220,109 and none)",
     },
     Budget {
         example: "examples/customizer_box.qcsg",
@@ -55,7 +55,7 @@ const BUDGETS: &[Budget] = &[
         max_unresolved: 0,
         guards: "the tangency, section and one-sided-slab rules of eq. 22 on the rounded box's \
                  corner cylinders, which touch the walls along lines (without them 304,732 \
-                 queries and 33,732 rectangles unproven; now 53,586 and none; before the second \
+                 queries and 33,732 rectangles unproven; now 35,254 and none; before the second \
                  pass and the per-region terms of eq. 22, 919,814 queries)",
     },
     Budget {
@@ -66,7 +66,7 @@ const BUDGETS: &[Budget] = &[
         guards: "planar sections: a box face ends on the CSG surface only along the line where a \
                  corner cylinder touches it, which eq. 22 with the cylinder in space cannot \
                  resolve (without tangency and sections 1,138,325 queries and 32,768 rectangles \
-                 unproven; now 26,600 and none)",
+                 unproven; now 26,400 and none)",
     },
     Budget {
         example: "examples/openscad_bracket.scad",
