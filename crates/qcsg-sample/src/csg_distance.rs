@@ -238,12 +238,7 @@ impl CsgDistance {
     pub(crate) fn with_shapes(dnf: &Dnf, shapes: &Shapes, quadric: u32, term: u32) -> Option<Self> {
         let q = dnf.quadrics.get(quadric as usize)?.quadric;
         dnf.terms.get(term as usize)?;
-        let diagonal = (dnf.bounds.max - dnf.bounds.min).length();
-        let tolerance = if diagonal.is_finite() {
-            1e-9 * diagonal
-        } else {
-            0.0
-        };
+        let shape = shapes.of(quadric);
         // The other terms and their abutting unions, as the DNF has them: what each sheet sees
         // of them follows. Terms holding the sampled quadric are left out ("Shared surfaces"),
         // and so are unions with them or with term `a`.
@@ -278,27 +273,18 @@ impl CsgDistance {
             .map(|((literals, t), _)| (literals.clone(), t.bounds))
             .chain(merged)
             .collect();
-        let planes: Vec<Option<HalfSpace>> = match &shapes.of(quadric).planar {
+        let planes: Vec<Option<HalfSpace>> = match &shape.planar {
             Some((planes, _)) => planes.iter().copied().map(Some).collect(),
             None => vec![None],
         };
         let sheets = planes
             .into_iter()
-            .map(|plane| {
-                SheetViews::new(
-                    dnf,
-                    shapes,
-                    (quadric, term),
-                    plane,
-                    (diagonal, tolerance),
-                    &others,
-                )
-            })
+            .map(|plane| SheetViews::new(dnf, shapes, (quadric, term), plane, &others))
             .collect();
         Some(Self {
             sheets,
-            planar: is_planar(&q).then_some(q),
-            tolerance,
+            planar: shape.is_planar.then_some(q),
+            tolerance: shapes.tolerance,
         })
     }
 
@@ -395,16 +381,16 @@ impl SheetViews {
         shapes: &Shapes,
         (quadric, term): (u32, u32),
         plane: Option<HalfSpace>,
-        (diagonal, tolerance): (f64, f64),
         others: &[(TermLiterals, Aabb)],
     ) -> Self {
+        let tolerance = shapes.tolerance;
         let q = dnf.quadrics[quadric as usize].quadric;
         let own_term = &dnf.terms[term as usize];
         let region = dnf.region.unwrap_or(Aabb::new(
             DVec3::splat(f64::NEG_INFINITY),
             DVec3::splat(f64::INFINITY),
         ));
-        let contact = Tangency::new(&shapes.of(quadric), plane, &own_term.bounds, diagonal);
+        let contact = Tangency::new(shapes, quadric, plane, &own_term.bounds);
         let complement = q.negated();
         let same_value = |o: &Quadric| q.approx_eq_up_to_scale(o, SAME_QUADRIC);
         let complement_value = |o: &Quadric| complement.approx_eq_up_to_scale(o, SAME_QUADRIC);
@@ -762,6 +748,18 @@ enum Contact {
     Crosses,
 }
 
+impl Contact {
+    /// The contact of the outside of a slab whose inside meets the surface as `self`, when
+    /// `outside` (else `self`).
+    fn of_outside(self, outside: bool) -> Self {
+        match (self, outside) {
+            (Contact::Holds, true) => Contact::Excludes,
+            (Contact::Excludes, true) => Contact::Holds,
+            (contact, _) => contact,
+        }
+    }
+}
+
 /// Rounding slack of [`Tangency`], relative to the scene's diagonal: far below any radius (a
 /// surface that bulges this far past a plane does so over a sliver about `2 sqrt(2 R · slack)`
 /// wide), far above the rounding of an exact tangency built from transformed primitives.
@@ -854,6 +852,10 @@ impl Shape {
 /// [`Shape`] of each quadric, each term's literals, and the abutting unions of its terms
 /// ("Abutting terms"), each with the indices of its two terms.
 pub(crate) struct Shapes {
+    /// The DNF's diagonal, and the length below which a point is on a plane: `1e-9` of it
+    /// (`0` for an unbounded DNF).
+    diagonal: f64,
+    tolerance: f64,
     shapes: Vec<Shape>,
     terms: Vec<TermLiterals>,
     merged: Vec<(TermLiterals, (usize, usize))>,
@@ -881,6 +883,8 @@ impl Shapes {
         // Each distance keeps at most `MAX_MERGED_PER_TERM` unions per other term, in this order.
         let merged = abutting_unions(&terms, tolerance, MAX_MERGED_PER_TERM * terms.len().max(1));
         Self {
+            diagonal,
+            tolerance,
             shapes: dnf.quadrics.iter().map(|d| Shape::of(&d.quadric)).collect(),
             terms,
             merged,
@@ -888,8 +892,8 @@ impl Shapes {
     }
 
     /// The shape of a quadric of the DNF (checked by the caller).
-    fn of(&self, quadric: u32) -> Shape {
-        self.shapes[quadric as usize].clone()
+    fn of(&self, quadric: u32) -> &Shape {
+        &self.shapes[quadric as usize]
     }
 }
 
@@ -911,12 +915,15 @@ struct Tangency {
     slack: f64,
     /// The length below which planes count as one ("Shared planes").
     shared: f64,
+    /// The largest coordinate of the bounds' corners, for [`Tangency::parallel`].
+    reach: f64,
 }
 
 impl Tangency {
-    /// Contacts with `q`, or with its sheet `plane` when it is planar.
-    fn new(q: &Shape, plane: Option<HalfSpace>, bounds: &Aabb, diagonal: f64) -> Self {
-        let sampled = match (plane, &q.ellipsoidal) {
+    /// Contacts with quadric `quadric` of the DNF, or with its sheet `plane` when it is planar.
+    fn new(shapes: &Shapes, quadric: u32, plane: Option<HalfSpace>, bounds: &Aabb) -> Self {
+        let diagonal = shapes.diagonal;
+        let sampled = match (plane, &shapes.of(quadric).ellipsoidal) {
             (Some(plane), _) => Sampled::Planar(plane),
             (None, Some(curved)) => Sampled::Ellipsoidal(curved.clone()),
             (None, None) => Sampled::Other,
@@ -929,11 +936,12 @@ impl Tangency {
             } else {
                 0.0
             },
-            shared: if diagonal.is_finite() {
-                1e-9 * diagonal
-            } else {
-                0.0
-            },
+            shared: shapes.tolerance,
+            reach: bounds
+                .corners()
+                .iter()
+                .map(|c| c.abs().max_element())
+                .fold(0.0, f64::max),
         }
     }
 
@@ -961,11 +969,7 @@ impl Tangency {
                         contact = Contact::Crosses;
                     }
                 }
-                match (contact, complement) {
-                    (Contact::Holds, true) => Contact::Excludes,
-                    (Contact::Excludes, true) => Contact::Holds,
-                    (contact, _) => contact,
-                }
+                contact.of_outside(*complement)
             }
             // No sheet of the surface meets the literal's inside: the surface lies in its
             // closed outside, which is its solid when it is a complement.
@@ -999,12 +1003,7 @@ impl Tangency {
     /// none of it (a countersink's top `0.01` above a face). Planes within the tolerance of
     /// "Shared planes" are that rule's, and a half-space across the sheet crosses it.
     fn parallel(&self, sheet: &HalfSpace, spaces: &[HalfSpace], complement: bool) -> Contact {
-        let reach = self
-            .bounds
-            .corners()
-            .iter()
-            .map(|c| c.abs().max_element())
-            .fold(0.0, f64::max);
+        let reach = self.reach;
         let mut contact = Contact::Holds;
         for h in spaces {
             let side = h.normal.dot(sheet.normal).signum();
@@ -1021,11 +1020,7 @@ impl Tangency {
                 contact = Contact::Excludes;
             }
         }
-        match (contact, complement) {
-            (Contact::Holds, true) => Contact::Excludes,
-            (Contact::Excludes, true) => Contact::Holds,
-            (contact, _) => contact,
-        }
+        contact.of_outside(complement)
     }
 }
 
