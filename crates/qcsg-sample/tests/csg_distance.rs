@@ -133,6 +133,35 @@ fn tangent_and_sectioned_classification() {
     }
 }
 
+/// Eq. 22 of a part leaves out the parts farther from it than its box's diagonal ("Far
+/// terms"). It must still be right inside and around each part, and each part must see only
+/// its neighbours (else this tests nothing, and setup grows with the square of the parts).
+#[test]
+fn far_terms_left_out_classification() {
+    let path = common::workspace_root().join("tests/stability/many_parts.qcsg");
+    let dnf = common::compile_file(&path).expect("many_parts");
+    let (decisive, neighbours) = check(&dnf, 40);
+    assert!(
+        decisive > 2000 && neighbours > 2000,
+        "{decisive} {neighbours}"
+    );
+    // A part sees its ring of neighbours, and the plate, the bar and the rail the parts
+    // along them: a few terms per literal on average (all 73 others and their unions without
+    // the rule).
+    let literals: usize = dnf.terms.iter().map(|t| t.literals.len()).sum();
+    let mut seen = 0;
+    for (term_index, term) in dnf.terms.iter().enumerate() {
+        for &quadric in &term.literals {
+            let distance = CsgDistance::new(&dnf, quadric, term_index as u32).expect("indices");
+            seen += distance.other_terms();
+        }
+    }
+    assert!(
+        seen < 8 * literals,
+        "{seen} terms seen by {literals} literals"
+    );
+}
+
 #[test]
 fn box_distance_is_exact() {
     let b = qcsg_csg::Aabb::new(DVec3::ZERO, DVec3::ONE);
