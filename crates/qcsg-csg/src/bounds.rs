@@ -88,6 +88,19 @@ impl Aabb {
         }
     }
 
+    /// The Euclidean gap between the boxes: 0 where they touch or overlap, `+∞` if either is
+    /// empty.
+    pub fn gap(&self, other: &Aabb) -> f64 {
+        if self.is_empty() || other.is_empty() {
+            return f64::INFINITY;
+        }
+        let gap = (self.min - other.max)
+            .max(other.min - self.max)
+            .max(DVec3::ZERO);
+        let gap = gap.length();
+        if gap.is_nan() { 0.0 } else { gap }
+    }
+
     /// Whether the boxes share a point (closed boxes).
     pub fn intersects(&self, other: &Aabb) -> bool {
         !self.intersection(other).is_empty()

@@ -42,6 +42,7 @@
 //! [`qcsg_diag::FileId`] and [`qcsg_diag::Span`] only.
 
 pub mod bounds;
+pub mod box_index;
 pub mod codes;
 pub mod dag;
 pub mod dnf;
@@ -54,6 +55,7 @@ pub mod text;
 pub mod unpruned;
 
 pub use bounds::Aabb;
+pub use box_index::BoxIndex;
 pub use dag::{Dag, DagError, Edge, Node, NodeId, NodeKind, Rgba, Source, TransformId};
 pub use dnf::{DEFAULT_TERM_LIMIT, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
 pub use json::{dag_to_json, dnf_to_json, names_from_list};

@@ -1,5 +1,5 @@
-//! Render time of the CPU ray tracer: scenes of about 3 and 30 quadrics at 800×600 and
-//! 1920×1080, on 1 and 2 threads. A plain timing binary (best of a few runs), because one
+//! Render time of the CPU ray tracer: scenes of about 3 and 30 quadrics and of 4,096 balls at
+//! 800×600 and 1920×1080, on 1 and 2 threads. A plain timing binary (best of a few runs), because one
 //! render takes long enough to time on its own:
 //! `cargo bench -p qcsg-render --bench render`.
 
@@ -78,6 +78,22 @@ fn thirty_quadric_scene() -> Scene {
     Scene::from_dag(&mut dag, &DnfOptions::default()).expect("scene")
 }
 
+/// A 64×64 grid of separate balls: 4,096 quadrics and terms. Each ray meets a handful of their
+/// boxes; the term-box index finds those without testing all of them.
+fn many_balls_scene() -> Scene {
+    let mut dag = Dag::new();
+    let mut balls = Vec::new();
+    for i in 0..64 {
+        for j in 0..64 {
+            let centre = DVec3::new(f64::from(i), f64::from(j), 0.0);
+            balls.push(sphere(&mut dag, centre, 0.4));
+        }
+    }
+    let root = dag.union(balls, Source::default());
+    dag.set_root(root.into());
+    Scene::from_dag(&mut dag, &DnfOptions::default()).expect("scene")
+}
+
 fn main() {
     // `cargo test --benches` runs bench binaries with `--bench` absent: keep that quick.
     if !std::env::args().any(|a| a == "--bench") {
@@ -86,6 +102,7 @@ fn main() {
     let scenes = [
         ("3 quadrics", small_scene()),
         ("30 quadrics", thirty_quadric_scene()),
+        ("4,096 balls", many_balls_scene()),
     ];
     println!("| scene | quadrics | terms | size | threads | seconds (best of 3) |");
     println!("| --- | --- | --- | --- | --- | --- |");

@@ -8,7 +8,7 @@
 //! touch are merged, so touching solids show no inner faces; tangent roots and zero-length
 //! intervals make no surface.
 
-use qcsg_csg::{Aabb, Dnf};
+use qcsg_csg::{Aabb, BoxIndex, Dnf};
 use qcsg_quadric::DVec3;
 
 use crate::interval::{Boundary, Interval, intersect_into, literal_intervals};
@@ -97,6 +97,7 @@ impl Hit {
 /// Buffers reused from ray to ray, so that tracing allocates nothing in the steady state.
 #[derive(Clone, Debug, Default)]
 pub struct Scratch {
+    terms: Vec<u32>,
     current: Vec<Interval>,
     literal: Vec<Interval>,
     merged: Vec<Interval>,
@@ -104,9 +105,11 @@ pub struct Scratch {
 }
 
 /// The term boxes used for clipping: each term's box grown a little, so that a face lying on
-/// the box (a cube's slab) is met as the quadric's root, not as the box.
-pub fn clip_boxes(dnf: &Dnf) -> Vec<Aabb> {
-    dnf.terms
+/// the box (a cube's slab) is met as the quadric's root, not as the box. A ray looks only at the
+/// terms whose box it crosses, found in the index.
+pub fn clip_boxes(dnf: &Dnf) -> BoxIndex {
+    let boxes = dnf
+        .terms
         .iter()
         .map(|term| {
             let b = term.bounds;
@@ -127,28 +130,40 @@ pub fn clip_boxes(dnf: &Dnf) -> Vec<Aabb> {
                 max: b.max + grow,
             }
         })
-        .collect()
+        .collect();
+    BoxIndex::new(boxes)
+}
+
+/// The part of `ray` beyond `t_min` inside `bounds`, when it is not empty (NaN ranges are).
+fn clipped(ray: &Ray, bounds: &Aabb, t_min: f64) -> Option<(f64, f64)> {
+    let (t_in, t_out) = ray.clip_to(bounds)?;
+    let t_in = t_in.max(t_min);
+    (t_in.partial_cmp(&t_out) == Some(std::cmp::Ordering::Less)).then_some((t_in, t_out))
 }
 
 /// The first entry of `ray` into the solid `dnf` at a parameter `> t_min`, given the padded
 /// term boxes from [`clip_boxes`]. A ray that starts inside the solid sees the next entry.
 pub fn trace(
     dnf: &Dnf,
-    boxes: &[Aabb],
+    boxes: &BoxIndex,
     ray: &Ray,
     t_min: f64,
     scratch: &mut Scratch,
 ) -> Option<Hit> {
     scratch.all.clear();
-    for (term_index, (term, bounds)) in dnf.terms.iter().zip(boxes).enumerate() {
-        let Some((t_in, t_out)) = ray.clip_to(bounds) else {
+    scratch.terms.clear();
+    // A larger box holds a longer piece of the ray, so the search may skip what misses.
+    boxes.select(|b| clipped(ray, b, t_min).is_some(), &mut scratch.terms);
+    for &term_index in &scratch.terms {
+        let (Some(term), Some(bounds)) = (
+            dnf.terms.get(term_index as usize),
+            boxes.boxes().get(term_index as usize),
+        ) else {
             continue;
         };
-        let (t_in, t_out) = (t_in.max(t_min), t_out);
-        // Also skips NaN ranges.
-        if t_in.partial_cmp(&t_out) != Some(std::cmp::Ordering::Less) {
+        let Some((t_in, t_out)) = clipped(ray, bounds, t_min) else {
             continue;
-        }
+        };
         scratch.current.clear();
         scratch.current.push(Interval::clip(t_in, t_out));
         for &id in &term.literals {
@@ -170,7 +185,7 @@ pub fn trace(
         }
         scratch
             .all
-            .extend(scratch.current.iter().map(|&i| (i, term_index as u32)));
+            .extend(scratch.current.iter().map(|&i| (i, term_index)));
     }
     if scratch.all.is_empty() {
         return None;

@@ -1,7 +1,7 @@
 //! What a preview shows: the solid, plus the `#` highlighted and `%` background parts that
 //! OpenSCAD previews draw translucent over it.
 
-use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
+use qcsg_csg::{Aabb, BoxIndex, Dag, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
 use qcsg_diag::Diagnostic;
 
 use crate::raytrace::clip_boxes;
@@ -13,7 +13,7 @@ const HIGHLIGHT_VISIT_LIMIT: usize = 1_000_000;
 #[derive(Clone, Debug)]
 pub struct Layer {
     dnf: Dnf,
-    boxes: Vec<Aabb>,
+    boxes: BoxIndex,
 }
 
 impl Layer {
@@ -46,8 +46,8 @@ impl Layer {
         &self.dnf
     }
 
-    /// The padded term boxes, one per term.
-    pub fn boxes(&self) -> &[Aabb] {
+    /// The padded term boxes, one per term, indexed.
+    pub fn boxes(&self) -> &BoxIndex {
         &self.boxes
     }
 

@@ -97,11 +97,9 @@
 //!   above can pair. Where a term's box lies on the inner side of one of the slab's planes, the
 //!   literal is the half-space beyond the other plane within the term, and stands as that.
 
-use qcsg_csg::{Aabb, Dnf};
+use qcsg_csg::{Aabb, BoxIndex, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind, Tolerances};
 use rustc_hash::FxHashMap;
-
-use crate::term_boxes::{TermBoxes, box_gap};
 
 /// Relative tolerance for "the same quadric" when comparing literals.
 const SAME_QUADRIC: f64 = 1e-12;
@@ -269,7 +267,7 @@ impl CsgDistance {
         };
         let reach = (extent.max - extent.min).length();
         let near = shapes.boxes.near(&extent, reach);
-        let far = if near.len() < shapes.boxes.len() {
+        let far = if near.len() < shapes.boxes.boxes().len() {
             reach
         } else {
             f64::INFINITY
@@ -380,7 +378,7 @@ impl CsgDistance {
         let mut terms = Vec::new();
         let mut far = f64::INFINITY;
         for (i, term) in self.sheets[sheet].others.iter().enumerate() {
-            let gap = box_gap(bounds, &term.extent);
+            let gap = bounds.gap(&term.extent);
             if gap < margin {
                 terms.push(i as u32);
             } else {
@@ -759,7 +757,7 @@ fn merged_literals(
 /// most `limit` of them, in a fixed order.
 fn abutting_unions(
     terms: &[TermLiterals],
-    boxes: &TermBoxes,
+    boxes: &BoxIndex,
     tolerance: f64,
     limit: usize,
 ) -> Vec<(TermLiterals, (usize, usize))> {
@@ -773,7 +771,7 @@ fn abutting_unions(
     let mut out = Vec::new();
     for (i, planes_i) in planes.iter().enumerate() {
         // Terms whose boxes are apart cannot meet along a plane.
-        let touching = boxes.near(boxes.get(i), tolerance);
+        let touching = boxes.near(&boxes.boxes()[i], tolerance);
         for k in touching.into_iter().map(|k| k as usize).filter(|&k| k > i) {
             let planes_k = &planes[k];
             for (la, spaces_a) in planes_i.iter().enumerate() {
@@ -930,7 +928,7 @@ pub(crate) struct Shapes {
     shapes: Vec<Shape>,
     terms: Vec<TermLiterals>,
     /// The terms' boxes, as the DNF has them.
-    boxes: TermBoxes,
+    boxes: BoxIndex,
     merged: Vec<(TermLiterals, (usize, usize))>,
     /// For each term, the indices in `merged` of its unions.
     merged_with: Vec<Vec<u32>>,
@@ -955,7 +953,7 @@ impl Shapes {
                     .collect()
             })
             .collect();
-        let boxes = TermBoxes::new(dnf.terms.iter().map(|t| t.bounds).collect());
+        let boxes = BoxIndex::new(dnf.terms.iter().map(|t| t.bounds).collect());
         // Each distance keeps at most `MAX_MERGED_PER_TERM` unions per other term, in this order.
         let limit = MAX_MERGED_PER_TERM * terms.len().max(1);
         let merged = abutting_unions(&terms, &boxes, tolerance, limit);

@@ -78,7 +78,6 @@ pub mod clip;
 pub mod csg_distance;
 pub mod regions;
 pub mod subdivide;
-mod term_boxes;
 
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, QuadricKind};
