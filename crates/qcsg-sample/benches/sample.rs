@@ -2,7 +2,8 @@
 //! 3, 5, 21, 31 and 80 quadrics at three radii on 1 and 2 threads, times the `Q(x)`
 //! micro-benchmark for calibration against paper 000's Table 1, and writes
 //! `docs/sampler-benchmarks.md` laid out like the paper's Table 2 with its figures beside ours.
-//! A second table samples grids of 64 to 4,096 separate parts: time and memory per part.
+//! A second table samples grids of 64 to 4,096 separate parts, and plates drilled with as many
+//! holes: time and memory per part.
 //!
 //! Each configuration is timed over repeated runs (at least 3, up to about half a second of
 //! sampling) and the median is reported; the load average of the machine is recorded at the
@@ -337,6 +338,29 @@ const GRIDS: [usize; 4] = [8, 16, 32, 64];
 /// the same samples and the time per part shows how setup and sampling grow with the parts.
 const GRID_RADIUS: f64 = 0.2;
 
+/// A scene family of the many-parts table: a name and the program of `n × n` of them.
+type Family = (&'static str, fn(usize) -> String);
+
+/// The scene families of the many-parts table.
+const FAMILIES: [Family; 2] = [
+    ("separate parts", grid_program),
+    ("holes in one plate", plate_program),
+];
+
+/// A plate drilled with `n × n` holes at a pitch of 3 (one term of `n² + 3` literals; the plate
+/// of `tests/stability/perforated_plate.qcsg`).
+fn plate_program(n: usize) -> String {
+    format!(
+        "difference() {{\n\
+         \x20   cube([{w}, {w}, 2]);\n\
+         \x20   for (i = [0 : {m}], j = [0 : {m}])\n\
+         \x20       translate([i * 3 + 1.5, j * 3 + 1.5, -1]) cylinder(h = 4, r = 1);\n\
+         }}\n",
+        w = 3 * n,
+        m = n - 1
+    )
+}
+
 /// `n × n` separate parts at a pitch of 3: dented blocks and pins in turn (the grid of
 /// `tests/stability/many_parts.qcsg`).
 fn grid_program(n: usize) -> String {
@@ -357,53 +381,80 @@ fn grid_program(n: usize) -> String {
 
 /// One grid of the many-parts table.
 struct GridRow {
+    family: &'static str,
     parts: usize,
     terms: usize,
+    literals: usize,
     stats: SampleStats,
     /// Median seconds on one thread.
     seconds: f64,
-    /// The peak resident set during one run, in MiB ([`peak_resident_mib`]).
+    /// The peak resident set of a process that compiles and samples it once, in MiB.
     memory: Option<f64>,
 }
 
-/// Samples `n × n` parts on one thread.
-fn measure_grid(n: usize) -> GridRow {
-    let dnf = common::compile_text("grid.qcsg", grid_program(n)).expect("grid program");
+/// Samples `n × n` parts of a family on one thread; the memory is measured in a fresh process
+/// ([`grid_memory_child`]).
+fn measure_grid((family, program): Family, n: usize) -> GridRow {
+    let dnf = common::compile_text("grid.qcsg", program(n)).expect("grid program");
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
         .expect("thread pool");
-    let (stats, memory) = pool
-        .install(|| peak_resident_mib(|| sample(&dnf, GRID_RADIUS).expect("valid radius").stats));
+    let stats = pool.install(|| sample(&dnf, GRID_RADIUS).expect("valid radius").stats);
     let seconds = pool.install(|| {
         median_seconds(Duration::from_millis(500), || {
             black_box(sample(black_box(&dnf), GRID_RADIUS).expect("sample"));
         })
     });
+    let memory = std::env::current_exe().ok().and_then(|exe| {
+        let output = std::process::Command::new(exe)
+            .env(GRID_CHILD, format!("{family}:{n}"))
+            .output()
+            .ok()?;
+        String::from_utf8(output.stdout).ok()?.trim().parse().ok()
+    });
     GridRow {
+        family,
         parts: n * n,
         terms: dnf.terms.len(),
+        literals: dnf.terms.iter().map(|t| t.literals.len()).sum(),
         stats,
         seconds,
         memory,
     }
 }
 
-/// `f`'s result, with the process's peak resident set while it ran, in MiB (Linux: the peak is
-/// reset through `/proc/self/clear_refs` first); `None` elsewhere. It includes what the process
-/// held before (the program, memory the allocator kept from earlier runs).
-fn peak_resident_mib<T>(f: impl FnOnce() -> T) -> (T, Option<f64>) {
-    let reset = std::fs::write("/proc/self/clear_refs", "5").is_ok();
-    let result = f();
+/// The environment variable that makes this binary the child of [`measure_grid`]:
+/// `family:n`.
+const GRID_CHILD: &str = "QCSG_BENCH_GRID_MEMORY";
+
+/// In the child: compiles and samples one grid on one thread and prints the process's peak
+/// resident set in MiB (Linux `VmHWM`), nothing where it is unknown.
+fn grid_memory_child(spec: &str) {
+    let Some((family, n)) = spec.split_once(':') else {
+        return;
+    };
+    let (Some(&(_, program)), Ok(n)) = (
+        FAMILIES.iter().find(|(name, _)| *name == family),
+        n.parse::<usize>(),
+    ) else {
+        return;
+    };
+    let dnf = common::compile_text("grid.qcsg", program(n)).expect("grid program");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("thread pool");
+    black_box(pool.install(|| sample(&dnf, GRID_RADIUS).expect("valid radius")));
     let peak = std::fs::read_to_string("/proc/self/status")
         .ok()
-        .filter(|_| reset)
         .and_then(|status| {
             let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
             line.split_whitespace().nth(1)?.parse::<f64>().ok()
-        })
-        .map(|kib| kib / 1024.0);
-    (result, peak)
+        });
+    if let Some(kib) = peak {
+        println!("{:.1}", kib / 1024.0);
+    }
 }
 
 /// One measured configuration.
@@ -449,6 +500,10 @@ fn measure(dnf: &Dnf, r: f64) -> Row {
 }
 
 fn main() {
+    if let Ok(spec) = std::env::var(GRID_CHILD) {
+        grid_memory_child(&spec);
+        return;
+    }
     // `cargo bench` passes `--bench`; `cargo test --benches` runs this without it: stay quick.
     if !std::env::args().any(|a| a == "--bench") {
         eprintln!("qcsg-sample bench: run with `cargo bench -p qcsg-sample --bench sample`");
@@ -458,14 +513,15 @@ fn main() {
     let load_before = load_average();
     let qx_before = qx_nanoseconds();
     let machine = (memory_scaling(), first_touch_microseconds());
-    // The grids first: their memory is read before the other scenes' runs leave any behind.
-    let grids: Vec<GridRow> = GRIDS
+    let grids: Vec<GridRow> = FAMILIES
         .iter()
-        .map(|&n| {
-            let row = measure_grid(n);
+        .flat_map(|&family| GRIDS.iter().map(move |&n| (family, n)))
+        .map(|(family, n)| {
+            let row = measure_grid(family, n);
             eprintln!(
-                "{} parts: {} samples, {:.2} ms (1 thread)",
+                "{} {}: {} samples, {:.2} ms (1 thread)",
                 row.parts,
+                row.family,
                 row.stats.samples,
                 row.seconds * 1e3
             );
@@ -714,29 +770,36 @@ fn many_parts_section(out: &mut String, grids: &[GridRow]) {
     let _ = writeln!(out, "## Many parts\n");
     let _ = writeln!(
         out,
-        "Grids of `n × n` separate parts (dented blocks and pins in turn, the grid of \
-         `tests/stability/many_parts.qcsg`) at radius {GRID_RADIUS}, a tenth of a part's width, \
-         on one thread. Each part takes about the same samples, so time and memory per part stay \
-         flat where the sampler's cost grows with the parts and not with their square: eq. 22 \
-         of a part looks only at the parts near it (\"Far terms\" in `csg_distance.rs`). The \
-         ratio column is the time per part over the smallest grid's, from this run. Memory is \
-         the process's peak resident set during one run (measured before the other scenes; it \
-         includes the program and what earlier, smaller grids left with the allocator).\n"
+        "Grids of `n × n` parts at radius {GRID_RADIUS}, a tenth of a part's width, on one \
+         thread: *separate parts* are dented blocks and pins in turn (the grid of \
+         `tests/stability/many_parts.qcsg`), one term each; *holes in one plate* are holes \
+         drilled in a plate (as `tests/stability/perforated_plate.qcsg`), one term of `n² + 3` \
+         literals. Each part takes about the same samples, so time and memory per part stay flat \
+         where the sampler's cost grows with the parts and not with their square: eq. 22 of a \
+         part looks only at the parts and literals near it (\"Far terms\" and \"Far \
+         literals\" in `csg_distance.rs`). The ratio column is the time per part over the \
+         smallest grid's of the same kind, from this run. Memory is the peak resident set of a \
+         fresh process that compiles the grid and samples it once (the program included).\n"
     );
     let _ = writeln!(
         out,
-        "| parts | terms | samples | distance queries | unresolved | 1 thread ms | µs / part | ratio | peak resident MiB |\n\
-         |---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "| scene | parts | terms | literals | samples | distance queries | unresolved | 1 thread ms | µs / part | ratio | peak resident MiB |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     let per_part = |g: &GridRow| g.seconds * 1e6 / g.parts as f64;
-    let first = grids.first().map_or(1.0, per_part);
     for g in grids {
+        let first = grids
+            .iter()
+            .find(|f| f.family == g.family)
+            .map_or(1.0, per_part);
         let memory = g.memory.map_or("unknown".into(), |m| format!("{m:.0}"));
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {:.1} | {:.1} | {:.2}× | {memory} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {:.1} | {:.2}× | {memory} |",
+            g.family,
             g.parts,
             g.terms,
+            g.literals,
             g.stats.samples,
             g.stats.subdivision.distance_queries,
             g.stats.unresolved(),

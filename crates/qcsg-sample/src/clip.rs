@@ -4,13 +4,17 @@
 //! A literal `j` of the sample's term enters the list unless its conservative distance (eqs.
 //! 10-12, a lower bound of the true distance) exceeds the radius at the sample: then no point of
 //! `Q_j` lies within the radius, and nothing inside the splat can be cut by it. The test is
-//! conservative: a quadric whose surface does reach into the splat is never left out.
+//! conservative: a quadric whose surface does reach into the splat is never left out. A term of
+//! many literals (a plate drilled with many holes) first leaves out those whose surface provably
+//! misses a box around a run of its samples grown by their radii, so each sample tests only the
+//! literals near it.
 //!
 //! Identical lists are stored once: [`ClipLists`] is one indirection buffer, and each sample
 //! holds the index of its list. Lists are numbered in order of first use in the (deterministic)
 //! sample order, so the buffer is the same for any thread count.
 
-use qcsg_csg::Dnf;
+use qcsg_csg::quadric_box::{self, BoxClass};
+use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::DVec3;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
@@ -74,35 +78,57 @@ impl RawClipLists {
     /// without evaluating it again when that exceeds the radius.
     fn push_samples(&mut self, dnf: &Dnf, samples: &[Sample]) {
         let mut anchors: Vec<Option<(DVec3, f64)>> = vec![None; dnf.quadrics.len()];
+        let (mut near, mut nearer) = (Vec::new(), Vec::new());
+        for run in samples.chunk_by(|a, b| a.term == b.term) {
+            let Some(term) = dnf.terms.get(run[0].term as usize) else {
+                self.lengths.extend(run.iter().map(|_| 0));
+                continue;
+            };
+            for chunk in run.chunks(CLIP_CHUNK) {
+                literals_near(dnf, chunk, &term.literals, &mut near);
+                for samples in chunk.chunks(CLIP_CHUNK / 16) {
+                    literals_near(dnf, samples, &near, &mut nearer);
+                    self.push_run(dnf, samples, &nearer, &mut anchors);
+                }
+            }
+        }
+    }
+
+    /// [`Self::push_samples`] for samples of one term, with the literals among `literals` that
+    /// may come within their radii.
+    fn push_run(
+        &mut self,
+        dnf: &Dnf,
+        samples: &[Sample],
+        literals: &[u32],
+        anchors: &mut [Option<(DVec3, f64)>],
+    ) {
         for sample in samples {
             let start = self.indices.len();
-            if let Some(term) = dnf.terms.get(sample.term as usize) {
-                for &literal in &term.literals {
-                    if literal == sample.quadric {
+            for &literal in literals {
+                if literal == sample.quadric {
+                    continue;
+                }
+                let (Some(entry), Some(anchor)) = (
+                    dnf.quadrics.get(literal as usize),
+                    anchors.get_mut(literal as usize),
+                ) else {
+                    continue;
+                };
+                // `L − Δ > radius`, squared: no square root per literal and sample.
+                if let Some((point, distance)) = *anchor {
+                    let slack = distance - sample.radius;
+                    if slack > 0.0 && (sample.position - point).length_squared() < slack * slack {
                         continue;
                     }
-                    let (Some(entry), Some(anchor)) = (
-                        dnf.quadrics.get(literal as usize),
-                        anchors.get_mut(literal as usize),
-                    ) else {
-                        continue;
-                    };
-                    // `L − Δ > radius`, squared: no square root per literal and sample.
-                    if let Some((point, distance)) = *anchor {
-                        let slack = distance - sample.radius;
-                        if slack > 0.0 && (sample.position - point).length_squared() < slack * slack
-                        {
-                            continue;
-                        }
-                    }
-                    let distance = entry.quadric.conservative_distance(sample.position).abs();
-                    // NaN (never for finite samples) keeps the literal: conservative.
-                    if distance.is_nan() || distance <= sample.radius {
-                        self.indices.push(literal);
-                        *anchor = None;
-                    } else {
-                        *anchor = Some((sample.position, distance));
-                    }
+                }
+                let distance = entry.quadric.conservative_distance(sample.position).abs();
+                // NaN (never for finite samples) keeps the literal: conservative.
+                if distance.is_nan() || distance <= sample.radius {
+                    self.indices.push(literal);
+                    *anchor = None;
+                } else {
+                    *anchor = Some((sample.position, distance));
                 }
             }
             let list = &mut self.indices[start..];
@@ -122,6 +148,37 @@ impl RawClipLists {
 
 /// Samples per parallel batch when clip lists are computed.
 const CLIP_BATCH: usize = 4096;
+
+/// Consecutive samples of one term whose literals are first sorted out together, on a box
+/// around them all ([`literals_near`]), then again in runs of a sixteenth of this.
+const CLIP_CHUNK: usize = 1024;
+
+/// Terms with more literals than this sort them out by box before testing each sample.
+const FEW_LITERALS: usize = 16;
+
+/// Into `out`, the literals of `literals` whose surface may come within its radius of one of
+/// `samples`: all of them for a term of few, else those whose surface may cross a box around
+/// the samples grown by their largest radius (`quadric_box::classify`). A literal left out has
+/// no surface point in the box, so none within any sample's radius.
+fn literals_near(dnf: &Dnf, samples: &[Sample], literals: &[u32], out: &mut Vec<u32>) {
+    out.clear();
+    if literals.len() <= FEW_LITERALS {
+        out.extend_from_slice(literals);
+        return;
+    }
+    let (mut min, mut max, mut radius) = (DVec3::INFINITY, DVec3::NEG_INFINITY, 0.0f64);
+    for sample in samples {
+        min = min.min(sample.position);
+        max = max.max(sample.position);
+        radius = radius.max(sample.radius);
+    }
+    let grown = Aabb::new(min - radius, max + radius);
+    out.extend(literals.iter().copied().filter(|&literal| {
+        dnf.quadrics
+            .get(literal as usize)
+            .is_none_or(|entry| quadric_box::classify(&entry.quadric, &grown) == BoxClass::Cuts)
+    }));
+}
 
 /// Computes every sample's clip list (in parallel batches), stores each distinct list once and
 /// sets `clip_list` of each sample; lists are numbered in sample order.

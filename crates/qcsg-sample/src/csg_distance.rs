@@ -84,19 +84,27 @@
 //!   a slab of another term that shares one side with term `a` keeps only its other side.
 //!   Planes within `1e-6` rad of the sheet keep their distance in space ("Shared planes"
 //!   handles them).
-//! - **Far terms.** Eq. 22 keeps only the other terms whose box comes within `D` of term
-//!   `a`'s box (grown by the length tolerance), `D` that box's diagonal; an R-tree of the
-//!   terms' boxes finds them. Inside term `a`'s box a term left out is more than `D` away, so,
-//!   as in [`CsgDistance::near`], it enters as that constant: a negative result is at most `D`
-//!   deep (enough to classify any rectangle of the box), and its ball stays clear of every
-//!   term left out. Outside the box, `p` is not on term `a`'s surface, nor is any point of
-//!   `Q_ab` nearer than the box: the result is at least the distance to the box, which keeps
-//!   it positive. Scenes of many separate parts then cost time and memory in proportion to
-//!   the parts, not to their square (a grid of 4,096 parts took 16 GB and 3.6 minutes before).
+//! - **Far terms.** Eq. 22 of a sampled literal is set up for the part of its quadric that
+//!   its basic regions hold (a box around their patches, within term `a`'s box, grown by the
+//!   length tolerance; `D` its diagonal). It keeps only the other terms whose box comes within
+//!   `D` of that box; an R-tree of the terms' boxes finds them. Inside the box a term left out
+//!   is more than `D` away, so, as in [`CsgDistance::near`], it enters as that constant: a
+//!   negative result is at most `D` deep (enough to classify any rectangle of the box), and
+//!   its ball stays clear of every term left out. At a point `e` outside the box the constant
+//!   is `D − e`, and the result is at least `e`: no point of the box is nearer. Scenes of many
+//!   separate parts then cost time and memory in proportion to the parts, not to their square
+//!   (a grid of 4,096 parts took 16 GB and 3.6 minutes before).
+//! - **Far literals.** Of a term with more than 32 literals (a plate drilled with many holes),
+//!   those that hold on all of the box grown by `D` (`quadric_box::classify`) are left out too,
+//!   and the term's distance is kept at least `−(D − e)` for the same reason. Per basic region
+//!   ([`CsgDistance::near`], [`NearDistance::narrow`]) the same is done with the region's box
+//!   and margin, and "Literals of both terms" still sees term `a`'s literals left out. A plate
+//!   with 1,024 holes sampled in 45 s before, each query looking at all its literals.
 //! - **One side of a slab.** The outside of a slab is a union of two half-spaces, which no rule
 //!   above can pair. Where a term's box lies on the inner side of one of the slab's planes, the
 //!   literal is the half-space beyond the other plane within the term, and stands as that.
 
+use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, BoxIndex, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind, Tolerances};
 use rustc_hash::FxHashMap;
@@ -166,6 +174,32 @@ struct TermView {
     bounds: Aabb,
     /// A box holding the whole term (for [`CsgDistance::near`]).
     extent: Aabb,
+    /// The least distance: `−reach` where literals that hold within `reach` of the sampled part
+    /// were left out ("Far literals"), else `−∞`.
+    floor: f64,
+}
+
+/// Terms with more literals than this leave out, near a box, those that hold all around it
+/// ("Far literals").
+const FEW_LITERALS: usize = 32;
+
+/// The terms eq. 22 of one sampled literal looks at, as the DNF has them: term `a`'s literals,
+/// then every other term's literals and box; each list with its floor, `−reach` where literals
+/// far from the sampled part were left out ("Far literals"), else `−∞`.
+struct NearTerms {
+    own: (TermLiterals, f64),
+    /// The indices of term `a`'s literals left out, ascending: "Literals of both terms" still
+    /// applies to them.
+    own_far: Vec<u32>,
+    others: Vec<((TermLiterals, f64), Aabb)>,
+}
+
+/// The literals of a term a [`NearDistance`] looks at (indices into [`TermView::literals`]);
+/// the others hold on all of its box and `margin` around it.
+#[derive(Clone, Debug)]
+struct NearLiterals {
+    indices: Vec<u32>,
+    margin: f64,
 }
 
 impl TermView {
@@ -174,28 +208,85 @@ impl TermView {
     fn new(
         literals: impl IntoIterator<Item = (Quadric, bool, bool)>,
         bounds: Aabb,
-        extent: Aabb,
+        (extent, floor): (Aabb, f64),
     ) -> Self {
+        let literals: Vec<Literal> = literals
+            .into_iter()
+            .map(|(quadric, planar, in_own_term)| Literal {
+                planar,
+                in_own_term,
+                quadric,
+            })
+            .collect();
         Self {
             extent,
-            literals: literals
-                .into_iter()
-                .map(|(quadric, planar, in_own_term)| Literal {
-                    planar,
-                    in_own_term,
-                    quadric,
-                })
-                .collect(),
+            literals,
             bounds,
+            floor,
         }
+    }
+
+    /// The literals of a term of many that may fail within `margin` of `bounds`, among those of
+    /// `within` (all when `None`), when that leaves some out ("Far literals").
+    fn near_literals(
+        &self,
+        bounds: &Aabb,
+        margin: f64,
+        within: Option<&NearLiterals>,
+    ) -> Option<NearLiterals> {
+        if self.literals.len() <= FEW_LITERALS {
+            return None;
+        }
+        let grown = Aabb::new(bounds.min - margin, bounds.max + margin);
+        if !grown.is_bounded() {
+            return within.cloned();
+        }
+        let all = 0..self.literals.len() as u32;
+        let candidates: &mut dyn Iterator<Item = u32> = match within {
+            Some(within) => &mut within.indices.iter().copied(),
+            None => &mut all.into_iter(),
+        };
+        let indices: Vec<u32> = candidates
+            .filter(|&i| {
+                let literal = &self.literals[i as usize].quadric;
+                quadric_box::classify(literal, &grown) != BoxClass::Inside
+            })
+            .collect();
+        (indices.len() < self.literals.len()).then_some(NearLiterals { indices, margin })
     }
 
     /// `max_j d(Q_j, p)` together with the region box: positive outside the term, negative
     /// inside. With the sampled quadric's `plane` at `p`, literals sharing it are treated as in
     /// the module docs: `own` says whether this is term `a`.
-    fn distance(&self, p: DVec3, plane: Option<&SheetPlane>, own: bool) -> f64 {
-        let mut d = box_distance(&self.bounds, p);
-        for literal in &self.literals {
+    fn distance(
+        &self,
+        p: DVec3,
+        plane: Option<&SheetPlane>,
+        own: bool,
+        near: Option<&NearLiterals>,
+        slack: f64,
+    ) -> f64 {
+        // The literals left out hold within `−floor − slack` of `p` (`p` is `slack` outside the
+        // sampled part), and within `margin` of `p` for a box's ([`NearLiterals`]).
+        let d = box_distance(&self.bounds, p).max(self.floor + slack);
+        match near {
+            Some(near) => self.max_over(
+                near.indices.iter().map(|&i| &self.literals[i as usize]),
+                d.max(-near.margin),
+                (p, plane, own),
+            ),
+            None => self.max_over(self.literals.iter(), d, (p, plane, own)),
+        }
+    }
+
+    /// [`Self::distance`] over `literals`, from `d`.
+    fn max_over<'a>(
+        &self,
+        literals: impl Iterator<Item = &'a Literal>,
+        mut d: f64,
+        (p, plane, own): (DVec3, Option<&SheetPlane>, bool),
+    ) -> f64 {
+        for literal in literals {
             let on_plane = plane.filter(|_| literal.planar);
             if !own && literal.in_own_term && on_plane.is_none() {
                 continue;
@@ -224,8 +315,8 @@ pub struct CsgDistance {
     planar: Option<Quadric>,
     /// Length below which a point is on a plane: `1e-9` of the DNF's diagonal.
     tolerance: f64,
-    /// The box term `a` is sampled in, and a lower bound on the gap between it and the box of
-    /// every term left out as far (see "Far terms"); `+∞` when none is.
+    /// The box the sampled part lies in, and the depth within which the terms and literals
+    /// left out as far do not reach into it (see "Far terms"); `+∞` when none is.
     extent: Aabb,
     far: f64,
 }
@@ -246,19 +337,34 @@ impl CsgDistance {
     /// The distance for quadric `quadric` sampled as a literal of term `term` of `dnf`.
     /// `None` if the indices are out of range.
     pub fn new(dnf: &Dnf, quadric: u32, term: u32) -> Option<Self> {
-        Self::with_shapes(dnf, &Shapes::new(dnf), quadric, term)
+        Self::for_part(dnf, quadric, term, &Aabb::EVERYTHING)
     }
 
-    /// [`Self::new`] with what every distance of `dnf` shares ([`Shapes`]) found once.
-    pub(crate) fn with_shapes(dnf: &Dnf, shapes: &Shapes, quadric: u32, term: u32) -> Option<Self> {
+    /// [`Self::new`] for the points of the quadric inside `part`: the terms and literals far
+    /// from it are left out (see "Far terms" and "Far literals"), and a positive distance only
+    /// claims that no point of the quadric inside `part` within it is on the surface.
+    pub fn for_part(dnf: &Dnf, quadric: u32, term: u32, part: &Aabb) -> Option<Self> {
+        Self::with_shapes(dnf, &Shapes::new(dnf), (quadric, term), part)
+    }
+
+    /// [`Self::for_part`] with what every distance of `dnf` shares ([`Shapes`]) found once
+    /// (`patch`: a box around the quadric's basic regions).
+    pub(crate) fn with_shapes(
+        dnf: &Dnf,
+        shapes: &Shapes,
+        (quadric, term): (u32, u32),
+        patch: &Aabb,
+    ) -> Option<Self> {
         let q = dnf.quadrics.get(quadric as usize)?.quadric;
         let own_term = dnf.terms.get(term as usize)?;
         let shape = shapes.of(quadric);
-        // Term `a`'s box, grown by the length tolerance: points rounded off its faces are in.
+        // Where the sampled part lies: in term `a`'s box and the patch, grown by the length
+        // tolerance (points rounded off its faces are in).
         let extent = match dnf.region {
             Some(region) => own_term.bounds.intersection(&region),
             None => own_term.bounds,
-        };
+        }
+        .intersection(patch);
         let extent = if extent.is_empty() {
             extent
         } else {
@@ -267,11 +373,7 @@ impl CsgDistance {
         };
         let reach = (extent.max - extent.min).length();
         let near = shapes.boxes.near(&extent, reach);
-        let far = if near.len() < shapes.boxes.boxes().len() {
-            reach
-        } else {
-            f64::INFINITY
-        };
+        let terms_left_out = near.len() < shapes.boxes.boxes().len();
         // The other terms and their abutting unions, as the DNF has them: what each sheet sees
         // of them follows. Terms holding the sampled quadric are left out ("Shared surfaces"),
         // and so are unions with them or with term `a`.
@@ -310,24 +412,66 @@ impl CsgDistance {
                     dnf.terms[*i].bounds.union(&dnf.terms[*k].bounds),
                 )
             });
-        let others: Vec<(TermLiterals, Aabb)> = kept
+        // Of a term of many literals, those that hold all around the sampled part are left out
+        // ("Far literals"); the sampled quadric stays.
+        let grown = Aabb::new(extent.min - reach, extent.max + reach);
+        let near_literals = |literals: &[(u32, Quadric)]| -> (TermLiterals, f64) {
+            if literals.len() <= FEW_LITERALS || !grown.is_bounded() {
+                return (literals.to_vec(), f64::NEG_INFINITY);
+            }
+            let kept: TermLiterals = literals
+                .iter()
+                .filter(|(i, o)| {
+                    *i == quadric || quadric_box::classify(o, &grown) != BoxClass::Inside
+                })
+                .copied()
+                .collect();
+            let floor = if kept.len() < literals.len() {
+                -reach
+            } else {
+                f64::NEG_INFINITY
+            };
+            (kept, floor)
+        };
+        let own = near_literals(&shapes.terms[term as usize]);
+        // The kept literals are in the term's order: one walk finds the others.
+        let mut kept_own = own.0.iter().peekable();
+        let mut own_far: Vec<u32> = shapes.terms[term as usize]
             .iter()
-            .map(|&i| {
-                (
-                    shapes.terms[i as usize].clone(),
-                    dnf.terms[i as usize].bounds,
-                )
-            })
-            .chain(merged)
+            .filter(|(i, _)| kept_own.next_if(|(k, _)| k == i).is_none())
+            .map(|(i, _)| *i)
             .collect();
+        own_far.sort_unstable();
+        let terms = NearTerms {
+            own,
+            own_far,
+            others: kept
+                .iter()
+                .map(|&i| {
+                    (
+                        shapes.terms[i as usize].clone(),
+                        dnf.terms[i as usize].bounds,
+                    )
+                })
+                .chain(merged)
+                .map(|(literals, bounds)| (near_literals(&literals), bounds))
+                .collect(),
+        };
         let planes: Vec<Option<HalfSpace>> = match &shape.planar {
             Some((planes, _)) => planes.iter().copied().map(Some).collect(),
             None => vec![None],
         };
         let sheets = planes
             .into_iter()
-            .map(|plane| SheetViews::new(dnf, shapes, (quadric, term), plane, &others))
+            .map(|plane| SheetViews::new(dnf, shapes, (quadric, term), plane, &terms))
             .collect();
+        let literals_left_out =
+            terms.own.1.is_finite() || terms.others.iter().any(|((_, floor), _)| floor.is_finite());
+        let far = if terms_left_out || literals_left_out {
+            reach
+        } else {
+            f64::INFINITY
+        };
         Some(Self {
             sheets,
             planar: shape.is_planar.then_some(q),
@@ -353,7 +497,8 @@ impl CsgDistance {
     /// NaN for non-finite `p`.
     pub fn distance(&self, p: DVec3) -> f64 {
         let sheet = &self.sheets[self.sheet_at(p)];
-        self.distance_over(p, sheet, sheet.others.iter(), f64::INFINITY)
+        let others = sheet.others.iter().map(|term| (term, None));
+        self.distance_over(p, sheet, None, others, f64::INFINITY)
     }
 
     /// Eq. 22 restricted to a part of the quadric inside `bounds` (a box around a basic region's
@@ -371,24 +516,58 @@ impl CsgDistance {
             return NearDistance {
                 base: self,
                 sheet: None,
+                own: None,
                 terms: Vec::new(),
+                lists: Vec::new(),
                 far: f64::INFINITY,
             };
         };
-        let mut terms = Vec::new();
+        self.near_on(sheet, bounds, margin, None)
+    }
+
+    /// [`Self::near`] on `sheet`, from what `from` kept (all terms and literals when `None`).
+    fn near_on<'a>(
+        &'a self,
+        sheet: usize,
+        bounds: &Aabb,
+        margin: f64,
+        from: Option<&NearDistance<'a>>,
+    ) -> NearDistance<'a> {
+        let views = &self.sheets[sheet];
+        let (mut terms, mut lists) = (Vec::new(), Vec::new());
         let mut far = f64::INFINITY;
-        for (i, term) in self.sheets[sheet].others.iter().enumerate() {
+        // Every term's gap anew, for the exact `far`; a term `from` left out stays out (its
+        // gap only grows), and its literals come from `from`'s lists.
+        let mut kept_there = from.map(|from| {
+            let lists = (0..from.terms.len()).map(|k| from.list(k));
+            from.terms.iter().copied().zip(lists).peekable()
+        });
+        for (i, term) in views.others.iter().enumerate() {
+            let i = i as u32;
+            let within = match &mut kept_there {
+                None => Some(None),
+                Some(kept) => kept.next_if(|(k, _)| *k == i).map(|(_, list)| list),
+            };
             let gap = bounds.gap(&term.extent);
-            if gap < margin {
-                terms.push(i as u32);
-            } else {
-                far = far.min(gap);
+            match within {
+                Some(within) if gap < margin => {
+                    terms.push(i);
+                    let list = term.near_literals(bounds, margin, within);
+                    if list.is_some() || !lists.is_empty() {
+                        lists.resize(terms.len() - 1, None);
+                        lists.push(list);
+                    }
+                }
+                _ => far = far.min(gap),
             }
         }
+        let own_within = from.and_then(|from| from.own.as_ref());
         NearDistance {
             base: self,
             sheet: Some(sheet),
+            own: views.own.near_literals(bounds, margin, own_within),
             terms,
+            lists,
             far,
         }
     }
@@ -409,7 +588,8 @@ impl CsgDistance {
         &'a self,
         p: DVec3,
         sheet: &SheetViews,
-        others: impl Iterator<Item = &'a TermView>,
+        own_near: Option<&NearLiterals>,
+        others: impl Iterator<Item = (&'a TermView, Option<&'a NearLiterals>)>,
         far: f64,
     ) -> f64 {
         let plane = self.planar.and_then(|q| {
@@ -423,19 +603,25 @@ impl CsgDistance {
         if sheet.own_empty {
             return f64::INFINITY;
         }
-        // Far terms left out bound the distance only inside term `a`'s box ("Far terms").
-        let outside = self.far.is_finite() && !self.extent.contains(p);
-        let own = sheet.own.distance(p, plane.as_ref(), true);
-        let mut nearest_other = if outside { far } else { far.min(self.far) };
-        for term in others {
-            nearest_other = nearest_other.min(term.distance(p, plane.as_ref(), false));
+        // What was left out stays `far` away from the sampled part, so less from a point `off`
+        // outside it; a point that far out is that far from the surface ("Far terms").
+        let off = if self.far.is_finite() {
+            box_distance(&self.extent, p)
+        } else {
+            f64::NEG_INFINITY
+        };
+        if off >= self.far {
+            return off;
+        }
+        let slack = off.max(0.0);
+        let own = sheet.own.distance(p, plane.as_ref(), true, own_near, slack);
+        let mut nearest_other = far.min(self.far - slack);
+        for (term, near) in others {
+            let distance = term.distance(p, plane.as_ref(), false, near, slack);
+            nearest_other = nearest_other.min(distance);
         }
         let d = own.max(-nearest_other);
-        if outside {
-            d.max(box_distance(&self.extent, p))
-        } else {
-            d
-        }
+        if off > 0.0 { d.max(off) } else { d }
     }
 }
 
@@ -447,7 +633,7 @@ impl SheetViews {
         shapes: &Shapes,
         (quadric, term): (u32, u32),
         plane: Option<HalfSpace>,
-        others: &[(TermLiterals, Aabb)],
+        terms: &NearTerms,
     ) -> Self {
         let tolerance = shapes.tolerance;
         let q = dnf.quadrics[quadric as usize].quadric;
@@ -461,10 +647,12 @@ impl SheetViews {
         let same_value = |o: &Quadric| q.approx_eq_up_to_scale(o, SAME_QUADRIC);
         let complement_value = |o: &Quadric| complement.approx_eq_up_to_scale(o, SAME_QUADRIC);
         // Each quadric of the DNF in these terms as a literal seen from the sheet, found once.
-        let in_terms = own_term.literals.iter().copied().chain(
-            others
+        let (own_term_literals, own_floor) = &terms.own;
+        let in_terms = own_term_literals.iter().map(|(i, _)| *i).chain(
+            terms
+                .others
                 .iter()
-                .flat_map(|(literals, _)| literals.iter().map(|(i, _)| *i)),
+                .flat_map(|((literals, _), _)| literals.iter().map(|(i, _)| *i)),
         );
         let seen: FxHashMap<u32, Seen> = in_terms
             .filter_map(|i| {
@@ -568,19 +756,14 @@ impl SheetViews {
                 .iter()
                 .any(|(i, o)| look(*i, o).contact == Contact::Excludes)
         };
-        let own_raw = literals(
-            &own_term
-                .literals
-                .iter()
-                .map(|&i| (i, dnf.quadrics[i as usize].quadric))
-                .collect(),
-        );
+        let own_raw = literals(own_term_literals);
         let own_empty = excludes(&own_raw);
         let own_literals = refine(&own_raw, &own_term.bounds);
         let in_own_term = |r: &Refined| {
-            own_literals.iter().any(|o| {
-                o.index == r.index || o.quadric.approx_eq_up_to_scale(&r.quadric, SAME_QUADRIC)
-            })
+            terms.own_far.binary_search(&r.index).is_ok()
+                || own_literals.iter().any(|o| {
+                    o.index == r.index || o.quadric.approx_eq_up_to_scale(&r.quadric, SAME_QUADRIC)
+                })
         };
         let own = TermView::new(
             own_literals
@@ -588,16 +771,17 @@ impl SheetViews {
                 .filter(|r| !r.same)
                 .map(|r| (r.quadric, r.planar, false)),
             region,
-            own_term.bounds,
+            (own_term.bounds, *own_floor),
         );
         let own_sides = own_half_spaces(&own_literals, plane.as_ref());
         // Terms that the sheet excludes still abut others: their merged unions (made before)
         // may reach it.
-        let others = others
+        let others = terms
+            .others
             .iter()
-            .map(|(list, extent)| (literals(list), *extent))
+            .map(|((list, floor), extent)| (literals(list), (*extent, *floor)))
             .filter(|(literals, _)| !excludes(literals))
-            .map(|(literals, extent)| {
+            .map(|(literals, (extent, floor))| {
                 let literals = refine(&literals, &extent)
                     .into_iter()
                     .filter(|r| !r.complement)
@@ -607,7 +791,7 @@ impl SheetViews {
                         }
                         without_own_sides(&r, &own_sides, tolerance)
                     });
-                TermView::new(literals, region, extent)
+                TermView::new(literals, region, (extent, floor))
             })
             .collect();
         Self {
@@ -654,19 +838,59 @@ pub struct NearDistance<'a> {
     base: &'a CsgDistance,
     /// The sheet of the box, when it has one.
     sheet: Option<usize>,
+    /// The literals of term `a` near the box, for a term of many ("Far literals"); `None`: all.
+    own: Option<NearLiterals>,
+    /// The other terms near the box, and the literals of each near it (as `own`; empty when
+    /// every term keeps all).
     terms: Vec<u32>,
+    lists: Vec<Option<NearLiterals>>,
     far: f64,
 }
 
 impl NearDistance<'_> {
+    /// [`CsgDistance::near`] for a box inside this one's, with a margin no larger, from what
+    /// this one kept: a term or literal left out here is left out there too.
+    pub fn narrow(&self, bounds: &Aabb, margin: f64) -> Self {
+        match self.sheet {
+            Some(sheet) => self.base.near_on(sheet, bounds, margin, Some(self)),
+            None => self.base.near(bounds, margin),
+        }
+    }
+
+    /// The literals of the `k`-th kept term near the box, where not all.
+    fn list(&self, k: usize) -> Option<&NearLiterals> {
+        self.lists.get(k).and_then(Option::as_ref)
+    }
+
+    /// How many literals an evaluation looks at in the terms of many literals ("Far
+    /// literals"): what keeping to a smaller box can cut down.
+    pub fn literals_of_large_terms(&self) -> usize {
+        let count = |view: &TermView, near: Option<&NearLiterals>| {
+            if view.literals.len() <= FEW_LITERALS {
+                return 0;
+            }
+            near.map_or(view.literals.len(), |n| n.indices.len())
+        };
+        let Some(sheet) = self.sheet else {
+            return 0;
+        };
+        let views = &self.base.sheets[sheet];
+        count(&views.own, self.own.as_ref())
+            + (self.terms.iter().enumerate())
+                .map(|(k, i)| count(&views.others[*i as usize], self.list(k)))
+                .sum::<usize>()
+    }
+
     /// Eq. 22 at `p`, for `p` inside the box given to [`CsgDistance::near`].
     pub fn distance(&self, p: DVec3) -> f64 {
         let Some(sheet) = self.sheet else {
             return self.base.distance(p);
         };
         let sheet = &self.base.sheets[sheet];
-        let others = self.terms.iter().map(|&i| &sheet.others[i as usize]);
-        self.base.distance_over(p, sheet, others, self.far)
+        let others = (self.terms.iter().enumerate())
+            .map(|(k, i)| (&sheet.others[*i as usize], self.list(k)));
+        self.base
+            .distance_over(p, sheet, self.own.as_ref(), others, self.far)
     }
 }
 

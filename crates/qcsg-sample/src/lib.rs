@@ -31,8 +31,13 @@
 //!   sample reaches is probed a few levels further down within a budget
 //!   ([`subdivide::probe_given_up`], `PROBE_QUERIES`), and counted when still unsettled
 //!   ([`subdivide::SubdivisionStats::unresolved`]);
-//! - eq. 22 of each basic region keeps only the other terms whose box comes near the region's
-//!   patch ([`csg_distance::CsgDistance::near`]), so a query costs what the nearby parts cost;
+//! - eq. 22 of each sampled literal keeps only the other terms near the part its regions hold,
+//!   found in an R-tree of the terms' boxes, and, of a term of many literals, only those that
+//!   may fail near it; eq. 22 of each basic region keeps only what comes near the region's
+//!   patch ([`csg_distance::CsgDistance::near`]), and a region that still looks at many
+//!   literals (a face of a plate drilled with thousands of holes) is tiled until each tile
+//!   looks at few (`tiles`). Setup, memory and a query cost what the nearby parts cost, not
+//!   what the whole scene does;
 //! - faces shared by parts (coincident planes of different quadrics: boxes sharing a face, a
 //!   difference flush with a face, a cylinder's cap on a box face) are resolved per sheet in
 //!   eq. 22 ([`csg_distance`], "Shared planes"), so the shared face is sampled where it is part
@@ -212,6 +217,8 @@ struct Patch {
     distance: CsgDistance,
     quadric: u32,
     kind: QuadricKind,
+    /// A box around the quadric's part in all its regions.
+    bounds: Aabb,
 }
 
 /// Distance queries that probing given-up rectangles ([`probe_given_up`]) may make, on top of
@@ -225,6 +232,9 @@ const PROBE_QUERIES: u64 = 16_384;
 /// Newton steps.
 const SNAP_SETTLED: f64 = 1e-12;
 
+/// A basic region with the index of its patch and a box around the patch's part in it.
+type PlacedRegion = (usize, BasicRegion, Aabb);
+
 /// The box a term's surface is sampled in: its box within the DNF's region.
 fn term_box(dnf: &Dnf, term: usize) -> Option<Aabb> {
     let bounds = dnf.terms.get(term)?.bounds;
@@ -237,7 +247,7 @@ fn term_box(dnf: &Dnf, term: usize) -> Option<Aabb> {
 /// Every basic region of every literal of every term, in a fixed order (term, literal, plane,
 /// sheet, rectangle), with the patch each belongs to. Literals are decomposed in parallel: a
 /// scene of many parts has thousands of them.
-fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, BasicRegion)>) {
+fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedRegion>) {
     let mut literals = Vec::new();
     for (term_index, term) in dnf.terms.iter().enumerate() {
         let Some(bounds) = term_box(dnf, term_index) else {
@@ -257,7 +267,9 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, B
         );
     }
     let shapes = Shapes::new(dnf);
-    let decomposed: Vec<Option<(Patch, Vec<BasicRegion>, RegionStats)>> = literals
+    // Each literal's patch, its regions with a box around each one's part, and counters.
+    type Decomposed = (Patch, Vec<(BasicRegion, Aabb)>, RegionStats);
+    let decomposed: Vec<Option<Decomposed>> = literals
         .par_iter()
         .map(|&(term, literal, bounds)| {
             let entry = dnf.quadrics.get(literal as usize)?;
@@ -265,7 +277,6 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, B
             if kind.has_no_surface() || matches!(kind, QuadricKind::Point | QuadricKind::Line) {
                 return None;
             }
-            let distance = CsgDistance::with_shapes(dnf, &shapes, literal, term)?;
             let frame = entry.quadric.frame();
             let mut found = Vec::new();
             let mut counters = RegionStats::default();
@@ -280,11 +291,24 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, B
                     &mut counters,
                 );
             }
+            // Eq. 22 for the part of the quadric its regions hold.
+            let found: Vec<(BasicRegion, Aabb)> = found
+                .into_iter()
+                .map(|region| {
+                    let bounds = patch_bounds(&frame, &region).unwrap_or(Aabb::EVERYTHING);
+                    (region, bounds)
+                })
+                .collect();
+            let bounds = found
+                .iter()
+                .fold(Aabb::EMPTY, |all, (_, bounds)| all.union(bounds));
+            let distance = CsgDistance::with_shapes(dnf, &shapes, (literal, term), &bounds)?;
             let patch = Patch {
                 frame,
                 distance,
                 quadric: literal,
                 kind,
+                bounds,
             };
             Some((patch, found, counters))
         })
@@ -292,12 +316,72 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<(usize, B
     let mut patches = Vec::new();
     let mut regions = Vec::new();
     for (patch, found, counters) in decomposed.into_iter().flatten() {
-        regions.extend(found.into_iter().map(|r| (patches.len(), r)));
+        regions.extend(found.into_iter().map(|(r, b)| (patches.len(), r, b)));
         patches.push(patch);
         stats.regions.examined += counters.examined;
         stats.regions.unresolved += counters.unresolved;
     }
     (patches, regions)
+}
+
+/// Regions whose eq. 22 looks at more literals of terms of many than this are tiled until each
+/// tile's patch sees fewer ([`NearDistance::literals_of_large_terms`]): a plate drilled with
+/// thousands of holes is one term, and each hole's neighbourhood needs only the holes near it.
+const TILE_LITERALS: usize = 32;
+
+/// Halvings of a tile tried at once ([`tiles`]).
+const TILE_TRIAL_DEPTH: u32 = 3;
+
+/// `region` (with eq. 22 kept to its neighbourhood, `near`) as tiles, each with eq. 22 narrowed
+/// to its own ([`NearDistance::narrow`]), while a tile looks at more than [`TILE_LITERALS`]
+/// literals of terms of many and is larger than the radius. A tile is halved
+/// [`TILE_TRIAL_DEPTH`] times at once (the margin shrinks with the tile, so counts fall only
+/// after a few halvings), and the halves are kept only if they look at a quarter fewer
+/// literals on average: elsewhere (a polyhedron's faces, all near each other) the tile stays
+/// whole.
+/// A tile keeps the region's distortion bound and border flag, which hold on any part of it. In
+/// order, low half first.
+fn tiles<'a>(
+    patches: &[Patch],
+    (patch_index, region, bounds): PlacedRegion,
+    near: NearDistance<'a>,
+    radius: f64,
+) -> Vec<(PlacedRegion, Option<NearDistance<'a>>)> {
+    let Some(patch) = patches.get(patch_index) else {
+        return vec![((patch_index, region, bounds), Some(near))];
+    };
+    let halve = |(region, _, near): &(BasicRegion, Aabb, NearDistance<'a>)| {
+        let (low, high, _) = region.rect.split_longest();
+        [low, high].map(|rect| {
+            let half = BasicRegion { rect, ..*region };
+            let bounds = patch_bounds(&patch.frame, &half).unwrap_or(Aabb::EVERYTHING);
+            let narrowed = near.narrow(&bounds, (bounds.max - bounds.min).length() + radius);
+            (half, bounds, narrowed)
+        })
+    };
+    let mut out = Vec::new();
+    let mut stack = vec![(region, bounds, near)];
+    while let Some(tile) = stack.pop() {
+        let literals = tile.2.literals_of_large_terms();
+        let size = (tile.1.max - tile.1.min).length();
+        if literals > TILE_LITERALS && size > radius {
+            let mut halves = halve(&tile).to_vec();
+            for _ in 1..TILE_TRIAL_DEPTH {
+                halves = halves.iter().flat_map(halve).collect();
+            }
+            let after: usize = halves
+                .iter()
+                .map(|(_, _, near)| near.literals_of_large_terms())
+                .sum();
+            if 4 * after <= 3 * literals * halves.len() {
+                stack.extend(halves.into_iter().rev());
+                continue;
+            }
+        }
+        let (region, bounds, near) = tile;
+        out.push(((patch_index, region, bounds), Some(near)));
+    }
+    out
 }
 
 /// Samples the CSG surface of `dnf` with world radius `radius` on the current rayon pool.
@@ -465,23 +549,38 @@ fn sample_on_pool(
     };
     let mut stats = SampleStats::default();
     let (patches, regions) = all_regions(dnf, &mut stats);
-    stats.basic_regions = regions.len() as u64;
-    progress(Progress::Regions(stats.basic_regions));
-    // Eq. 22 of each region keeps the other terms near the region's patch.
+    // Eq. 22 of each region keeps the terms and literals near the region's patch, narrowed
+    // from its whole patch's; regions where that is still many literals are tiled.
+    let reach = |bounds: &Aabb| (bounds.max - bounds.min).length() + radius;
+    let wholes: Vec<NearDistance<'_>> = patches
+        .par_iter()
+        .map(|patch| patch.distance.near(&patch.bounds, reach(&patch.bounds)))
+        .collect();
     let near: Vec<Option<NearDistance<'_>>> = regions
         .par_iter()
-        .map(|(patch, region)| {
-            let patch = patches.get(*patch)?;
-            let bounds = patch_bounds(&patch.frame, region).unwrap_or(Aabb::EVERYTHING);
-            let margin = (bounds.max - bounds.min).length() + radius;
-            Some(patch.distance.near(&bounds, margin))
-        })
+        .map(|(patch, _, bounds)| Some(wholes.get(*patch)?.narrow(bounds, reach(bounds))))
         .collect();
+    drop(wholes);
+    let heavy = |near: &NearDistance<'_>| near.literals_of_large_terms() > TILE_LITERALS;
+    let (regions, near): (Vec<PlacedRegion>, Vec<_>) = if near.iter().flatten().any(heavy) {
+        regions
+            .into_par_iter()
+            .zip(near)
+            .flat_map_iter(|(region, near)| match near {
+                Some(near) if heavy(&near) => tiles(&patches, region, near, radius),
+                near => vec![(region, near)],
+            })
+            .unzip()
+    } else {
+        (regions, near)
+    };
+    stats.basic_regions = regions.len() as u64;
+    progress(Progress::Regions(stats.basic_regions));
     // Heightfield points this close to their quadric are not refined (the guarantee asks for
     // 1e-9 of the diagonal; Newton steps are for cancellation far above this).
     let settled = SNAP_SETTLED * (dnf.bounds.max - dnf.bounds.min).length();
     let context = |index: usize| {
-        let (patch, region) = regions.get(index)?;
+        let (patch, region, _) = regions.get(index)?;
         let patch = patches.get(*patch)?;
         let entry = dnf.quadrics.get(region.quadric as usize)?;
         (patch.quadric == region.quadric).then_some(RegionContext {
@@ -513,7 +612,7 @@ fn sample_on_pool(
                 let (mut out, mut deferred, mut counters) = first_pass.buffer();
                 let start = run * run_length;
                 let end = (start + run_length).min(regions.len());
-                for (index, (_, region)) in (start..end).zip(&regions[start..end]) {
+                for (index, (_, region, _)) in (start..end).zip(&regions[start..end]) {
                     if let Some(ctx) = context(index) {
                         let region = (index, region);
                         sample_region(&ctx, region, &mut out, &mut deferred, &mut counters);

@@ -4,75 +4,95 @@
 mod common;
 
 use common::{Rng, brute_on_surface, diagonal, points_on};
-use qcsg_csg::Dnf;
+use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, QuadricKind};
 use qcsg_sample::csg_distance::CsgDistance;
 
 /// Checks every literal of every term on random points; returns how many decisive checks ran.
 fn check(dnf: &Dnf, seed: u64) -> (usize, usize) {
-    let tol = 1e-9 * diagonal(dnf);
     let mut rng = Rng::new(seed);
     let (mut decisive, mut neighbours) = (0, 0);
     for (term_index, term) in dnf.terms.iter().enumerate() {
         let half = 0.5 * (term.bounds.max - term.bounds.min) * 1.1;
-        let bounds = qcsg_csg::Aabb::from_centre_half(term.bounds.centre(), half);
+        let bounds = Aabb::from_centre_half(term.bounds.centre(), half);
         for &quadric in &term.literals {
             let distance = CsgDistance::new(dnf, quadric, term_index as u32).expect("indices");
             let q = dnf.quadrics[quadric as usize].quadric;
-            let planar = matches!(q.kind(), QuadricKind::Plane | QuadricKind::ParallelPlanes);
             for p in points_on(&q, &bounds, 150, &mut rng) {
-                let d = distance.distance(p);
-                let Some(truth) = brute_on_surface(dnf, quadric, term_index as u32, p, tol) else {
-                    continue;
-                };
-                decisive += 1;
-                if d != 0.0 {
-                    assert_eq!(
-                        d < 0.0,
-                        truth,
-                        "sign at {p:?}: d = {d}, term {term_index}, quadric {quadric}"
-                    );
-                }
-                // Points of the same quadric within |d| share the classification.
-                for _ in 0..8 {
-                    let offset = rng.direction() * rng.range(0.0, 0.95 * d.abs());
-                    let moved = p + offset;
-                    let Some(n) = q.normal(moved) else { continue };
-                    let Some(t) = q
-                        .intersect_line(moved, n)
-                        .roots()
-                        .into_iter()
-                        .min_by(|a, b| a.abs().total_cmp(&b.abs()))
-                    else {
-                        continue;
-                    };
-                    let nearby = moved + t * n;
-                    if (nearby - p).length() >= d.abs() {
-                        continue;
-                    }
-                    // A planar quadric's claim is for the sheet of `p`: eq. 22 sees each sheet
-                    // on its own, and a basic region lies on one.
-                    let other_sheet = planar
-                        && q.normal(nearby)
-                            .zip(q.normal(p))
-                            .is_none_or(|(a, b)| a.dot(b) <= 0.0);
-                    if other_sheet {
-                        continue;
-                    }
-                    if let Some(near_truth) =
-                        brute_on_surface(dnf, quadric, term_index as u32, nearby, tol)
-                    {
-                        neighbours += 1;
-                        assert_eq!(
-                            near_truth, truth,
-                            "classification changed within |d| = {d}: {p:?} -> {nearby:?}"
-                        );
-                    }
-                }
+                let (d, n) = check_point(
+                    dnf,
+                    (quadric, term_index as u32),
+                    (p, distance.distance(p)),
+                    &Aabb::EVERYTHING,
+                    &mut rng,
+                );
+                decisive += d;
+                neighbours += n;
             }
         }
     }
     (decisive, neighbours)
+}
+
+/// Checks `d`, eq. 22 at `p` on `quadric` as a literal of `term`, against brute force: its sign,
+/// and that points of the quadric within `|d|` (and `within`) are classified as `p`. Returns
+/// whether the point was decisive (0 or 1) and how many neighbours were.
+fn check_point(
+    dnf: &Dnf,
+    (quadric, term): (u32, u32),
+    (p, d): (DVec3, f64),
+    within: &Aabb,
+    rng: &mut Rng,
+) -> (usize, usize) {
+    let tol = 1e-9 * diagonal(dnf);
+    let q = dnf.quadrics[quadric as usize].quadric;
+    let planar = matches!(q.kind(), QuadricKind::Plane | QuadricKind::ParallelPlanes);
+    let Some(truth) = brute_on_surface(dnf, quadric, term, p, tol) else {
+        return (0, 0);
+    };
+    if d != 0.0 {
+        assert_eq!(
+            d < 0.0,
+            truth,
+            "sign at {p:?}: d = {d}, term {term}, quadric {quadric}"
+        );
+    }
+    let mut neighbours = 0;
+    // Points of the same quadric within |d| share the classification.
+    for _ in 0..8 {
+        let offset = rng.direction() * rng.range(0.0, 0.95 * d.abs());
+        let moved = p + offset;
+        let Some(n) = q.normal(moved) else { continue };
+        let Some(t) = q
+            .intersect_line(moved, n)
+            .roots()
+            .into_iter()
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+        else {
+            continue;
+        };
+        let nearby = moved + t * n;
+        if (nearby - p).length() >= d.abs() || !within.contains(nearby) {
+            continue;
+        }
+        // A planar quadric's claim is for the sheet of `p`: eq. 22 sees each sheet on its own,
+        // and a basic region lies on one.
+        let other_sheet = planar
+            && q.normal(nearby)
+                .zip(q.normal(p))
+                .is_none_or(|(a, b)| a.dot(b) <= 0.0);
+        if other_sheet {
+            continue;
+        }
+        if let Some(near_truth) = brute_on_surface(dnf, quadric, term, nearby, tol) {
+            neighbours += 1;
+            assert_eq!(
+                near_truth, truth,
+                "classification changed within |d| = {d}: {p:?} -> {nearby:?}"
+            );
+        }
+    }
+    (1, neighbours)
 }
 
 #[test]
@@ -162,9 +182,58 @@ fn far_terms_left_out_classification() {
     );
 }
 
+/// Eq. 22 for a small part of a plate drilled with many holes (one term of many literals)
+/// leaves out the holes far from the part ("Far literals"), and a box's distance narrowed to
+/// a smaller box leaves out more: both must stay right on the part and the smaller box, at
+/// points inside them and just outside.
+#[test]
+fn far_literals_classification() {
+    let path = common::workspace_root().join("tests/stability/perforated_plate.qcsg");
+    let dnf = common::compile_file(&path).expect("perforated_plate");
+    let term = &dnf.terms[0];
+    assert!(term.literals.len() > 100, "one term of many literals");
+    let mut rng = Rng::new(50);
+    let (mut decisive, mut neighbours, mut left_out) = (0, 0, 0);
+    for &quadric in term.literals.iter().step_by(7) {
+        let q = dnf.quadrics[quadric as usize].quadric;
+        for _ in 0..4 {
+            // A part around a point of the quadric in the plate's box, and a quarter of it.
+            let Some(&centre) = points_on(&q, &term.bounds, 1, &mut rng).first() else {
+                continue;
+            };
+            let half = DVec3::splat(rng.range(0.5, 4.0));
+            let part = Aabb::from_centre_half(centre, half);
+            let quarter = Aabb::from_centre_half(centre, 0.25 * half);
+            let distance = CsgDistance::for_part(&dnf, quadric, 0, &part).expect("indices");
+            let size = |b: &Aabb| (b.max - b.min).length();
+            let near = distance.near(&part, size(&part) + 0.1);
+            let narrow = near.narrow(&quarter, size(&quarter) + 0.1);
+            left_out += usize::from(
+                distance.other_terms() == 0 && near.literals_of_large_terms() < term.literals.len(),
+            );
+            // The claims hold for the quadric's points inside the part.
+            for p in points_on(&q, &part, 40, &mut rng) {
+                let mut checks = vec![distance.distance(p), near.distance(p)];
+                if quarter.contains(p) {
+                    checks.push(narrow.distance(p));
+                }
+                for d in checks {
+                    let (d, n) = check_point(&dnf, (quadric, 0), (p, d), &part, &mut rng);
+                    decisive += d;
+                    neighbours += n;
+                }
+            }
+        }
+    }
+    assert!(
+        decisive > 1000 && neighbours > 1000 && left_out > 20,
+        "{decisive} {neighbours} {left_out}"
+    );
+}
+
 #[test]
 fn box_distance_is_exact() {
-    let b = qcsg_csg::Aabb::new(DVec3::ZERO, DVec3::ONE);
+    let b = Aabb::new(DVec3::ZERO, DVec3::ONE);
     let d = qcsg_sample::csg_distance::box_distance;
     assert_eq!(d(&b, DVec3::splat(0.5)), -0.5);
     assert_eq!(d(&b, DVec3::new(2.0, 0.5, 0.5)), 1.0);
