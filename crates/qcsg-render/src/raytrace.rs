@@ -1,8 +1,9 @@
 //! The CPU reference ray tracer: exact CSG classification of a ray against a DNF.
 //!
-//! Per term, the ray is clipped to the term's box, then the inside-sets of the term's literals
-//! along it are intersected ([`interval`](crate::interval)); the terms' sets are united and the
-//! first point where the ray enters the union (in front of its start) is the hit. The quadric
+//! Per term whose box the ray crosses (found in an R-tree of the boxes, [`BoxIndex`]), the ray
+//! is clipped to the term's box, then the inside-sets of the term's literals along it are
+//! intersected ([`interval`](crate::interval)); the terms' sets are united and the first point
+//! where the ray enters the union (in front of its start) is the hit. The quadric
 //! that bounds the interval there gives the normal — its gradient, which is outward because
 //! complements are folded into the literal's sign — and the colour. Intervals that merely
 //! touch are merged, so touching solids show no inner faces; tangent roots and zero-length
