@@ -358,13 +358,14 @@ impl CsgDistance {
         let q = dnf.quadrics.get(quadric as usize)?.quadric;
         let own_term = dnf.terms.get(term as usize)?;
         let shape = shapes.of(quadric);
-        // Where the sampled part lies: in term `a`'s box and the patch, grown by the length
-        // tolerance (points rounded off its faces are in).
-        let extent = match dnf.region {
+        // Where the sampled part lies: in term `a`'s box and the patch (the whole box where they
+        // miss), grown by the length tolerance (points rounded off its faces are in).
+        let term_box = match dnf.region {
             Some(region) => own_term.bounds.intersection(&region),
             None => own_term.bounds,
-        }
-        .intersection(patch);
+        };
+        let part = term_box.intersection(patch);
+        let extent = if part.is_empty() { term_box } else { part };
         let extent = if extent.is_empty() {
             extent
         } else {

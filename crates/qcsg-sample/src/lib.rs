@@ -332,15 +332,17 @@ const TILE_LITERALS: usize = 32;
 /// Halvings of a tile tried at once ([`tiles`]).
 const TILE_TRIAL_DEPTH: u32 = 3;
 
+/// Most tiles of one region: a bound on what tiling adds, whatever the scene.
+const MAX_TILES: usize = 4096;
+
 /// `region` (with eq. 22 kept to its neighbourhood, `near`) as tiles, each with eq. 22 narrowed
 /// to its own ([`NearDistance::narrow`]), while a tile looks at more than [`TILE_LITERALS`]
 /// literals of terms of many and is larger than the radius. A tile is halved
 /// [`TILE_TRIAL_DEPTH`] times at once (the margin shrinks with the tile, so counts fall only
 /// after a few halvings), and the halves are kept only if they look at a quarter fewer
 /// literals on average: elsewhere (a polyhedron's faces, all near each other) the tile stays
-/// whole.
-/// A tile keeps the region's distortion bound and border flag, which hold on any part of it. In
-/// order, low half first.
+/// whole. A region makes at most [`MAX_TILES`] tiles. A tile keeps the region's distortion
+/// bound and border flag, which hold on any part of it. In order, low half first.
 fn tiles<'a>(
     patches: &[Patch],
     (patch_index, region, bounds): PlacedRegion,
@@ -364,7 +366,8 @@ fn tiles<'a>(
     while let Some(tile) = stack.pop() {
         let literals = tile.2.literals_of_large_terms();
         let size = (tile.1.max - tile.1.min).length();
-        if literals > TILE_LITERALS && size > radius {
+        let room = out.len() + stack.len() + (1 << TILE_TRIAL_DEPTH) <= MAX_TILES;
+        if literals > TILE_LITERALS && size > radius && room {
             let mut halves = halve(&tile).to_vec();
             for _ in 1..TILE_TRIAL_DEPTH {
                 halves = halves.iter().flat_map(halve).collect();
