@@ -9,8 +9,9 @@
 //! touch are merged, so touching solids show no inner faces; tangent roots and zero-length
 //! intervals make no surface.
 
+use qcsg_csg::quadric_box::{BoxClass, classify};
 use qcsg_csg::{Aabb, BoxIndex, Dnf};
-use qcsg_quadric::DVec3;
+use qcsg_quadric::{DVec3, Quadric};
 
 use crate::interval::{Boundary, Interval, intersect_into, literal_intervals};
 
@@ -99,18 +100,103 @@ impl Hit {
 #[derive(Clone, Debug, Default)]
 pub struct Scratch {
     terms: Vec<u32>,
+    literals: Vec<u32>,
     current: Vec<Interval>,
     literal: Vec<Interval>,
     merged: Vec<Interval>,
     all: Vec<(Interval, u32)>,
 }
 
-/// The term boxes used for clipping: each term's box grown a little, so that a face lying on
-/// the box (a cube's slab) is met as the quadric's root, not as the box. A ray looks only at the
-/// terms whose box it crosses, found in the index.
-pub fn clip_boxes(dnf: &Dnf) -> BoxIndex {
-    let boxes = dnf
-        .terms
+/// The term boxes used for clipping, indexed, and for each term of many literals where each
+/// literal may fail ([`TermIndex`]), with [`LITERAL_INDEX_ABOVE`].
+pub fn clip_boxes(dnf: &Dnf) -> TermIndex {
+    TermIndex::new(dnf, LITERAL_INDEX_ABOVE)
+}
+
+/// Terms with more literals than this index where each literal may fail.
+pub const LITERAL_INDEX_ABOVE: usize = 32;
+
+/// What a ray looks at: the term boxes, each grown a little so that a face lying on the box (a
+/// cube's slab) is met as the quadric's root, not as the box, in an R-tree (a ray looks only
+/// at the terms whose box it crosses); and, for a term of many literals (a plate drilled with
+/// many holes), a box around where each literal fails within the term's box, in an R-tree too
+/// (a ray intersects only the literals whose box it crosses: it lies inside the others
+/// throughout).
+#[derive(Clone, Debug)]
+pub struct TermIndex {
+    boxes: BoxIndex,
+    literals: Vec<Option<BoxIndex>>,
+}
+
+impl TermIndex {
+    /// The index of `dnf`, with literal boxes for terms of more than `literals_above` literals.
+    pub fn new(dnf: &Dnf, literals_above: usize) -> Self {
+        let boxes = padded_boxes(dnf);
+        let literals = dnf
+            .terms
+            .iter()
+            .zip(&boxes)
+            .map(|(term, bounds)| {
+                (term.literals.len() > literals_above && bounds.is_bounded()).then(|| {
+                    let fails = term.literals.iter().map(|&id| {
+                        dnf.quadrics
+                            .get(id as usize)
+                            .map_or(*bounds, |q| where_it_fails(&q.quadric, bounds))
+                    });
+                    BoxIndex::new(fails.collect())
+                })
+            })
+            .collect();
+        Self {
+            boxes: BoxIndex::new(boxes),
+            literals,
+        }
+    }
+
+    /// The padded term boxes, one per term, indexed.
+    pub fn boxes(&self) -> &BoxIndex {
+        &self.boxes
+    }
+}
+
+/// Bisections of a term's box when looking for where a literal fails: down to 1/2^8 of its
+/// size on each axis.
+const FAIL_SPLITS: u32 = 24;
+
+/// A box around the points of `bounds` where `q ≤ 0` fails or holds only up to its surface:
+/// the union of the pieces of `bounds`, bisected along their longest side, that
+/// `quadric_box::classify` does not prove inside.
+fn where_it_fails(q: &Quadric, bounds: &Aabb) -> Aabb {
+    let mut found = Aabb::EMPTY;
+    let mut stack = vec![(*bounds, 0)];
+    while let Some((piece, depth)) = stack.pop() {
+        match classify(q, &piece) {
+            BoxClass::Inside => {}
+            BoxClass::Cuts if depth < FAIL_SPLITS => {
+                let size = piece.max - piece.min;
+                let axis = if size.x >= size.y && size.x >= size.z {
+                    0
+                } else if size.y >= size.z {
+                    1
+                } else {
+                    2
+                };
+                let middle = 0.5 * (piece.min[axis] + piece.max[axis]);
+                let (mut low, mut high) = (piece, piece);
+                low.max[axis] = middle;
+                high.min[axis] = middle;
+                stack.push((low, depth + 1));
+                stack.push((high, depth + 1));
+            }
+            _ => found = found.union(&piece),
+        }
+    }
+    found
+}
+
+/// The term boxes, each grown a little (see [`TermIndex`]).
+fn padded_boxes(dnf: &Dnf) -> Vec<Aabb> {
+    dnf.terms
         .iter()
         .map(|term| {
             let b = term.bounds;
@@ -131,8 +217,7 @@ pub fn clip_boxes(dnf: &Dnf) -> BoxIndex {
                 max: b.max + grow,
             }
         })
-        .collect();
-    BoxIndex::new(boxes)
+        .collect()
 }
 
 /// The part of `ray` beyond `t_min` inside `bounds`, when it is not empty (NaN ranges are).
@@ -146,15 +231,17 @@ fn clipped(ray: &Ray, bounds: &Aabb, t_min: f64) -> Option<(f64, f64)> {
 /// term boxes from [`clip_boxes`]. A ray that starts inside the solid sees the next entry.
 pub fn trace(
     dnf: &Dnf,
-    boxes: &BoxIndex,
+    index: &TermIndex,
     ray: &Ray,
     t_min: f64,
     scratch: &mut Scratch,
 ) -> Option<Hit> {
     scratch.all.clear();
     scratch.terms.clear();
+    let boxes = &index.boxes;
     // A larger box holds a longer piece of the ray, so the search may skip what misses.
     boxes.select(|b| clipped(ray, b, t_min).is_some(), &mut scratch.terms);
+    scratch.terms.sort_unstable();
     for &term_index in &scratch.terms {
         let (Some(term), Some(bounds)) = (
             dnf.terms.get(term_index as usize),
@@ -167,7 +254,21 @@ pub fn trace(
         };
         scratch.current.clear();
         scratch.current.push(Interval::clip(t_in, t_out));
-        for &id in &term.literals {
+        // Of a term of many literals, those whose failing part the ray's piece misses hold
+        // along all of it: they change nothing.
+        scratch.literals.clear();
+        match index.literals.get(term_index as usize) {
+            Some(Some(fails)) => {
+                let meets = |b: &Aabb| ray.clip_to(b).is_some_and(|(a, c)| a <= t_out && c >= t_in);
+                fails.select(meets, &mut scratch.literals);
+                scratch.literals.sort_unstable();
+                for k in &mut scratch.literals {
+                    *k = term.literals[*k as usize];
+                }
+            }
+            _ => scratch.literals.extend_from_slice(&term.literals),
+        }
+        for &id in &scratch.literals {
             let Some(literal) = dnf.quadrics.get(id as usize) else {
                 continue;
             };

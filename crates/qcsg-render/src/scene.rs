@@ -1,10 +1,10 @@
 //! What a preview shows: the solid, plus the `#` highlighted and `%` background parts that
 //! OpenSCAD previews draw translucent over it.
 
-use qcsg_csg::{Aabb, BoxIndex, Dag, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
+use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
 use qcsg_diag::Diagnostic;
 
-use crate::raytrace::clip_boxes;
+use crate::raytrace::{TermIndex, clip_boxes};
 
 /// How many DAG edges the search for highlighted parts may follow before it gives up on them.
 const HIGHLIGHT_VISIT_LIMIT: usize = 1_000_000;
@@ -13,7 +13,7 @@ const HIGHLIGHT_VISIT_LIMIT: usize = 1_000_000;
 #[derive(Clone, Debug)]
 pub struct Layer {
     dnf: Dnf,
-    boxes: BoxIndex,
+    boxes: TermIndex,
 }
 
 impl Layer {
@@ -46,8 +46,8 @@ impl Layer {
         &self.dnf
     }
 
-    /// The padded term boxes, one per term, indexed.
-    pub fn boxes(&self) -> &BoxIndex {
+    /// What its rays look at: the padded term boxes, indexed.
+    pub fn boxes(&self) -> &TermIndex {
         &self.boxes
     }
 

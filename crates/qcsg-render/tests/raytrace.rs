@@ -4,7 +4,7 @@
 
 use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, Edge, Source, build_dnf};
 use qcsg_quadric::{DVec3, Quadric};
-use qcsg_render::raytrace::{Scratch, clip_boxes};
+use qcsg_render::raytrace::{LITERAL_INDEX_ABOVE, Scratch, TermIndex, clip_boxes};
 use qcsg_render::{
     Camera, Hit, ImageSize, Projection, Ray, RenderOptions, Scene, View, render, trace,
 };
@@ -230,4 +230,63 @@ fn empty_scenes_render_the_background() {
     let frame = render(&scene, &camera, size, &RenderOptions::default(), &|_| {});
     assert_eq!(frame.hit_count(), 0);
     assert_eq!(frame.pixel(2, 1), [255, 255, 229]);
+}
+
+/// A plate drilled with a 10 × 10 grid of holes: one term of 103 literals, so its rays take
+/// the literals whose failing part they cross from an index. Every ray must see what it sees
+/// when it intersects every literal.
+#[test]
+fn a_term_of_many_literals_traces_as_with_every_literal() {
+    let mut dag = Dag::new();
+    let slabs: Vec<Edge> = [(DVec3::X, 15.0), (DVec3::Y, 15.0), (DVec3::Z, 1.0)]
+        .into_iter()
+        .map(|(n, half)| {
+            let slab = Quadric::slab(DVec3::ZERO, n, half).unwrap();
+            dag.leaf(slab, Source::default()).into()
+        })
+        .collect();
+    let plate = dag.intersection(slabs, Source::default());
+    let mut parts = vec![plate.into()];
+    for i in 0..10 {
+        for j in 0..10 {
+            let centre = DVec3::new(-13.5 + 3.0 * f64::from(i), -13.5 + 3.0 * f64::from(j), 0.0);
+            let hole = Quadric::cylinder(centre, DVec3::Z, 1.0).unwrap();
+            parts.push(dag.leaf(hole, Source::default()).into());
+        }
+    }
+    let drilled = dag.difference(parts, Source::default());
+    let dnf = dnf_of(&mut dag, drilled.into());
+    assert_eq!(dnf.terms.len(), 1);
+    assert!(dnf.terms[0].literals.len() > LITERAL_INDEX_ABOVE);
+    let (indexed, walked) = (clip_boxes(&dnf), TermIndex::new(&dnf, usize::MAX));
+    let mut scratch = Scratch::default();
+    let mut state = 0x5eed_u64;
+    let mut unit = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut hits = 0;
+    for _ in 0..4000 {
+        let origin = DVec3::new(
+            40.0 * unit() - 20.0,
+            40.0 * unit() - 20.0,
+            10.0 * unit() + 2.0,
+        );
+        let target = DVec3::new(
+            32.0 * unit() - 16.0,
+            32.0 * unit() - 16.0,
+            2.0 * unit() - 1.0,
+        );
+        let ray = Ray {
+            origin,
+            direction: (target - origin).normalize(),
+        };
+        let fast = trace(&dnf, &indexed, &ray, 0.0, &mut scratch);
+        let slow = trace(&dnf, &walked, &ray, 0.0, &mut scratch);
+        assert_eq!(fast, slow, "{ray:?}");
+        hits += usize::from(fast.is_some());
+    }
+    assert!(hits > 2000, "{hits} hits");
 }
