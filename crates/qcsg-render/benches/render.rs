@@ -1,7 +1,10 @@
 //! Render time of the CPU ray tracer: scenes of about 3 and 30 quadrics, of 4,096 balls and of
-//! a plate drilled with 1,024 holes at 800×600 and 1920×1080, on 1 and 2 threads. A plain timing binary (best of a few runs), because one
-//! render takes long enough to time on its own:
+//! a plate drilled with 1,024 holes at 800×600 and 1920×1080, on 1 and 2 threads. A plain
+//! timing binary (best of a few runs), because one render takes long enough to time on its own:
 //! `cargo bench -p qcsg-render --bench render`.
+
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 use std::time::Instant;
 
@@ -98,24 +101,8 @@ fn many_balls_scene() -> Scene {
 /// handful of holes; the literal index of the term finds those without intersecting all.
 fn drilled_plate_scene() -> Scene {
     let mut dag = Dag::new();
-    let slabs: Vec<Edge> = [(DVec3::X, 48.0), (DVec3::Y, 48.0), (DVec3::Z, 1.0)]
-        .into_iter()
-        .map(|(n, half)| {
-            let slab = Quadric::slab(DVec3::ZERO, n, half).expect("slab");
-            dag.leaf(slab, Source::default()).into()
-        })
-        .collect();
-    let plate = dag.intersection(slabs, Source::default());
-    let mut parts = vec![plate.into()];
-    for i in 0..32 {
-        for j in 0..32 {
-            let centre = DVec3::new(-46.5 + 3.0 * f64::from(i), -46.5 + 3.0 * f64::from(j), 0.0);
-            let hole = Quadric::cylinder(centre, DVec3::Z, 1.0).expect("cylinder");
-            parts.push(dag.leaf(hole, Source::default()).into());
-        }
-    }
-    let drilled = dag.difference(parts, Source::default());
-    dag.set_root(drilled.into());
+    let plate = common::drilled_plate(&mut dag, 32);
+    dag.set_root(plate);
     Scene::from_dag(&mut dag, &DnfOptions::default()).expect("scene")
 }
 

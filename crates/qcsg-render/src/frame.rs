@@ -282,5 +282,5 @@ pub fn frame_from_pixels(size: ImageSize, pixel: &(dyn Fn(u32, u32) -> Pixel + S
 }
 
 fn trace_layer(layer: &Layer, ray: &Ray, scratch: &mut Scratch) -> Option<Hit> {
-    trace(layer.dnf(), layer.boxes(), ray, 0.0, scratch)
+    trace(layer.dnf(), layer.index(), ray, 0.0, scratch)
 }

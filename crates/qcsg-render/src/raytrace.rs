@@ -107,9 +107,9 @@ pub struct Scratch {
     all: Vec<(Interval, u32)>,
 }
 
-/// The term boxes used for clipping, indexed, and for each term of many literals where each
-/// literal may fail ([`TermIndex`]), with [`LITERAL_INDEX_ABOVE`].
-pub fn clip_boxes(dnf: &Dnf) -> TermIndex {
+/// What `dnf`'s rays look at ([`TermIndex`]), with literal boxes for the terms of more than
+/// [`LITERAL_INDEX_ABOVE`] literals.
+pub fn term_index(dnf: &Dnf) -> TermIndex {
     TermIndex::new(dnf, LITERAL_INDEX_ABOVE)
 }
 
@@ -152,11 +152,6 @@ impl TermIndex {
             literals,
         }
     }
-
-    /// The padded term boxes, one per term, indexed.
-    pub fn boxes(&self) -> &BoxIndex {
-        &self.boxes
-    }
 }
 
 /// Bisections of a term's box when looking for where a literal fails: down to 1/2^8 of its
@@ -173,14 +168,7 @@ fn where_it_fails(q: &Quadric, bounds: &Aabb) -> Aabb {
         match classify(q, &piece) {
             BoxClass::Inside => {}
             BoxClass::Cuts if depth < FAIL_SPLITS => {
-                let size = piece.max - piece.min;
-                let axis = if size.x >= size.y && size.x >= size.z {
-                    0
-                } else if size.y >= size.z {
-                    1
-                } else {
-                    2
-                };
+                let axis = (piece.max - piece.min).max_position();
                 let middle = 0.5 * (piece.min[axis] + piece.max[axis]);
                 let (mut low, mut high) = (piece, piece);
                 low.max[axis] = middle;
@@ -228,7 +216,7 @@ fn clipped(ray: &Ray, bounds: &Aabb, t_min: f64) -> Option<(f64, f64)> {
 }
 
 /// The first entry of `ray` into the solid `dnf` at a parameter `> t_min`, given the padded
-/// term boxes from [`clip_boxes`]. A ray that starts inside the solid sees the next entry.
+/// term boxes from [`term_index`]. A ray that starts inside the solid sees the next entry.
 pub fn trace(
     dnf: &Dnf,
     index: &TermIndex,
@@ -240,8 +228,8 @@ pub fn trace(
     scratch.terms.clear();
     let boxes = &index.boxes;
     // A larger box holds a longer piece of the ray, so the search may skip what misses.
+    // The order does not matter: the terms' intervals are sorted below.
     boxes.select(|b| clipped(ray, b, t_min).is_some(), &mut scratch.terms);
-    scratch.terms.sort_unstable();
     for &term_index in &scratch.terms {
         let (Some(term), Some(bounds)) = (
             dnf.terms.get(term_index as usize),

@@ -4,23 +4,24 @@
 use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
 use qcsg_diag::Diagnostic;
 
-use crate::raytrace::{TermIndex, clip_boxes};
+use crate::raytrace::{TermIndex, term_index};
 
 /// How many DAG edges the search for highlighted parts may follow before it gives up on them.
 const HIGHLIGHT_VISIT_LIMIT: usize = 1_000_000;
 
-/// One solid to ray trace: its DNF and the padded term boxes it is clipped to.
+/// One solid to ray trace: its DNF and what its rays look at (the padded term boxes it is
+/// clipped to, indexed).
 #[derive(Clone, Debug)]
 pub struct Layer {
     dnf: Dnf,
-    boxes: TermIndex,
+    index: TermIndex,
 }
 
 impl Layer {
     /// A layer of one solid.
     pub fn new(dnf: Dnf) -> Self {
-        let boxes = clip_boxes(&dnf);
-        Self { dnf, boxes }
+        let index = term_index(&dnf);
+        Self { dnf, index }
     }
 
     /// The union of several solids as one layer (their DNFs concatenated).
@@ -46,9 +47,10 @@ impl Layer {
         &self.dnf
     }
 
-    /// What its rays look at: the padded term boxes, indexed.
-    pub fn boxes(&self) -> &TermIndex {
-        &self.boxes
+    /// What its rays look at: the padded term boxes and, for terms of many literals, where
+    /// each literal fails, indexed.
+    pub fn index(&self) -> &TermIndex {
+        &self.index
     }
 
     /// The union of the term boxes.

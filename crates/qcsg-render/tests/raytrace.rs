@@ -2,9 +2,11 @@
 //! that are re-entered, unbounded literals, tangent rays and touching solids, plus determinism
 //! across thread counts.
 
+mod common;
+
 use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, Edge, Source, build_dnf};
 use qcsg_quadric::{DVec3, Quadric};
-use qcsg_render::raytrace::{LITERAL_INDEX_ABOVE, Scratch, TermIndex, clip_boxes};
+use qcsg_render::raytrace::{LITERAL_INDEX_ABOVE, Scratch, TermIndex, term_index};
 use qcsg_render::{
     Camera, Hit, ImageSize, Projection, Ray, RenderOptions, Scene, View, render, trace,
 };
@@ -26,7 +28,7 @@ fn cast(dnf: &Dnf, origin: DVec3, direction: DVec3) -> Option<Hit> {
         origin,
         direction: direction.normalize(),
     };
-    trace(dnf, &clip_boxes(dnf), &ray, 0.0, &mut Scratch::default())
+    trace(dnf, &term_index(dnf), &ray, 0.0, &mut Scratch::default())
 }
 
 /// The index of the DNF quadric equal to `q` or to its complement.
@@ -238,27 +240,11 @@ fn empty_scenes_render_the_background() {
 #[test]
 fn a_term_of_many_literals_traces_as_with_every_literal() {
     let mut dag = Dag::new();
-    let slabs: Vec<Edge> = [(DVec3::X, 15.0), (DVec3::Y, 15.0), (DVec3::Z, 1.0)]
-        .into_iter()
-        .map(|(n, half)| {
-            let slab = Quadric::slab(DVec3::ZERO, n, half).unwrap();
-            dag.leaf(slab, Source::default()).into()
-        })
-        .collect();
-    let plate = dag.intersection(slabs, Source::default());
-    let mut parts = vec![plate.into()];
-    for i in 0..10 {
-        for j in 0..10 {
-            let centre = DVec3::new(-13.5 + 3.0 * f64::from(i), -13.5 + 3.0 * f64::from(j), 0.0);
-            let hole = Quadric::cylinder(centre, DVec3::Z, 1.0).unwrap();
-            parts.push(dag.leaf(hole, Source::default()).into());
-        }
-    }
-    let drilled = dag.difference(parts, Source::default());
-    let dnf = dnf_of(&mut dag, drilled.into());
+    let plate = common::drilled_plate(&mut dag, 10);
+    let dnf = dnf_of(&mut dag, plate);
     assert_eq!(dnf.terms.len(), 1);
     assert!(dnf.terms[0].literals.len() > LITERAL_INDEX_ABOVE);
-    let (indexed, walked) = (clip_boxes(&dnf), TermIndex::new(&dnf, usize::MAX));
+    let (indexed, walked) = (term_index(&dnf), TermIndex::new(&dnf, usize::MAX));
     let mut scratch = Scratch::default();
     let mut state = 0x5eed_u64;
     let mut unit = || {
