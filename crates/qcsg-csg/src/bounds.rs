@@ -88,6 +88,14 @@ impl Aabb {
         }
     }
 
+    /// The box grown by `margin` on every side; an empty box stays empty.
+    pub fn expanded(&self, margin: f64) -> Aabb {
+        if self.is_empty() {
+            return *self;
+        }
+        Aabb::new(self.min - margin, self.max + margin)
+    }
+
     /// The Euclidean gap between the boxes: 0 where they touch or overlap, `+∞` if either is
     /// empty.
     pub fn gap(&self, other: &Aabb) -> f64 {

@@ -172,7 +172,7 @@ fn literals_near(dnf: &Dnf, samples: &[Sample], literals: &[u32], out: &mut Vec<
         max = max.max(sample.position);
         radius = radius.max(sample.radius);
     }
-    let grown = Aabb::new(min - radius, max + radius);
+    let grown = Aabb::new(min, max).expanded(radius);
     out.extend(literals.iter().copied().filter(|&literal| {
         dnf.quadrics
             .get(literal as usize)

@@ -237,7 +237,7 @@ impl TermView {
         if self.literals.len() <= FEW_LITERALS {
             return None;
         }
-        let grown = Aabb::new(bounds.min - margin, bounds.max + margin);
+        let grown = bounds.expanded(margin);
         if !grown.is_bounded() {
             return within.cloned();
         }
@@ -365,13 +365,7 @@ impl CsgDistance {
             None => own_term.bounds,
         };
         let part = term_box.intersection(patch);
-        let extent = if part.is_empty() { term_box } else { part };
-        let extent = if extent.is_empty() {
-            extent
-        } else {
-            let tolerance = DVec3::splat(shapes.tolerance);
-            Aabb::new(extent.min - tolerance, extent.max + tolerance)
-        };
+        let extent = if part.is_empty() { term_box } else { part }.expanded(shapes.tolerance);
         let reach = (extent.max - extent.min).length();
         let near = shapes.boxes.near(&extent, reach);
         let terms_left_out = near.len() < shapes.boxes.boxes().len();
@@ -415,9 +409,9 @@ impl CsgDistance {
             });
         // Of a term of many literals, those that hold all around the sampled part are left out
         // ("Far literals"); the sampled quadric stays.
-        let grown = Aabb::new(extent.min - reach, extent.max + reach);
+        let grown = extent.expanded(reach);
         let near_literals = |literals: &[(u32, Quadric)]| -> (TermLiterals, f64) {
-            if literals.len() <= FEW_LITERALS || !grown.is_bounded() {
+            if literals.len() <= FEW_LITERALS || grown.is_empty() || !grown.is_bounded() {
                 return (literals.to_vec(), f64::NEG_INFINITY);
             }
             let kept: TermLiterals = literals

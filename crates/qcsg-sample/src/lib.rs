@@ -324,6 +324,12 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedReg
     (patches, regions)
 }
 
+/// The margin eq. 22 keeps around a patch's box `bounds` ([`CsgDistance::near`]): its diagonal
+/// plus the radius, so that the terms left out are farther than any rectangle of the patch.
+fn near_margin(bounds: &Aabb, radius: f64) -> f64 {
+    (bounds.max - bounds.min).length() + radius
+}
+
 /// Regions whose eq. 22 looks at more literals of terms of many than this are tiled until each
 /// tile's patch sees fewer ([`NearDistance::literals_of_large_terms`]): a plate drilled with
 /// thousands of holes is one term, and each hole's neighbourhood needs only the holes near it.
@@ -357,7 +363,7 @@ fn tiles<'a>(
         [low, high].map(|rect| {
             let half = BasicRegion { rect, ..*region };
             let bounds = patch_bounds(&patch.frame, &half).unwrap_or(Aabb::EVERYTHING);
-            let narrowed = near.narrow(&bounds, (bounds.max - bounds.min).length() + radius);
+            let narrowed = near.narrow(&bounds, near_margin(&bounds, radius));
             (half, bounds, narrowed)
         })
     };
@@ -554,14 +560,23 @@ fn sample_on_pool(
     let (patches, regions) = all_regions(dnf, &mut stats);
     // Eq. 22 of each region keeps the terms and literals near the region's patch, narrowed
     // from its whole patch's; regions where that is still many literals are tiled.
-    let reach = |bounds: &Aabb| (bounds.max - bounds.min).length() + radius;
     let wholes: Vec<NearDistance<'_>> = patches
         .par_iter()
-        .map(|patch| patch.distance.near(&patch.bounds, reach(&patch.bounds)))
+        .map(|patch| {
+            patch
+                .distance
+                .near(&patch.bounds, near_margin(&patch.bounds, radius))
+        })
         .collect();
     let near: Vec<Option<NearDistance<'_>>> = regions
         .par_iter()
-        .map(|(patch, _, bounds)| Some(wholes.get(*patch)?.narrow(bounds, reach(bounds))))
+        .map(|(patch, _, bounds)| {
+            Some(
+                wholes
+                    .get(*patch)?
+                    .narrow(bounds, near_margin(bounds, radius)),
+            )
+        })
         .collect();
     drop(wholes);
     let heavy = |near: &NearDistance<'_>| near.literals_of_large_terms() > TILE_LITERALS;

@@ -467,10 +467,7 @@ pub fn patch_bounds(frame: &PrincipalFrame, region: &BasicRegion) -> Option<Aabb
     }
     let pad = 1e-9 * (bounds.max - bounds.min).length()
         + 1e-12 * bounds.max.abs().max(bounds.min.abs()).max_element();
-    Some(Aabb::new(
-        bounds.min - DVec3::splat(pad),
-        bounds.max + DVec3::splat(pad),
-    ))
+    Some(bounds.expanded(pad))
 }
 
 /// `min |α v + β|` over `[a, b]`.

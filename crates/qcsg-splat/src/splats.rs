@@ -170,7 +170,7 @@ fn splat_box(dnf: &Dnf, sample: &Sample) -> (DVec3, f64) {
 /// The parameter range `[near, far]` of the rays that can meet `scene` grown by `margin`.
 pub(crate) fn depth_range(scene: &Scene, camera: &Camera, margin: f64) -> (f64, f64) {
     let bounds = scene.bounds();
-    let grown = qcsg_csg::Aabb::new(bounds.min - DVec3::splat(margin), bounds.max + margin);
+    let grown = bounds.expanded(margin);
     let eye = camera.eye();
     let depths = grown.corners().map(|corner| match camera.projection() {
         Projection::Perspective => (corner - eye).length(),
