@@ -98,8 +98,8 @@ use crate::csg_distance::NearDistance;
 use crate::csg_distance::{CsgDistance, Shapes};
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
-    Deferred, GivenUp, Probed, RegionContext, SampleIndex, SubdivisionStats, given_up_share,
-    grow_radius, probe_given_up, refine_deferred, sample_region, settle_given_up,
+    Deferred, GivenUp, Probed, REGION_BLOCK, RegionContext, SampleIndex, SubdivisionStats,
+    given_up_share, grow_radius, probe_given_up, refine_deferred, sample_region, settle_given_up,
 };
 
 /// One sample on the CSG surface.
@@ -611,11 +611,14 @@ fn sample_on_pool(
         })
     };
     // First pass: every region on its own. Threads take runs of consecutive regions in order
-    // (`fold_runs`), and each run's output is appended to the whole as soon as its
-    // predecessors' are ([`InOrder`]): the output is the same for any thread count, one thread
-    // copies nothing, and on more the copying overlaps the sampling.
+    // (`fold_runs`, rounded to whole blocks of `REGION_BLOCK`), and each run's output is
+    // appended to the whole as soon as its predecessors' are ([`InOrder`]): the output is the
+    // same for any thread count, one thread copies nothing, and on more the copying overlaps
+    // the sampling.
     let (_, longest) = fold_runs(regions.len());
-    let run_length = longest.clamp(1, regions.len().max(1));
+    let run_length = longest
+        .clamp(1, regions.len().max(1))
+        .next_multiple_of(REGION_BLOCK);
     let runs = regions.len().div_ceil(run_length);
     let first_pass = InOrder::default();
     let next_run = AtomicUsize::new(0);
@@ -630,10 +633,14 @@ fn sample_on_pool(
                 let (mut out, mut deferred, mut counters) = first_pass.buffer();
                 let start = run * run_length;
                 let end = (start + run_length).min(regions.len());
+                let mut block_start = 0;
                 for (index, (_, region, _)) in (start..end).zip(&regions[start..end]) {
+                    if index % REGION_BLOCK == 0 {
+                        block_start = out.len();
+                    }
                     if let Some(ctx) = context(index) {
-                        let region = (index, region);
-                        sample_region(&ctx, region, &mut out, &mut deferred, &mut counters);
+                        let (region, out) = ((index, region), (&mut out, block_start));
+                        sample_region(&ctx, region, out, &mut deferred, &mut counters);
                     }
                     progress(Progress::RegionDone);
                 }

@@ -21,19 +21,27 @@
 //! classify is covered by a sample at its centre when `d(centre) < 0`, and split otherwise. Most
 //! such rectangles lie along feature curves; the examples at 1 % of the diagonal take 8 % to 73 %
 //! fewer samples in all than when they were split (a quarter to a third on most). If one of the
-//! last samples of the region is near enough to cover a small rectangle with a radius of at most
-//! `r`, no new sample is made and that sample's radius grows to reach it: along a feature curve
-//! one sample often covers several small rectangles.
+//! last samples of the same quadric and term is near enough to cover a small rectangle with a
+//! radius of at most `r`, no new sample is made and that sample's radius grows to reach it: along
+//! a feature curve one sample often covers several small rectangles. The look-back reaches into
+//! the earlier regions of the region's block ([`REGION_BLOCK`] consecutive regions): around a
+//! cone's apex the region decomposition leaves thousands of tiny regions, one ring per level of
+//! refinement, and each had taken a sample of its own (`raw_quadrics` at 1 % took 16,308 samples,
+//! 5,322 with the look-back).
 //!
 //! **Coverage is by what a sample's splat draws.** Wherever a rectangle counts as covered by an
 //! existing sample, that sample's disc must reach all of it: its radius is at most `r` and is the
 //! radius a renderer draws it with, so a sample within `r` whose reduced radius falls short has its
-//! radius grown (never beyond `r`). Its normal must be less than 90° from the quadric's at the
-//! rectangle (a splat draws only its own side: a sample on one face of a thin slab, the same
-//! quadric, draws nothing on the other), and a sample of another term counts only if the
-//! rectangle's part in its own term lies inside that term (a splat is clipped to its term; literals
-//! both terms hold are skipped). Without the last two rules `customizer_box` showed gaps along its
-//! walls' rims at 1920×1080 (99.6 % of pixels agreeing with the ray tracer instead of 99.997 %).
+//! radius grown (never beyond `r`). Its normal must be less than 90° from the quadric's at every
+//! point of the rectangle (a splat draws only its own side: a sample on one face of a thin slab,
+//! the same quadric, draws nothing on the other): the normal turns by at most `asin(bend · L)`
+//! within `L` of the rectangle's centre ([`SurfacePoint::faces`]), which the sample's normal must
+//! leave room for. Testing the centre's normal alone let a sample on a small ball's far sheet cover
+//! a rectangle as large as the ball at a radius near its size. A sample of another term counts
+//! only if the rectangle's part in its own term lies inside that term (a splat is clipped to its
+//! term; literals both terms hold are skipped). Without the last two rules `customizer_box` showed
+//! gaps along its walls' rims at 1920×1080 (99.6 % of pixels agreeing with the ray tracer instead
+//! of 99.997 %).
 //!
 //! **Two passes.** A small rectangle with neither corner nor centre on the surface is not split
 //! further at once: the first pass ([`sample_region`]) sets it aside ([`Deferred`]), and the second
@@ -232,7 +240,8 @@ enum Verdict {
 }
 
 /// Classifies one cell, emitting its samples when it is on the surface; `out[first..]` are the
-/// samples of the same region (or refinement) so far.
+/// samples that may cover its small rectangles (of the region's block, or of the refinement,
+/// so far).
 fn classify(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
@@ -296,6 +305,11 @@ fn classify(
 /// Samples [`covered_by_recent`] looks back over.
 const RECENT_SAMPLES: usize = 16;
 
+/// Consecutive basic regions whose first-pass samples may cover each other's small rectangles
+/// ([`sample_region`]). The first pass's runs are whole blocks, so the samples a region can see
+/// do not depend on the thread count.
+pub const REGION_BLOCK: usize = 64;
+
 /// The surface point over the centre of `rect`, with the quadric's normal there; `None` where
 /// there is no surface or the normal is undefined (a cone's apex).
 fn centre_point(
@@ -305,10 +319,11 @@ fn centre_point(
 ) -> Option<SurfacePoint> {
     let (x, y) = rect.centre();
     let position = region_point(ctx.frame, &region.heightfield, region.sheet, x, y)?;
-    Some(SurfacePoint::new(position, ctx.quadric.normal(position)?))
+    SurfacePoint::on(ctx.quadric, position)
 }
 
-/// Whether one of the last samples of `out` (the region's so far) covers the whole rectangle (of
+/// Whether one of the last samples of `out` (those of the region's block, or of the
+/// refinement, so far) of the region's quadric and term covers the whole rectangle (of
 /// footprint `footprint`), its radius grown to reach it if need be (never beyond `r`):
 /// depth-first order puts a small rectangle's neighbours among them, and along a feature curve
 /// one sample then covers several small rectangles instead of each taking its own.
@@ -323,7 +338,8 @@ fn covered_by_recent(
         return false;
     };
     let recent = (out.len().saturating_sub(RECENT_SAMPLES)..out.len()).rev();
-    let own_quadric = |s: &Sample| s.quadric == region.quadric;
+    // A sample of another term is clipped to that term, and might draw nothing here.
+    let own_quadric = |s: &Sample| s.quadric == region.quadric && s.term == region.term;
     grow_to_cover(
         out,
         recent,
@@ -368,11 +384,13 @@ fn split(
 
 /// First pass over basic region number `index`, appending its samples to `out` in a
 /// deterministic (depth-first) order. Rectangles of footprint at most `r` that it cannot prove
-/// go to `deferred`, for [`refine_deferred`]. Both may hold earlier regions' output already.
+/// go to `deferred`, for [`refine_deferred`]. Both may hold earlier regions' output already;
+/// `out[block_start..]` (the samples of the region's block so far, [`REGION_BLOCK`]) may cover
+/// its small rectangles.
 pub fn sample_region(
     ctx: &RegionContext<'_>,
     (index, region): (usize, &BasicRegion),
-    out: &mut Vec<Sample>,
+    (out, block_start): (&mut Vec<Sample>, usize),
     deferred: &mut Vec<Deferred>,
     stats: &mut SubdivisionStats,
 ) {
@@ -398,7 +416,7 @@ pub fn sample_region(
             stats.other_plane += 1;
             continue;
         }
-        match classify(ctx, region, &cell, (out, first_sample), stats) {
+        match classify(ctx, region, &cell, (out, block_start), stats) {
             Verdict::Discarded | Verdict::Filled | Verdict::Small => {}
             Verdict::Unproven { .. } => deferred.push(defer(cell)),
             Verdict::Split => match split(ctx, region, &cell, stats) {
@@ -1006,27 +1024,56 @@ fn inside_term(dnf: &Dnf, sample: &Sample, own: u32, p: DVec3, extent: f64) -> b
     })
 }
 
-/// A point of a quadric's surface with its outward unit normal.
+/// A point of a quadric's surface with its outward unit normal, and how fast the normal turns
+/// around it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
     /// The point.
     pub position: DVec3,
     /// The quadric's outward unit normal there.
     pub normal: DVec3,
+    /// Within distance `d` of the point, the quadric's normal is less than `asin(bend · d)`
+    /// from [`Self::normal`]: `∇Q(p) = ∇Q(c) + 2 A (p − c)`, so `bend = 2 ‖A‖ / ‖∇Q(c)‖`.
+    pub bend: f64,
 }
 
 impl SurfacePoint {
-    /// `position` with `normal`.
+    /// `position` with `normal`, on a surface taken as flat around it (`bend = 0`).
     pub fn new(position: DVec3, normal: DVec3) -> Self {
-        Self { position, normal }
+        Self {
+            position,
+            normal,
+            bend: 0.0,
+        }
+    }
+
+    /// The point of `quadric` at `position`; `None` where the normal is undefined (a cone's
+    /// apex).
+    pub fn on(quadric: &Quadric, position: DVec3) -> Option<Self> {
+        let gradient = quadric.gradient(position);
+        let (lower, upper) = quadric.eigenvalue_bounds();
+        Some(Self {
+            position,
+            normal: Quadric::normal_from_gradient(gradient)?,
+            // A hair more, for the rounding of the bound itself.
+            bend: 2.0 * lower.abs().max(upper) / gradient.length() * (1.0 + 1e-12),
+        })
+    }
+
+    /// Whether `sample` faces the same side ([`Sample::same_side`]) as every point of the
+    /// quadric within `extent` of this one: its normal is less than `90° − asin(bend · extent)`
+    /// from this point's, that is `n · normal > bend · extent`.
+    pub fn faces(&self, sample: &Sample, extent: f64) -> bool {
+        let spread = self.bend * extent;
+        spread < 1.0 && sample.normal.dot(self.normal) > spread
     }
 }
 
-/// Of `samples` on the same side as `point` ([`Sample::same_side`]), the first whose disc
-/// already covers the ball of radius `extent` around it (`|position − point| + extent ≤ its
-/// radius`), else the nearest that would with a radius of at most `radius`: its index and the
-/// radius it needs. Only samples `draws` accepts count; it is
-/// asked last, of the samples near enough, as it can cost more than the distance.
+/// Of `samples` that face the same side as every point of the ball of radius `extent` around
+/// `point` ([`SurfacePoint::faces`]), the first whose disc already covers that ball
+/// (`|position − point| + extent ≤ its radius`), else the nearest that would with a radius of
+/// at most `radius`: its index and the radius it needs. Only samples `draws` accepts count; it
+/// is asked last, of the samples near enough, as it can cost more than the distance.
 pub fn cover_by<'s>(
     samples: impl Iterator<Item = (u32, &'s Sample)>,
     point: SurfacePoint,
@@ -1036,7 +1083,7 @@ pub fn cover_by<'s>(
 ) -> Option<(u32, f64)> {
     let mut nearest: Option<(u32, f64)> = None;
     for (i, sample) in samples {
-        if !sample.same_side(point.normal) {
+        if !point.faces(sample, extent) {
             continue;
         }
         let needed = (sample.position - point.position).length() + extent;

@@ -2,11 +2,13 @@
 //! sample of the quadric, on the same side, that covers a ball around a query point with a
 //! radius of at most `r`. Checked at radii small enough against the spread of the query points
 //! that the index has to coarsen its map of wanted cubes, and with samples far from any query.
+//! The side rule itself ([`SurfacePoint::faces`]) is checked against the normals of random
+//! quadrics around random surface points.
 
 mod common;
 
 use common::{Rng, sphere_scene};
-use qcsg_quadric::DVec3;
+use qcsg_quadric::{DVec3, Quadric};
 use qcsg_sample::Sample;
 use qcsg_sample::subdivide::{SampleIndex, SurfacePoint};
 
@@ -95,4 +97,75 @@ fn index_matches_brute_force_when_its_map_coarsens() {
     // At r = 1e-4 the query points span 10⁴ fine cubes a side: far more than one map holds.
     check(1e-4, 400, 100);
     check(1e-7, 200, 101);
+}
+
+/// The points where the line `origin + t · direction` meets `q`.
+fn crossings(q: &Quadric, origin: DVec3, direction: DVec3) -> Vec<DVec3> {
+    // q(origin + t d) = a t² + b t + c, from three values of the exact quadratic.
+    let (f0, f1, fm) = (
+        q.value(origin),
+        q.value(origin + direction),
+        q.value(origin - direction),
+    );
+    let (a, b, c) = (0.5 * (f1 + fm) - f0, 0.5 * (f1 - fm), f0);
+    let disc = b * b - 4.0 * a * c;
+    if a.abs() < 1e-12 || disc < 0.0 {
+        return Vec::new();
+    }
+    let root = disc.sqrt();
+    [(-b - root) / (2.0 * a), (-b + root) / (2.0 * a)]
+        .into_iter()
+        .map(|t| origin + t * direction)
+        .collect()
+}
+
+/// Within `extent` of a surface point, every normal of the quadric is within
+/// `asin(bend · extent)` of the point's: so a sample that [`SurfacePoint::faces`] accepts
+/// faces the same side as all of them. Random quadrics of every signature, points near and
+/// far from their centres (a cone's apex among them), extents up to where the rule gives up.
+#[test]
+fn a_facing_sample_faces_every_point_within_the_extent() {
+    let mut rng = Rng::new(7);
+    let (mut checked, mut spread_seen) = (0, 0.0f64);
+    for _ in 0..400 {
+        let coefficients: [f64; 10] = std::array::from_fn(|k| match k {
+            0..=2 => rng.range(-2.0, 2.0),
+            3..=5 => rng.range(-1.0, 1.0),
+            6..=8 => rng.range(-0.5, 0.5),
+            _ => rng.range(-1.0, 1.0),
+        });
+        let q = Quadric::new(DVec3::ZERO, coefficients).expect("finite");
+        for _ in 0..20 {
+            let Some(&c) =
+                crossings(&q, rng.direction() * rng.range(0.0, 2.0), rng.direction()).first()
+            else {
+                continue;
+            };
+            let Some(point) = SurfacePoint::on(&q, c) else {
+                continue;
+            };
+            let extent = rng.range(0.0, 1.0) / point.bend;
+            let spread = point.bend * extent;
+            for _ in 0..20 {
+                let through = c + rng.direction() * rng.range(0.0, extent);
+                for p in crossings(&q, through, rng.direction()) {
+                    let Some(normal) = q.normal(p) else { continue };
+                    if (p - c).length() > extent {
+                        continue;
+                    }
+                    assert!(
+                        normal.dot(point.normal) >= (1.0 - spread * spread).sqrt() - 1e-9,
+                        "{q:?}: the normal at {p} turns past asin({spread}) from the one at {c}"
+                    );
+                    checked += 1;
+                    spread_seen = spread_seen.max((p - c).length() * point.bend);
+                }
+            }
+        }
+    }
+    assert!(checked > 10_000, "only {checked} pairs of points checked");
+    assert!(
+        spread_seen > 0.9,
+        "the pairs never came near the rule's limit"
+    );
 }
