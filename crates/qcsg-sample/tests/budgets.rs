@@ -1,5 +1,5 @@
-//! Work budgets on examples where an earlier sampler spent far more: distance queries and
-//! rectangles left unproven, at a radius relative to the diagonal. Each bound sits above
+//! Work budgets on examples where an earlier sampler spent far more: distance queries,
+//! rectangles left unproven and samples, at a radius relative to the diagonal. Each bound sits above
 //! today's count and below the count without the change it guards, so undoing that change
 //! fails the test (the guarantee itself is checked in `scenes.rs`).
 
@@ -9,14 +9,18 @@ use common::{compile_file, diagonal, workspace_root};
 use qcsg_sample::sample;
 
 /// One budget: the example, the radius as a fraction of the diagonal, the most distance
-/// queries and the most unproven rectangles, and what the bound guards.
+/// queries, unproven rectangles and samples, and what the bound guards.
 struct Budget {
     example: &'static str,
     radius: f64,
     max_queries: u64,
     max_unresolved: u64,
+    max_samples: u64,
     guards: &'static str,
 }
+
+/// No bound on the samples.
+const ANY: u64 = u64::MAX;
 
 const BUDGETS: &[Budget] = &[
     Budget {
@@ -24,6 +28,7 @@ const BUDGETS: &[Budget] = &[
         radius: 0.01,
         max_queries: 45_000,
         max_unresolved: 0,
+        max_samples: ANY,
         guards: "the second pass: the lens edge lies on a region border, and splitting the \
                  rectangles beside it down to the cutoff took 512,704 queries (now 21,968)",
     },
@@ -32,6 +37,7 @@ const BUDGETS: &[Budget] = &[
         radius: 0.1,
         max_queries: 50_000,
         max_unresolved: 0,
+        max_samples: ANY,
         guards: "sections by the sampled plane: the foot's disc and cone meet with equal radii on \
                  the plane between them, where their sections are one circle, which the cone's \
                  term then holds as the disc's term does (without: 113,621 queries and 5,791 \
@@ -44,6 +50,7 @@ const BUDGETS: &[Budget] = &[
         radius: 0.01,
         max_queries: 400_000,
         max_unresolved: 0,
+        max_samples: ANY,
         guards: "sections by the sampled plane: the pulley's groove is two cones meeting with equal \
                  radii on the plane between them (without: 2,462,647 queries and 230,447 \
                  rectangles unproven; now 220,109 and none)",
@@ -53,6 +60,7 @@ const BUDGETS: &[Budget] = &[
         radius: 0.1,
         max_queries: 80_000,
         max_unresolved: 0,
+        max_samples: ANY,
         guards: "the tangency, section and one-sided-slab rules of eq. 22 on the rounded box's \
                  corner cylinders, which touch the walls along lines (without them 304,732 \
                  queries and 33,732 rectangles unproven; now 35,254 and none; before the second \
@@ -63,6 +71,7 @@ const BUDGETS: &[Budget] = &[
         radius: 0.01,
         max_queries: 40_000,
         max_unresolved: 0,
+        max_samples: ANY,
         guards: "planar sections: a box face ends on the CSG surface only along the line where a \
                  corner cylinder touches it, which eq. 22 with the cylinder in space cannot \
                  resolve (without tangency and sections 1,138,325 queries and 32,768 rectangles \
@@ -73,6 +82,7 @@ const BUDGETS: &[Budget] = &[
         radius: 0.01,
         max_queries: 75_000,
         max_unresolved: 2_000,
+        max_samples: ANY,
         guards: "half-spaces shared with the sampled term: the base, the leg and the gussets are \
                  boxes whose slabs share one side with each other's (without that rule 436,118 \
                  queries and 43,012 rectangles unproven; without it, sections and one-sided \
@@ -83,6 +93,7 @@ const BUDGETS: &[Budget] = &[
         radius: 0.01,
         max_queries: 400_000,
         max_unresolved: 1_000,
+        max_samples: ANY,
         guards: "planes parallel to a sampled plane: the countersinks' cones end 0.01 above the \
                  block's top, and their top planes lie wholly outside the block (without that \
                  rule 2,038,142 queries and 2,604 rectangles unproven; before this stop's rules \
@@ -93,6 +104,7 @@ const BUDGETS: &[Budget] = &[
         radius: 0.05,
         max_queries: 20_000,
         max_unresolved: 0,
+        max_samples: ANY,
         guards: "planar sections of planes: 16 planes meeting at 2.7e-4 rad are told apart by \
                  their lines on each other (about 9,500 queries; in space, this scene ran for \
                  minutes in a debug build)",
@@ -102,9 +114,29 @@ const BUDGETS: &[Budget] = &[
         radius: 0.01,
         max_queries: 80_000,
         max_unresolved: 400,
+        max_samples: ANY,
         guards: "probing the given-up rectangles that no sample reaches: where the small ball \
                  touches the big one from inside, 1,470 stayed unproven without it (53,308 \
                  queries), now 315 (68,254 queries)",
+    },
+    Budget {
+        example: "examples/raw_quadrics.qcsg",
+        radius: 0.01,
+        max_queries: 100_000,
+        max_unresolved: 400,
+        max_samples: 8_000,
+        guards: "looking back into earlier regions for a sample that covers a small rectangle: \
+                 around the cone's apex the region decomposition leaves thousands of tiny \
+                 regions, and each took a sample of its own (16,308 samples; now 5,322)",
+    },
+    Budget {
+        example: "tests/stability/aspect_cylinder.qcsg",
+        radius: 0.05,
+        max_queries: 200_000,
+        max_unresolved: 0,
+        max_samples: 2_000,
+        guards: "looking back into earlier regions: the rod's thin regions along its rims, seen \
+                 from the planes holding its axis, took a sample each (24,584 samples; now 386)",
     },
 ];
 
@@ -116,15 +148,23 @@ fn sampling_stays_within_its_budgets() {
         let r = budget.radius * diagonal(&dnf);
         let stats = sample(&dnf, r).expect("valid radius").stats;
         let (queries, unresolved) = (stats.subdivision.distance_queries, stats.unresolved());
+        let samples = stats.samples;
         eprintln!(
-            "{}: {queries} queries, {unresolved} unproven",
+            "{}: {queries} queries, {unresolved} unproven, {samples} samples",
             budget.example
         );
-        if queries > budget.max_queries || unresolved > budget.max_unresolved {
+        if queries > budget.max_queries
+            || unresolved > budget.max_unresolved
+            || samples > budget.max_samples
+        {
             failures.push(format!(
                 "{}: {queries} queries (at most {}), {unresolved} unproven rectangles (at most \
-                 {}); this guards {}",
-                budget.example, budget.max_queries, budget.max_unresolved, budget.guards
+                 {}), {samples} samples (at most {}); this guards {}",
+                budget.example,
+                budget.max_queries,
+                budget.max_unresolved,
+                budget.max_samples,
+                budget.guards
             ));
         }
     }
