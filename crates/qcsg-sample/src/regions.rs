@@ -158,13 +158,36 @@ impl BasicRegion {
     /// makes the region the paper's analytic shape (bounded by the conics of eqs. 15-16) up to
     /// the subdivision's resolution.
     pub fn owns_none_of(&self, rect: &Rect) -> bool {
-        self.border && matches!(best_plane(&self.heightfield, rect), Best::Nowhere)
+        self.owns(rect) == Owned::None
     }
 
     /// Whether every point of `rect` belongs to the region.
     pub fn owns_all_of(&self, rect: &Rect) -> bool {
-        !self.border || matches!(best_plane(&self.heightfield, rect), Best::Everywhere)
+        self.owns(rect) == Owned::All
     }
+
+    /// How much of `rect` belongs to the region ([`Self::owns_none_of`], [`Self::owns_all_of`]).
+    pub fn owns(&self, rect: &Rect) -> Owned {
+        if !self.border {
+            return Owned::All;
+        }
+        match best_plane(&self.heightfield, rect) {
+            Best::Everywhere => Owned::All,
+            Best::Nowhere => Owned::None,
+            Best::Partly => Owned::Part,
+        }
+    }
+}
+
+/// How much of a rectangle belongs to a basic region ([`BasicRegion::owns`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Owned {
+    /// Every point.
+    All,
+    /// Some points, or it could not be told.
+    Part,
+    /// No point: another plane is the best throughout.
+    None,
 }
 
 /// Counters of the region decomposition.

@@ -68,6 +68,8 @@
 //! distance queries ([`probe_given_up`]), and those still unsettled are counted in
 //! [`SubdivisionStats::unresolved`], so the count says whether a hole was possible at all.
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
@@ -77,7 +79,7 @@ use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
 use crate::Sample;
 use crate::budget::{Budget, Meter};
 use crate::csg_distance::NearDistance;
-use crate::regions::{BasicRegion, Rect, region_point, split_for_distortion};
+use crate::regions::{BasicRegion, Owned, Rect, region_point, split_for_distortion};
 
 /// Rectangles smaller than this fraction of the sample footprint are given up when unclassified.
 pub const SMALL_REGION_FRACTION: f64 = 1.0 / 64.0;
@@ -173,6 +175,9 @@ struct Cell {
     rect: Rect,
     d: [f64; 4],
     slope: [Option<f64>; 4],
+    /// Whether all of it is known to belong to the region ([`BasicRegion::owns`]); its parts
+    /// are then too, and no more border tests are needed below it.
+    owned: bool,
 }
 
 impl Cell {
@@ -187,12 +192,26 @@ impl Cell {
             rect,
             d: [0.0; 4],
             slope: [None; 4],
+            owned: false,
         };
         for k in 0..4 {
             let (x, y) = corner(&rect, k);
             (cell.d[k], cell.slope[k]) = corner_values(ctx, region, x, y, stats);
         }
         cell
+    }
+
+    /// Whether none of the cell belongs to the region; otherwise `owned` records whether it all
+    /// does.
+    fn owned_by_none(&mut self, region: &BasicRegion) -> bool {
+        if !self.owned {
+            match region.owns(&self.rect) {
+                Owned::None => return true,
+                Owned::All => self.owned = true,
+                Owned::Part => {}
+            }
+        }
+        false
     }
 }
 
@@ -262,7 +281,8 @@ fn classify(
     }
     let footprint = distortion * diagonal;
     if footprint > ctx.radius {
-        if covered && cell.d.iter().all(|&d| d < 0.0) && fill(ctx, region, &rect, distortion, out) {
+        let on = covered && cell.d.iter().all(|&d| d < 0.0);
+        if on && fill(ctx, region, (&rect, cell.owned), distortion, out) {
             stats.filled += 1;
             return Verdict::Filled;
         }
@@ -407,12 +427,12 @@ pub fn sample_region(
         region: index,
         cell,
     };
-    while let Some(cell) = stack.pop() {
+    while let Some(mut cell) = stack.pop() {
         let (held, queries) = pending(out, deferred, stats);
         if !meter.tick(held, queries) {
             break;
         }
-        if region.owns_none_of(&cell.rect) {
+        if cell.owned_by_none(region) {
             stats.other_plane += 1;
             continue;
         }
@@ -464,7 +484,7 @@ pub fn refine_deferred(
         (samples, stats.distance_queries - queries_before)
     };
     let root_footprint = cell_distortion(region, &deferred.cell) * deferred.cell.rect.diagonal();
-    while let Some((cell, classified)) = stack.pop() {
+    while let Some((mut cell, classified)) = stack.pop() {
         let (samples, queries) = done(out, stats);
         if !meter.tick(samples, queries) {
             break;
@@ -472,7 +492,7 @@ pub fn refine_deferred(
         let footprint = if classified {
             // The first pass has classified this one (the deferred rectangle) already.
             root_footprint
-        } else if region.owns_none_of(&cell.rect) {
+        } else if cell.owned_by_none(region) {
             stats.other_plane += 1;
             continue;
         } else {
@@ -1178,11 +1198,12 @@ fn query(
 /// by more than [`FILL_SPREAD`] and the rectangle is at least [`FILL_SPLIT_CELLS`] cells across
 /// the direction it varies in, the halves are filled each with its own bound instead (no
 /// query is needed: the whole rectangle is on the surface). That saves about a quarter of the
-/// samples on curved parts.
+/// samples on curved parts. `owned` says that all of the rectangle is known to belong to the
+/// region ([`BasicRegion::owns`]).
 fn fill(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
-    rect: &Rect,
+    (rect, owned): (&Rect, bool),
     distortion: f64,
     out: &mut Vec<Sample>,
 ) -> bool {
@@ -1201,32 +1222,96 @@ fn fill(
         };
         if across >= FILL_SPLIT_CELLS * spacing {
             for half in [first, second] {
-                fill(ctx, region, &half, rect_distortion(region, &half), out);
+                fill(
+                    ctx,
+                    region,
+                    (&half, owned),
+                    rect_distortion(region, &half),
+                    out,
+                );
             }
             return true;
         }
     }
     let (dx, dy) = (rect.width() / nx, rect.height() / ny);
     let radius = (0.5 * distortion * dx.hypot(dy)).min(ctx.radius);
-    // In a border region, cells where another plane is the best throughout are that plane's.
-    let clipped = !region.owns_all_of(rect);
+    let clipped = !owned && !region.owns_all_of(rect);
     for iy in 0..ny as u32 {
         let y = rect.y.0 + (f64::from(iy) + 0.5) * dy;
-        for ix in 0..nx as u32 {
-            let x = rect.x.0 + (f64::from(ix) + 0.5) * dx;
-            if clipped {
-                let cell = Rect {
-                    x: (x - 0.5 * dx, x + 0.5 * dx),
-                    y: (y - 0.5 * dy, y + 0.5 * dy),
-                };
-                if region.owns_none_of(&cell) {
-                    continue;
-                }
-            }
-            emit(ctx, region, x, y, radius, out);
+        let row = Row {
+            x0: rect.x.0,
+            dx,
+            y,
+            y_range: (y - 0.5 * dy, y + 0.5 * dy),
+            radius,
+        };
+        if clipped {
+            fill_span(ctx, region, &row, 0..nx as u32, out);
+        } else {
+            row.emit(ctx, region, 0..nx as u32, out);
         }
     }
     true
+}
+
+/// One row of a fill grid: cell `i` spans `x0 + i·dx` to `x0 + (i + 1)·dx` along `x` and
+/// `y_range` along `y`, with its sample over its centre, of radius `radius`.
+struct Row {
+    x0: f64,
+    dx: f64,
+    y: f64,
+    y_range: (f64, f64),
+    radius: f64,
+}
+
+impl Row {
+    /// The rectangle of cells `cells`.
+    fn span(&self, cells: &Range<u32>) -> Rect {
+        let x = |i: u32| self.x0 + f64::from(i) * self.dx;
+        Rect {
+            x: (x(cells.start), x(cells.end)),
+            y: self.y_range,
+        }
+    }
+
+    /// Emits the samples of cells `cells`, in order.
+    fn emit(
+        &self,
+        ctx: &RegionContext<'_>,
+        region: &BasicRegion,
+        cells: Range<u32>,
+        out: &mut Vec<Sample>,
+    ) {
+        for i in cells {
+            let x = self.x0 + (f64::from(i) + 0.5) * self.dx;
+            emit(ctx, region, x, self.y, self.radius, out);
+        }
+    }
+}
+
+/// Emits the samples of cells `cells` of a border region's row, in order, but for those where
+/// another plane is the best throughout, which are that plane's ([`BasicRegion::owns`]). A span
+/// of cells is decided whole where the plane is the best everywhere or nowhere over it, and
+/// halved otherwise: a row costs a few tests near where the border crosses it instead of one
+/// per cell. With the ownership a cell passes on to its parts ([`Cell::owned_by_none`]), this
+/// cut the border tests from 9.5 % to 3.9 % of the instructions of sampling three balls at
+/// 0.15 % of the diagonal.
+fn fill_span(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    row: &Row,
+    cells: Range<u32>,
+    out: &mut Vec<Sample>,
+) {
+    match region.owns(&row.span(&cells)) {
+        Owned::None => {}
+        Owned::Part if cells.len() > 1 => {
+            let middle = cells.start + (cells.end - cells.start) / 2;
+            fill_span(ctx, region, row, cells.start..middle, out);
+            fill_span(ctx, region, row, middle..cells.end, out);
+        }
+        Owned::All | Owned::Part => row.emit(ctx, region, cells, out),
+    }
 }
 
 /// The grid `nx × ny` with the fewest cells whose cells' diagonals are shorter than `diagonal`:
