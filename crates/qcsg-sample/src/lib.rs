@@ -55,8 +55,9 @@
 //!   parts whose rims meet on the plane between them are resolved in eq. 22 ([`csg_distance`],
 //!   "Tangent planes", "Planar sections": the rounded boxes of `examples/customizer_box.qcsg`,
 //!   the chess bishop's foot, a countersink's top `0.01` above a face). This is left where
-//!   curved surfaces touch each other (a ball inside another) or nearly coincide (nested balls
-//!   `1e-9` apart), and where a tilted part's axis-aligned term boxes span both planes of a
+//!   curved surfaces touch each other (a ball inside another) or nearly coincide without being
+//!   offsets of each other (a ball and an ellipsoid `1e-9` longer; nested balls and coaxial
+//!   cylinders are resolved, "Offset surfaces"), and where a tilted part's axis-aligned term boxes span both planes of a
 //!   slab whose outside a term holds (`tests/stability/tangent_rounded_tray_tilted.qcsg`).
 //!   Nothing is lost there, but the cost can be high;
 //! - positions come from the heightfields, moved onto the quadric by up to two Newton steps

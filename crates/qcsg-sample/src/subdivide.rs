@@ -86,8 +86,8 @@ pub const SMALL_REGION_FRACTION: f64 = 1.0 / 64.0;
 
 /// Unproven rectangles one deferred rectangle may split into before the rest is given up. A
 /// sliver along a curve leaves about 2·2ᵏ unproven rectangles at `k` halvings, so this reaches
-/// the cutoff (`k = 6`) there; where surfaces nearly coincide over an area (nested balls
-/// `1e-9` apart) every rectangle stays unproven, `4ᵏ` of them, and the budget stops the
+/// the cutoff (`k = 6`) there; where surfaces nearly coincide over an area (a ball and an
+/// ellipsoid `1e-9` longer) every rectangle stays unproven, `4ᵏ` of them, and the budget stops the
 /// refinement near `r / 20` instead of costing 4,096 leaves per rectangle.
 const MAX_UNPROVEN_PER_DEFERRED: usize = 512;
 
@@ -845,8 +845,8 @@ impl WantedCubes {
     }
 
     /// The map with every marked cube's neighbours marked too. Marking cubes, not centres,
-    /// first: millions of deferred rectangles (nested balls `1e-9` apart at a tiny radius)
-    /// crowd into far fewer cubes.
+    /// first: millions of deferred rectangles (a ball and an ellipsoid `1e-9` apart at a tiny
+    /// radius) crowd into far fewer cubes.
     fn with_neighbours(&self) -> Self {
         let mut out = Self {
             bits: vec![0; self.bits.len()],

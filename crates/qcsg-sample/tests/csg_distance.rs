@@ -231,6 +231,63 @@ fn far_literals_classification() {
     );
 }
 
+/// Surfaces a small gap apart (nested balls `1e-9` apart, thin spherical shells, a column whose
+/// surface lies `0.01` inside the hole of every step around it): a literal whose square part is
+/// a multiple of the sampled quadric's holds on all of it or on none ("Offset surfaces"). Eq. 22
+/// must stay right there, and it must see past the gap: the inner ball of the union lies
+/// `1e-9` inside the outer one, which the distance to the outer sphere alone cannot tell.
+#[test]
+fn offset_surfaces_classification() {
+    // OpenSCAD's overlaps by a small epsilon: a tube around a pin 0.01 thinner than its bore, a
+    // ball 1e-3 inside another, a cup whose bore reaches 0.01 past its rim.
+    let epsilons =
+        "difference() { cylinder(h = 10, r = 5); translate([0, 0, -1]) cylinder(h = 12, r = 4); }
+        cylinder(h = 10, r = 3.99);
+        translate([12, 0, 0]) { sphere(3); sphere(3 - 1e-3); }
+        translate([0, 12, 0]) difference() { sphere(3); translate([0, 0, 1]) sphere(2.99); }";
+    let mut scenes = vec![(
+        "epsilons".to_string(),
+        common::compile_text("epsilons.qcsg", epsilons.to_string()).expect("epsilons"),
+    )];
+    for program in [
+        "tests/stability/thin_wall_shell.qcsg",
+        "examples/spiral_staircase.qcsg",
+    ] {
+        let path = common::workspace_root().join(program);
+        scenes.push((
+            program.to_string(),
+            common::compile_file(&path).expect(program),
+        ));
+    }
+    for (seed, (name, dnf)) in scenes.iter().enumerate() {
+        let (decisive, neighbours) = check(dnf, 60 + seed as u64);
+        assert!(
+            decisive > 300 && neighbours > 100,
+            "{name}: {decisive} {neighbours}"
+        );
+    }
+    let path = common::workspace_root().join("tests/stability/nested_spheres_union.qcsg");
+    let dnf = common::compile_file(&path).expect("nested_spheres_union");
+    let mut rng = Rng::new(70);
+    let radius = |quadric: u32| {
+        let frame = dnf.quadrics[quadric as usize].quadric.frame();
+        (-frame.constant / frame.eigenvalues[0]).sqrt()
+    };
+    let (inner, term) = (dnf.terms.iter().enumerate())
+        .map(|(t, term)| (term.literals[0], t as u32))
+        .min_by(|a, b| radius(a.0).total_cmp(&radius(b.0)))
+        .expect("two balls");
+    let q = dnf.quadrics[inner as usize].quadric;
+    let distance = CsgDistance::new(&dnf, inner, term).expect("indices");
+    for p in points_on(&q, &dnf.bounds, 50, &mut rng) {
+        let d = distance.distance(p);
+        assert!(
+            d > 0.1,
+            "the inner ball's surface at {p} is hidden by only {d}"
+        );
+    }
+}
+
 #[test]
 fn box_distance_is_exact() {
     let b = Aabb::new(DVec3::ZERO, DVec3::ONE);
