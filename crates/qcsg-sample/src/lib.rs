@@ -79,6 +79,7 @@
 //! box is unbounded are skipped and counted ([`SampleStats::unbounded_terms`]): the DNF builder
 //! requires a region for unbounded scenes.
 
+pub mod apex;
 pub mod budget;
 pub mod clip;
 pub mod csg_distance;
@@ -217,9 +218,13 @@ struct Patch {
     frame: PrincipalFrame,
     distance: CsgDistance,
     quadric: u32,
+    term: u32,
     kind: QuadricKind,
     /// A box around the quadric's part in all its regions.
     bounds: Aabb,
+    /// The rectangles the region decomposition gave up, and how far from the frame's centre
+    /// the surface over them reaches ([`basic_regions`]).
+    given_up: (u64, f64),
 }
 
 /// Distance queries that probing given-up rectangles ([`probe_given_up`]) may make, on top of
@@ -281,9 +286,10 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedReg
             let frame = entry.quadric.frame();
             let mut found = Vec::new();
             let mut counters = RegionStats::default();
+            let mut reach = 0.0f64;
             for heightfield in frame.heightfields() {
                 let key = (literal, term);
-                basic_regions(
+                let given_up = basic_regions(
                     &frame,
                     &heightfield,
                     &bounds,
@@ -291,6 +297,7 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedReg
                     &mut found,
                     &mut counters,
                 );
+                reach = reach.max(given_up);
             }
             // Eq. 22 for the part of the quadric its regions hold.
             let found: Vec<(BasicRegion, Aabb)> = found
@@ -308,8 +315,10 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedReg
                 frame,
                 distance,
                 quadric: literal,
+                term,
                 kind,
                 bounds,
+                given_up: (counters.unresolved, reach),
             };
             Some((patch, found, counters))
         })
@@ -392,6 +401,46 @@ fn tiles<'a>(
         out.push(((patch_index, region, bounds), Some(near)));
     }
     out
+}
+
+/// Settles at their cone's apex ([`apex`]) the rectangles given up on each patch, `at_apex`
+/// holding how many and how far from the apex they reach: ring samples join `samples`, and
+/// the counts move from the unresolved to the covered or discarded ones. What is not on a
+/// cone, or not settled, stays unresolved.
+fn settle_apices(
+    dnf: &Dnf,
+    (patches, at_apex): (&[Patch], &[(u64, f64)]),
+    radius: f64,
+    samples: &mut Vec<Sample>,
+    stats: &mut SampleStats,
+) {
+    for (patch, &(count, reach)) in patches.iter().zip(at_apex) {
+        let from_regions = patch.given_up.0;
+        if count == 0 || patch.kind != QuadricKind::Cone {
+            continue;
+        }
+        let literals = &dnf.terms[patch.term as usize].literals;
+        let others: Vec<qcsg_quadric::Quadric> = (literals.iter())
+            .filter(|&&l| l != patch.quadric)
+            .filter_map(|&l| Some(dnf.quadrics.get(l as usize)?.quadric))
+            .collect();
+        let cone = &dnf.quadrics[patch.quadric as usize].quadric;
+        let literal = (patch.quadric, patch.term);
+        let eq22 = (&patch.distance, &others[..]);
+        let counter = match apex::settle(literal, (cone, &patch.frame), eq22, reach, radius) {
+            apex::Settled::Off => &mut stats.subdivision.discarded,
+            apex::Settled::Covered(ring) => {
+                samples.extend(ring);
+                &mut stats.subdivision.unresolved_covered
+            }
+            apex::Settled::Unresolved => {
+                stats.subdivision.unresolved += count - from_regions;
+                continue;
+            }
+        };
+        *counter += count;
+        stats.regions.unresolved -= from_regions;
+    }
 }
 
 /// Samples the CSG surface of `dnf` with world radius `radius` on the current rayon pool.
@@ -700,6 +749,9 @@ fn sample_on_pool(
     let uncovered = settle_given_up(dnf, &given_up, &mut samples, radius, &mut stats.subdivision);
     let first_probed = samples.len();
     let mut allowance = PROBE_QUERIES + stats.subdivision.distance_queries / 16;
+    // What stays unresolved on a cone is settled at its apex if it lies there: per patch, the
+    // rectangles and how far from the apex they reach.
+    let mut at_apex: Vec<(u64, f64)> = patches.iter().map(|p| p.given_up).collect();
     for leaf in &uncovered {
         let before = stats.subdivision.distance_queries;
         let probed = match context(leaf.region) {
@@ -710,13 +762,22 @@ fn sample_on_pool(
             _ => Probed::Unresolved,
         };
         allowance = allowance.saturating_sub(stats.subdivision.distance_queries - before);
-        let counter = match probed {
-            Probed::Covered => &mut stats.subdivision.unresolved_covered,
-            Probed::Off => &mut stats.subdivision.discarded,
-            Probed::Unresolved => &mut stats.subdivision.unresolved,
+        let patch = regions.get(leaf.region).map(|(patch, _, _)| *patch);
+        let cone = patch.filter(|&p| patches[p].kind == QuadricKind::Cone);
+        let counter = match (probed, cone) {
+            (Probed::Covered, _) => &mut stats.subdivision.unresolved_covered,
+            (Probed::Off, _) => &mut stats.subdivision.discarded,
+            (Probed::Unresolved, Some(p)) => {
+                let reach = (leaf.point.position - patches[p].frame.centre).length() + leaf.extent;
+                let (count, far) = &mut at_apex[p];
+                (*count, *far) = (*count + leaf.count, far.max(reach));
+                continue;
+            }
+            (Probed::Unresolved, None) => &mut stats.subdivision.unresolved,
         };
         *counter += leaf.count;
     }
+    settle_apices(dnf, (&patches, &at_apex), radius, &mut samples, &mut stats);
     let clip_lists = clip::assign(dnf, &mut samples);
     stats.samples = samples.len() as u64;
     stats.clip_lists = clip_lists.len() as u64;

@@ -36,7 +36,8 @@
 //! domain) took 8 % to 25 % more samples than border regions on the benchmark scenes.
 //! Rectangles still undecided after [`MAX_REGION_DEPTH`] splits (only around points where the
 //! distortion is undefined, like a cone's apex seen from the side, at `2⁻⁴⁰` of the domain) are
-//! counted in [`RegionStats::unresolved`] and dropped.
+//! counted in [`RegionStats::unresolved`] and dropped; around a cone's apex [`crate::apex`]
+//! then settles them.
 
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DVec3, Heightfield, HeightfieldForm, PrincipalFrame};
@@ -221,7 +222,9 @@ pub fn plane_domain(frame: &PrincipalFrame, heightfield: &Heightfield, bounds: &
 }
 
 /// The basic regions of `heightfield` over the world box `bounds`, appended to `out` in a
-/// deterministic order (quadrants, then depth-first, lower half first).
+/// deterministic order (quadrants, then depth-first, lower half first). Returns how far from
+/// the frame's centre the surface over the rectangles given up reaches (0 when none was;
+/// [`crate::apex`] settles those around a cone's apex).
 pub fn basic_regions(
     frame: &PrincipalFrame,
     heightfield: &Heightfield,
@@ -229,19 +232,20 @@ pub fn basic_regions(
     (quadric, term): (u32, u32),
     out: &mut Vec<BasicRegion>,
     stats: &mut RegionStats,
-) {
+) -> f64 {
     let sheets: &[f64] = match heightfield.form {
         HeightfieldForm::Root { .. } => &[1.0, -1.0],
         HeightfieldForm::Polynomial { .. } => &[1.0],
-        HeightfieldForm::Ruled => return,
+        HeightfieldForm::Ruled => return 0.0,
     };
     let domain = plane_domain(frame, heightfield, bounds);
     let finite = [domain.x.0, domain.x.1, domain.y.0, domain.y.1]
         .iter()
         .all(|v| v.is_finite());
     if !finite || domain.width() <= 0.0 || domain.height() <= 0.0 {
-        return;
+        return 0.0;
     }
+    let mut given_up_reach = 0.0f64;
     let mut kept = Vec::new();
     let mut budget = MAX_REGION_RECTANGLES;
     for quadrant in quadrants(domain) {
@@ -255,7 +259,8 @@ pub fn basic_regions(
                 }
                 RectClass::Drop => {}
                 RectClass::Split if depth >= MAX_REGION_DEPTH || budget == 0 => {
-                    stats.unresolved += 1
+                    stats.unresolved += 1;
+                    given_up_reach = given_up_reach.max(reach_from_centre(heightfield, &rect));
                 }
                 RectClass::Split => {
                     let (low, high) = split_for_distortion(heightfield, &rect);
@@ -279,6 +284,28 @@ pub fn basic_regions(
                 }),
         );
     }
+    given_up_reach
+}
+
+/// How far from the frame's centre the surface over `rect` reaches: `√(x² + y² + S)` at most,
+/// in the frame's coordinates (`+∞` but for a `Root` heightfield).
+fn reach_from_centre(heightfield: &Heightfield, rect: &Rect) -> f64 {
+    let HeightfieldForm::Root {
+        alpha_x,
+        alpha_y,
+        alpha_c,
+        beta_x,
+        beta_y,
+    } = heightfield.form
+    else {
+        return f64::INFINITY;
+    };
+    let s_max =
+        quadratic_max(alpha_x, beta_x, rect.x) + quadratic_max(alpha_y, beta_y, rect.y) + alpha_c;
+    let far = |(a, b): (f64, f64)| a.abs().max(b.abs());
+    let squared = far(rect.x).powi(2) + far(rect.y).powi(2) + s_max.max(0.0);
+    // A hair more, for rounding in the bound.
+    squared.sqrt() * (1.0 + 1e-9)
 }
 
 /// The halves of an undecided rectangle: split where the distortion varies. The distortion of

@@ -1,0 +1,199 @@
+//! Cone apices: a ring of samples that covers what the subdivision gives up around one.
+//!
+//! At a cone's apex the gradient vanishes and the normal takes every direction of the cone's
+//! normal cone: no heightfield has bounded distortion there, so the region decomposition gives
+//! up the rectangles next to the apex after [`crate::regions::MAX_REGION_DEPTH`] splits, and the
+//! subdivision gives up rectangles a hair from it (`examples/quadric_primitives.qcsg` left 308
+//! rectangles unproven at 1 % of its diagonal, 304 of them within `2e-10` of its cone's apex;
+//! 4 remain). Both lie within a distance `ε` of the apex `A`, far below the radius `r`.
+//!
+//! The rectangles are settled at the apex itself with eq. 22 of their literal:
+//! - `d(A) > ε`: no point of the quadric within `ε` of `A` is on the CSG surface (eq. 22's
+//!   positive claim), so none of the rectangles is;
+//! - `d(A) < −(r/2 + ε)`: every point of the quadric within `r/2 + ε` of `A` is on the surface
+//!   (the negative claim). Samples are placed at `r/2` from `A` along `N` rulings of each nappe,
+//!   with the radius `r/2 + ε`, which reaches every point within `ε` of `A`. In the cone's
+//!   principal frame `λ₁x² + λ₂y² − λ₃z² = 0` the ruling at parameter `φ` is
+//!   `(cos φ / √λ₁, sin φ / √λ₂, ±1 / √λ₃)` and its normal is along
+//!   `g(φ) = (√λ₁ cos φ, √λ₂ sin φ, ∓√λ₃)`, the same all along it; two rulings of one nappe
+//!   at most `Δ` apart in `φ` have `g·g' ≥ (λ₁+λ₂)/2 · cos Δ − |λ₁−λ₂|/2 + λ₃`. With `Δ = π/N`
+//!   and the smallest power of two `N` that makes this positive, every point within `ε` of `A`
+//!   faces the same side as the ring sample on the nearest ruling of its nappe, as the
+//!   guarantee asks ([`crate::Sample::same_side`]);
+//! - otherwise the surface's border passes within `r/2` of the apex, as where a cone's apex is
+//!   the tip of a part (`cylinder(h, r1, r2 = 0)` ends with a plane through the apex). Each
+//!   nappe is then settled on its own: it is covered if eq. 22 puts every ring point of it on
+//!   the surface (the ring samples reach every point of the nappe within `ε` of `A`, as above),
+//!   and it is off the surface if a literal of the term fails on all of it near `A`: a literal
+//!   `L` with `L(A) ≈ 0` grows along every ruling `A + t u(φ)` of the nappe at least at the rate
+//!   `min_φ ∇L(A)·u(φ)` (exact, a sinusoid in `φ`), which bounds its square part within `ε`.
+//!   The rectangles stay unresolved if either nappe is neither.
+
+use std::f64::consts::PI;
+
+use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
+
+use crate::Sample;
+use crate::csg_distance::CsgDistance;
+
+/// Most rulings per nappe of an apex ring; a cone too flat for this many is left alone.
+const MAX_RULINGS: usize = 256;
+
+/// What became of the rectangles given up around one apex.
+#[derive(Debug, PartialEq)]
+pub enum Settled {
+    /// None of them is on the CSG surface.
+    Off,
+    /// All are covered by these samples.
+    Covered(Vec<Sample>),
+    /// Neither could be shown.
+    Unresolved,
+}
+
+/// Settles the rectangles of literal `quadric` of `term` given up within `reach` of its apex
+/// (the centre of `frame`, a cone's), with `distance` its eq. 22 and `others` the term's other
+/// literals, at sample radius `radius`.
+pub fn settle(
+    (quadric, term): (u32, u32),
+    (q, frame): (&Quadric, &PrincipalFrame),
+    (distance, others): (&CsgDistance, &[Quadric]),
+    reach: f64,
+    radius: f64,
+) -> Settled {
+    let apex = frame.centre;
+    if reach.is_nan() || reach > 0.25 * radius {
+        return Settled::Unresolved;
+    }
+    let d = distance.distance(apex);
+    if d > reach {
+        return Settled::Off;
+    }
+    let along = 0.5 * radius;
+    let Some(cone) = Cone::new(frame) else {
+        return Settled::Unresolved;
+    };
+    let whole = d < -(along + reach);
+    let mut samples = Vec::new();
+    for nappe in [1.0, -1.0] {
+        let Some(points) = cone.ring(q, nappe, along) else {
+            return Settled::Unresolved;
+        };
+        if whole || points.iter().all(|(p, _)| distance.distance(*p) < 0.0) {
+            samples.extend(points.into_iter().map(|(position, normal)| Sample {
+                position,
+                normal,
+                quadric,
+                term,
+                radius: (along + reach).min(radius),
+                clip_list: 0,
+            }));
+        } else if !others.iter().any(|l| cone.misses(l, nappe, reach, radius)) {
+            return Settled::Unresolved;
+        }
+    }
+    if samples.is_empty() {
+        Settled::Off
+    } else {
+        Settled::Covered(samples)
+    }
+}
+
+/// The ring of both nappes of cone `q` at distance `along` from its apex, with the outward
+/// normals there (see the module doc); `None` unless `q` is a cone that rings can cover.
+pub fn ring(q: &Quadric, along: f64) -> Option<Vec<(DVec3, DVec3)>> {
+    let frame = q.frame();
+    let cone = Cone::new(&frame)?;
+    let mut out = cone.ring(q, 1.0, along)?;
+    out.extend(cone.ring(q, -1.0, along)?);
+    Some(out)
+}
+
+/// A cone in its principal frame: `a x² + b y² − c z² = 0` along axes `i`, `j` and `axis`, up
+/// to the sign of the whole, with `a`, `b` and `c` positive, its apex at the frame's centre.
+struct Cone<'a> {
+    frame: &'a PrincipalFrame,
+    axes: [usize; 3],
+    scales: [f64; 3],
+    /// Rulings per nappe that a ring needs (see the module doc).
+    rulings: usize,
+}
+
+impl<'a> Cone<'a> {
+    /// The cone of `frame`; `None` unless its quadric is one, and one whose rings can cover
+    /// every direction with at most [`MAX_RULINGS`] rulings.
+    fn new(frame: &'a PrincipalFrame) -> Option<Self> {
+        let lambda = frame.eigenvalues;
+        // The axis is the eigenvalue of the other sign; flip the signs so that it is negative.
+        let flip = match lambda.iter().filter(|&&l| l < 0.0).count() {
+            1 => 1.0,
+            2 => -1.0,
+            _ => return None,
+        };
+        let axis = (0..3).find(|&k| flip * lambda[k] < 0.0)?;
+        let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+        let (a, b, c) = (flip * lambda[i], flip * lambda[j], -flip * lambda[axis]);
+        if !(a > 0.0 && b > 0.0 && c > 0.0) || frame.constant != 0.0 {
+            return None;
+        }
+        let rulings = (2..)
+            .map(|k| 1usize << k)
+            .take_while(|&n| n <= MAX_RULINGS)
+            .find(|&n| (a + b) * (PI / n as f64).cos() - (a - b).abs() + 2.0 * c > 0.0)?;
+        Some(Self {
+            frame,
+            axes: [i, j, axis],
+            scales: [a, b, c].map(|v| 1.0 / v.sqrt()),
+            rulings,
+        })
+    }
+
+    /// The direction of the ruling at parameter `phi` of nappe `nappe` (`±1`), in the world:
+    /// `(cos φ / √a, sin φ / √b, ±1 / √c)` in the frame.
+    fn ruling(&self, phi: f64, nappe: f64) -> DVec3 {
+        let [i, j, axis] = self.axes.map(|k| self.frame.axes[k]);
+        let [si, sj, sa] = self.scales;
+        (phi.cos() * si) * i + (phi.sin() * sj) * j + (nappe * sa) * axis
+    }
+
+    /// Points of nappe `nappe` at distance `along` from the apex, on [`Self::rulings`] rulings,
+    /// with the outward normals of `q` there.
+    fn ring(&self, q: &Quadric, nappe: f64, along: f64) -> Option<Vec<(DVec3, DVec3)>> {
+        (0..self.rulings)
+            .map(|m| {
+                let phi = 2.0 * PI * m as f64 / self.rulings as f64;
+                let position = self.frame.centre + along * self.ruling(phi, nappe).normalize();
+                Some((position, q.normal(position)?))
+            })
+            .collect()
+    }
+
+    /// Whether `literal` fails on every point of nappe `nappe` within `reach` of the apex but
+    /// those within `1e-9 radius` of it, which the guarantee's tolerance (`1e-9` of the
+    /// diagonal) does not tell from the apex (see the module doc): along the ruling
+    /// `A + t u(φ)` the literal is `L(A) + t ∇L(A)·u(φ) + t² uᵀ A_L u`, whose linear part is at
+    /// least `t m` with `m = min_φ ∇L(A)·u(φ)`; it fails once `m > 0`, the square part (at most
+    /// `t² ‖A_L‖ |u|²`) stays below half of it up to where the ruling leaves the ball, and
+    /// `L(A)`, zero up to rounding, is made up for that close to the apex.
+    fn misses(&self, literal: &Quadric, nappe: f64, reach: f64, radius: f64) -> bool {
+        let apex = self.frame.centre;
+        let gradient = literal.gradient(apex);
+        let [si, sj, sa] = self.scales;
+        let [i, j, axis] = self.axes.map(|k| self.frame.axes[k]);
+        let (alpha, beta, gamma) = (
+            gradient.dot(i) * si,
+            gradient.dot(j) * sj,
+            gradient.dot(axis) * sa,
+        );
+        let least_rate = nappe * gamma - alpha.hypot(beta);
+        // |u|² lies between these: the ruling leaves the ball by `t = reach / |u|_min`.
+        let (shortest, longest) = (si.min(sj).powi(2) + sa * sa, si.max(sj).powi(2) + sa * sa);
+        let (lower, upper) = literal.eigenvalue_bounds();
+        let square = lower.abs().max(upper.abs()) * longest;
+        let t = reach / shortest.sqrt();
+        let (value, error) = literal.value_with_error(apex);
+        let close = 1e-9 * radius / longest.sqrt();
+        least_rate > 0.0
+            && 2.0 * square * t < least_rate
+            && value - error >= -0.5 * least_rate * close
+    }
+}
