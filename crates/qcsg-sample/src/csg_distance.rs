@@ -932,8 +932,8 @@ struct HalfSpace {
 }
 
 /// Whether `literal` holds on all of the surface of `q` inside `bounds` (`Some(true)`), on none of
-/// it (`Some(false)`), or neither is known (`None`), for a curved `q` and a literal whose square
-/// part is a multiple `λ` of `q`'s ("Offset surfaces"). On the surface `q = 0`, so there the
+/// it (`Some(false)`), or neither is known (`None`), for a `q` with a square part (not one
+/// plane) and a literal whose square part is a multiple `λ` of `q`'s ("Offset surfaces"). On the surface `q = 0`, so there the
 /// literal equals `literal − λ q`, which is a plane or a constant (up to rounding), bounded over
 /// the box with a margin for points that lie on `q` only up to rounding. A literal equal to `q`
 /// or to its complement leaves nothing and is `None` (other rules handle those).

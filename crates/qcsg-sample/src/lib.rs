@@ -54,12 +54,17 @@
 //!   unresolved. Planes touching ellipsoids and cylinders, cylinders cut along their axes and
 //!   parts whose rims meet on the plane between them are resolved in eq. 22 ([`csg_distance`],
 //!   "Tangent planes", "Planar sections": the rounded boxes of `examples/customizer_box.qcsg`,
-//!   the chess bishop's foot, a countersink's top `0.01` above a face). This is left where
-//!   curved surfaces touch each other (a ball inside another) or nearly coincide without being
-//!   offsets of each other (a ball and an ellipsoid `1e-9` longer; nested balls and coaxial
-//!   cylinders are resolved, "Offset surfaces"), and where a tilted part's axis-aligned term boxes span both planes of a
-//!   slab whose outside a term holds (`tests/stability/tangent_rounded_tray_tilted.qcsg`).
-//!   Nothing is lost there, but the cost can be high;
+//!   the chess bishop's foot, a countersink's top `0.01` above a face), and so are surfaces a
+//!   small gap apart when one is an offset of the other (nested balls, coaxial cylinders:
+//!   "Offset surfaces"). This is left where curved surfaces touch each other (a ball inside
+//!   another) or nearly coincide otherwise (a ball and an ellipsoid `1e-9` longer), and where a
+//!   tilted part's axis-aligned term boxes span both planes of a slab whose outside a term
+//!   holds (`tests/stability/tangent_rounded_tray_tilted.qcsg`). Nothing is lost there, but the
+//!   cost can be high;
+//! - around a cone's apex, where no heightfield has bounded distortion, what the region
+//!   decomposition and the subdivision give up is settled at the apex by a ring of samples
+//!   ([`apex`]); a plane that meets the cone only at its apex still leaves a few rectangles
+//!   around that point;
 //! - positions come from the heightfields, moved onto the quadric by up to two Newton steps
 //!   (which bring samples on a slab of half-width `1e-6` from `1.2e-7` of the diagonal off the
 //!   quadric to within `1e-9`); cones are left unrefined, because a step next to the apex can
