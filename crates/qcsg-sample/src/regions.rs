@@ -290,18 +290,9 @@ pub fn basic_regions(
 /// How far from the frame's centre the surface over `rect` reaches: `√(x² + y² + S)` at most,
 /// in the frame's coordinates (`+∞` but for a `Root` heightfield).
 fn reach_from_centre(heightfield: &Heightfield, rect: &Rect) -> f64 {
-    let HeightfieldForm::Root {
-        alpha_x,
-        alpha_y,
-        alpha_c,
-        beta_x,
-        beta_y,
-    } = heightfield.form
-    else {
+    let Some(s_max) = radicand_max(heightfield, rect) else {
         return f64::INFINITY;
     };
-    let s_max =
-        quadratic_max(alpha_x, beta_x, rect.x) + quadratic_max(alpha_y, beta_y, rect.y) + alpha_c;
     let far = |(a, b): (f64, f64)| a.abs().max(b.abs());
     let squared = far(rect.x).powi(2) + far(rect.y).powi(2) + s_max.max(0.0);
     // A hair more, for rounding in the bound.
@@ -420,9 +411,8 @@ fn best_plane(heightfield: &Heightfield, rect: &Rect) -> Best {
     }
 }
 
-/// A `Root` rectangle over which the radicand is negative somewhere: drop it if there is no
-/// surface over it or if a lower bound of `δ² = 1 + |g|² / S` on its defined part exceeds 3.
-fn partially_defined(heightfield: &Heightfield, rect: &Rect) -> RectClass {
+/// The largest radicand `S` of a `Root` heightfield over `rect`; `None` for other forms.
+fn radicand_max(heightfield: &Heightfield, rect: &Rect) -> Option<f64> {
     let HeightfieldForm::Root {
         alpha_x,
         alpha_y,
@@ -431,10 +421,27 @@ fn partially_defined(heightfield: &Heightfield, rect: &Rect) -> RectClass {
         beta_y,
     } = heightfield.form
     else {
+        return None;
+    };
+    Some(quadratic_max(alpha_x, beta_x, rect.x) + quadratic_max(alpha_y, beta_y, rect.y) + alpha_c)
+}
+
+/// A `Root` rectangle over which the radicand is negative somewhere: drop it if there is no
+/// surface over it or if a lower bound of `δ² = 1 + |g|² / S` on its defined part exceeds 3.
+fn partially_defined(heightfield: &Heightfield, rect: &Rect) -> RectClass {
+    let (
+        Some(s_max),
+        HeightfieldForm::Root {
+            alpha_x,
+            alpha_y,
+            beta_x,
+            beta_y,
+            ..
+        },
+    ) = (radicand_max(heightfield, rect), heightfield.form)
+    else {
         return RectClass::Drop;
     };
-    let s_max =
-        quadratic_max(alpha_x, beta_x, rect.x) + quadratic_max(alpha_y, beta_y, rect.y) + alpha_c;
     if !s_max.is_finite() {
         return RectClass::Split;
     }
