@@ -108,20 +108,21 @@ pub fn ring(q: &Quadric, along: f64) -> Option<Vec<(DVec3, DVec3)>> {
     Some(out)
 }
 
-/// A cone in its principal frame: `a x² + b y² − c z² = 0` along axes `i`, `j` and `axis`, up
-/// to the sign of the whole, with `a`, `b` and `c` positive, its apex at the frame's centre.
-struct Cone<'a> {
-    frame: &'a PrincipalFrame,
-    axes: [usize; 3],
+/// A cone in its principal frame: `a x² + b y² − c z² = 0` along the world directions `axes`
+/// (the last one its axis), up to the sign of the whole, with `a`, `b` and `c` positive.
+struct Cone {
+    apex: DVec3,
+    axes: [DVec3; 3],
+    /// `1/√a`, `1/√b`, `1/√c`.
     scales: [f64; 3],
     /// Rulings per nappe that a ring needs (see the module doc).
     rulings: usize,
 }
 
-impl<'a> Cone<'a> {
+impl Cone {
     /// The cone of `frame`; `None` unless its quadric is one, and one whose rings can cover
     /// every direction with at most [`MAX_RULINGS`] rulings.
-    fn new(frame: &'a PrincipalFrame) -> Option<Self> {
+    fn new(frame: &PrincipalFrame) -> Option<Self> {
         let lambda = frame.eigenvalues;
         // The axis is the eigenvalue of the other sign; flip the signs so that it is negative.
         let flip = match lambda.iter().filter(|&&l| l < 0.0).count() {
@@ -140,8 +141,8 @@ impl<'a> Cone<'a> {
             .take_while(|&n| n <= MAX_RULINGS)
             .find(|&n| (a + b) * (PI / n as f64).cos() - (a - b).abs() + 2.0 * c > 0.0)?;
         Some(Self {
-            frame,
-            axes: [i, j, axis],
+            apex: frame.centre,
+            axes: [i, j, axis].map(|k| frame.axes[k]),
             scales: [a, b, c].map(|v| 1.0 / v.sqrt()),
             rulings,
         })
@@ -150,7 +151,7 @@ impl<'a> Cone<'a> {
     /// The direction of the ruling at parameter `phi` of nappe `nappe` (`±1`), in the world:
     /// `(cos φ / √a, sin φ / √b, ±1 / √c)` in the frame.
     fn ruling(&self, phi: f64, nappe: f64) -> DVec3 {
-        let [i, j, axis] = self.axes.map(|k| self.frame.axes[k]);
+        let [i, j, axis] = self.axes;
         let [si, sj, sa] = self.scales;
         (phi.cos() * si) * i + (phi.sin() * sj) * j + (nappe * sa) * axis
     }
@@ -161,7 +162,7 @@ impl<'a> Cone<'a> {
         (0..self.rulings)
             .map(|m| {
                 let phi = 2.0 * PI * m as f64 / self.rulings as f64;
-                let position = self.frame.centre + along * self.ruling(phi, nappe).normalize();
+                let position = self.apex + along * self.ruling(phi, nappe).normalize();
                 Some((position, q.normal(position)?))
             })
             .collect()
@@ -175,10 +176,9 @@ impl<'a> Cone<'a> {
     /// `t² ‖A_L‖ |u|²`) stays below half of it up to where the ruling leaves the ball, and
     /// `L(A)`, zero up to rounding, is made up for that close to the apex.
     fn misses(&self, literal: &Quadric, nappe: f64, reach: f64, radius: f64) -> bool {
-        let apex = self.frame.centre;
-        let gradient = literal.gradient(apex);
+        let gradient = literal.gradient(self.apex);
         let [si, sj, sa] = self.scales;
-        let [i, j, axis] = self.axes.map(|k| self.frame.axes[k]);
+        let [i, j, axis] = self.axes;
         let (alpha, beta, gamma) = (
             gradient.dot(i) * si,
             gradient.dot(j) * sj,
@@ -190,7 +190,7 @@ impl<'a> Cone<'a> {
         let (lower, upper) = literal.eigenvalue_bounds();
         let square = lower.abs().max(upper.abs()) * longest;
         let t = reach / shortest.sqrt();
-        let (value, error) = literal.value_with_error(apex);
+        let (value, error) = literal.value_with_error(self.apex);
         let close = 1e-9 * radius / longest.sqrt();
         least_rate > 0.0
             && 2.0 * square * t < least_rate

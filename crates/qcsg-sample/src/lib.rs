@@ -421,7 +421,11 @@ fn settle_apices(
 ) {
     for (patch, &(count, reach)) in patches.iter().zip(at_apex) {
         let from_regions = patch.given_up.0;
-        if count == 0 || patch.kind != QuadricKind::Cone {
+        if patch.kind != QuadricKind::Cone {
+            stats.subdivision.unresolved += count - from_regions;
+            continue;
+        }
+        if count == 0 {
             continue;
         }
         let literals = &dnf.terms[patch.term as usize].literals;
@@ -754,8 +758,8 @@ fn sample_on_pool(
     let uncovered = settle_given_up(dnf, &given_up, &mut samples, radius, &mut stats.subdivision);
     let first_probed = samples.len();
     let mut allowance = PROBE_QUERIES + stats.subdivision.distance_queries / 16;
-    // What stays unresolved on a cone is settled at its apex if it lies there: per patch, the
-    // rectangles and how far from the apex they reach.
+    // What stays unresolved is settled at its cone's apex if it lies there: per patch, the
+    // rectangles and how far from the frame's centre (a cone's apex) they reach.
     let mut at_apex: Vec<(u64, f64)> = patches.iter().map(|p| p.given_up).collect();
     for leaf in &uncovered {
         let before = stats.subdivision.distance_queries;
@@ -768,8 +772,7 @@ fn sample_on_pool(
         };
         allowance = allowance.saturating_sub(stats.subdivision.distance_queries - before);
         let patch = regions.get(leaf.region).map(|(patch, _, _)| *patch);
-        let cone = patch.filter(|&p| patches[p].kind == QuadricKind::Cone);
-        let counter = match (probed, cone) {
+        let counter = match (probed, patch) {
             (Probed::Covered, _) => &mut stats.subdivision.unresolved_covered,
             (Probed::Off, _) => &mut stats.subdivision.discarded,
             (Probed::Unresolved, Some(p)) => {

@@ -1242,7 +1242,7 @@ fn fill(
             x0: rect.x.0,
             dx,
             y,
-            y_range: (y - 0.5 * dy, y + 0.5 * dy),
+            dy,
             radius,
         };
         if clipped {
@@ -1255,12 +1255,12 @@ fn fill(
 }
 
 /// One row of a fill grid: cell `i` spans `x0 + i·dx` to `x0 + (i + 1)·dx` along `x` and
-/// `y_range` along `y`, with its sample over its centre, of radius `radius`.
+/// `dy` around `y` along `y`, with its sample over its centre, of radius `radius`.
 struct Row {
     x0: f64,
     dx: f64,
     y: f64,
-    y_range: (f64, f64),
+    dy: f64,
     radius: f64,
 }
 
@@ -1270,7 +1270,7 @@ impl Row {
         let x = |i: u32| self.x0 + f64::from(i) * self.dx;
         Rect {
             x: (x(cells.start), x(cells.end)),
-            y: self.y_range,
+            y: (self.y - 0.5 * self.dy, self.y + 0.5 * self.dy),
         }
     }
 
