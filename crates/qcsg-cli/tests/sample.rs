@@ -465,9 +465,10 @@ fn unproven_rectangles_are_a_warning() {
 fn crossed_sampling_limits_are_errors_at_a_span() {
     let dir = scratch_dir("limits");
     let out = dir.join("out.ply");
-    // A ball and an ellipsoid 1e-9 longer along z: their surfaces nearly coincide, and no rule
-    // of eq. 22 sees past the gap (nested balls are offset surfaces, which it does).
-    let nested = "sphere(1);\nscale([1, 1, 1 + 1e-9]) sphere(1);\n";
+    // A shell 1e-9 thick, cut open by a half-space: the cut face is a ring 1e-9 wide, which no
+    // corner bound can tell from its rims.
+    let nested =
+        "difference() {\n  sphere(1 + 1e-9);\n  sphere(1);\n  halfspace([0, 0, -1], -0.3);\n}\n";
     let cases = [
         (SCENE, "--max-samples", "100", "1000000", "E0604"),
         (nested, "--max-queries", "10000", "100000000", "E0605"),

@@ -1,9 +1,9 @@
 //! Limits of one sampling run ([`SampleLimits`]): the samples it may emit and the distance
 //! queries it may make. A radius far below the scene's size asks for more samples than memory
-//! holds, and surfaces that nearly coincide over an area (a ball and an ellipsoid `1e-9` longer)
-//! defeat the subdivision's proofs and cost queries in proportion to `1 / r²`; a crossed limit
-//! stops the run with an error naming the quadric being sampled, instead of running out of
-//! memory or time.
+//! holds, and surfaces that nearly coincide over an area (two ellipsoids `1e-9` apart, turned
+//! differently) defeat the subdivision's proofs and cost queries in proportion to `1 / r²`; a
+//! crossed limit stops the run with an error naming the quadric being sampled, instead of
+//! running out of memory or time.
 //!
 //! Workers charge their counts to a shared [`Budget`] every few thousand samples or queries
 //! and when they finish, and stop once a limit is crossed. Whether a run crosses a limit does

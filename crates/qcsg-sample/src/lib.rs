@@ -56,11 +56,14 @@
 //!   "Tangent planes", "Planar sections": the rounded boxes of `examples/customizer_box.qcsg`,
 //!   the chess bishop's foot, a countersink's top `0.01` above a face), and so are surfaces a
 //!   small gap apart when one is an offset of the other (nested balls, coaxial cylinders:
-//!   "Offset surfaces"). This is left where curved surfaces touch each other (a ball inside
-//!   another) or nearly coincide otherwise (a ball and an ellipsoid `1e-9` longer), and where a
-//!   tilted part's axis-aligned term boxes span both planes of a slab whose outside a term
-//!   holds (`tests/stability/tangent_rounded_tray_tilted.qcsg`). Nothing is lost there, but the
-//!   cost can be high;
+//!   "Offset surfaces") and curved surfaces that touch or nest with shared principal axes (a
+//!   ball and a cylinder of its radius, a ball inside another touching it: "Touching
+//!   surfaces"). This is left where curved surfaces without shared axes nearly coincide (two
+//!   ellipsoids `1e-9` apart, turned differently), where a cut face between them is a ring
+//!   `1e-9` wide (`tests/stability/nested_spheres_shell.qcsg`), and where a tilted part's
+//!   axis-aligned term boxes span both planes of a slab whose outside a term holds
+//!   (`tests/stability/tangent_rounded_tray_tilted.qcsg`). Nothing is lost there, but the cost
+//!   can be high;
 //! - around a cone's apex, where no heightfield has bounded distortion, what the region
 //!   decomposition and the subdivision give up is settled at the apex by a ring of samples
 //!   ([`apex`]); a plane that meets the cone only at its apex still leaves a few rectangles

@@ -86,9 +86,9 @@ pub const SMALL_REGION_FRACTION: f64 = 1.0 / 64.0;
 
 /// Unproven rectangles one deferred rectangle may split into before the rest is given up. A
 /// sliver along a curve leaves about 2·2ᵏ unproven rectangles at `k` halvings, so this reaches
-/// the cutoff (`k = 6`) there; where surfaces nearly coincide over an area (a ball and an
-/// ellipsoid `1e-9` longer) every rectangle stays unproven, `4ᵏ` of them, and the budget stops the
-/// refinement near `r / 20` instead of costing 4,096 leaves per rectangle.
+/// the cutoff (`k = 6`) there; where surfaces nearly coincide over an area (two ellipsoids
+/// `1e-9` apart, turned differently) every rectangle stays unproven, `4ᵏ` of them, and the
+/// budget stops the refinement near `r / 20` instead of costing 4,096 leaves per rectangle.
 const MAX_UNPROVEN_PER_DEFERRED: usize = 512;
 
 /// Given-up rectangles kept one by one for [`settle_given_up`] over all deferred rectangles

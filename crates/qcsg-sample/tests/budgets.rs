@@ -24,6 +24,28 @@ const ANY: u64 = u64::MAX;
 
 const BUDGETS: &[Budget] = &[
     Budget {
+        example: "examples/precision_part.qcsg",
+        radius: 0.01,
+        max_queries: 200_000,
+        max_unresolved: 0,
+        max_samples: ANY,
+        guards: "touching surfaces: the cup's ball and cylinder of one radius touch along its \
+                 equator, outside and inside, where eq. 22 of the side alone is `z² / 2r` \
+                 (without the pencil rule 1,623,947 queries and 414 rectangles unproven; with it \
+                 but the inner ball's part of the wall's term still sampled, where the bore \
+                 touches all of it, 1,139,687 and 303; now 106,887 and none)",
+    },
+    Budget {
+        example: "tests/stability/tangent_internal_union.qcsg",
+        radius: 0.01,
+        max_queries: 10_000,
+        max_unresolved: 0,
+        max_samples: ANY,
+        guards: "touching surfaces: a ball touching the inside of another at a point lies inside \
+                 it everywhere else, which the range of a plane over the ball's surface shows \
+                 (without: 68,254 queries and 315 rectangles unproven; now 1,920 and none)",
+    },
+    Budget {
         example: "examples/three_spheres.qcsg",
         radius: 0.01,
         max_queries: 45_000,

@@ -16,16 +16,20 @@ fn check(dnf: &Dnf, seed: u64) -> (usize, usize) {
         let half = 0.5 * (term.bounds.max - term.bounds.min) * 1.1;
         let bounds = Aabb::from_centre_half(term.bounds.centre(), half);
         for &quadric in &term.literals {
-            let distance = CsgDistance::new(dnf, quadric, term_index as u32).expect("indices");
+            let literal = (quadric, term_index as u32);
+            let distance = CsgDistance::new(dnf, quadric, term_index as u32);
             let q = dnf.quadrics[quadric as usize].quadric;
             for p in points_on(&q, &bounds, 150, &mut rng) {
-                let (d, n) = check_point(
-                    dnf,
-                    (quadric, term_index as u32),
-                    (p, distance.distance(p)),
-                    &Aabb::EVERYTHING,
-                    &mut rng,
-                );
+                let Some(distance) = &distance else {
+                    // No part of the quadric in its term: no point of it is on the surface.
+                    let tol = 1e-9 * diagonal(dnf);
+                    let truth = brute_on_surface(dnf, quadric, literal.1, p, tol);
+                    assert_ne!(truth, Some(true), "{p:?} of {literal:?} is on the surface");
+                    decisive += usize::from(truth.is_some());
+                    continue;
+                };
+                let point = (p, distance.distance(p));
+                let (d, n) = check_point(dnf, literal, point, &Aabb::EVERYTHING, &mut rng);
                 decisive += d;
                 neighbours += n;
             }
@@ -285,6 +289,109 @@ fn offset_surfaces_classification() {
             d > 0.1,
             "the inner ball's surface at {p} is hidden by only {d}"
         );
+    }
+}
+
+/// Surfaces that touch along a curve or at a point, or nest: a ball and a cylinder of its
+/// radius (the rounded end of a capsule, turned or not), a cup hollowed by the same shapes
+/// `0.05` smaller, a ball touching the inside of another at a point ("Touching surfaces").
+/// Eq. 22 must stay right there, and it must see past the contact: the capsule's ball is hidden
+/// inside the cylinder by about its height above the cylinder's cap, where the distance to the
+/// cylinder's side alone is only `z² / 2r`, and a ball inside an ellipsoid `1e-9` longer
+/// (which brute force cannot tell apart) is hidden everywhere.
+#[test]
+fn touching_surfaces_classification() {
+    let capsule = "cylinder(h = 24, r = 10);\nsphere(10);";
+    let scenes = [
+        ("capsule", capsule.to_string()),
+        (
+            "turned capsule",
+            format!("rotate([30, 40, 10]) {{ {capsule} }}"),
+        ),
+        (
+            "cup",
+            "difference() {
+                union() { cylinder(h = 24, r = 10); sphere(10); }
+                union() { cylinder(h = 25, r = 9.95); sphere(9.95); }
+            }"
+            .to_string(),
+        ),
+        (
+            "inner ball",
+            "sphere(2);\ntranslate([1, 0, 0]) sphere(1);".to_string(),
+        ),
+    ];
+    for (seed, (name, text)) in scenes.into_iter().enumerate() {
+        let dnf = common::compile_text("touching.qcsg", text).expect(name);
+        let (decisive, _) = check(&dnf, 80 + seed as u64);
+        assert!(decisive >= 250, "{name}: {decisive}");
+    }
+    // The ball of a term of its own, and how far eq. 22 must put each of its points off the
+    // surface.
+    type LeastDistance = fn(DVec3) -> Option<f64>;
+    let hidden: [(&str, LeastDistance); 2] = [
+        (capsule, |p| (p.z >= 1.0).then_some(0.5 * p.z)),
+        ("sphere(1);\nscale([1, 1, 1 + 1e-9]) sphere(1);", |_| {
+            Some(0.1)
+        }),
+    ];
+    for (seed, (text, least)) in hidden.into_iter().enumerate() {
+        let dnf = common::compile_text("hidden.qcsg", text.to_string()).expect(text);
+        let (ball, term) = (dnf.terms.iter().enumerate())
+            .find_map(|(t, term)| {
+                let &ball = term.literals.first()?;
+                let kind = dnf.quadrics[ball as usize].quadric.kind();
+                let alone = term.literals.len() == 1 && kind == QuadricKind::Sphere;
+                alone.then_some((ball, t as u32))
+            })
+            .expect("the ball's term");
+        let q = dnf.quadrics[ball as usize].quadric;
+        let distance = CsgDistance::new(&dnf, ball, term).expect("indices");
+        let mut rng = Rng::new(90 + seed as u64);
+        let mut checked = 0;
+        for p in points_on(&q, &dnf.bounds, 200, &mut rng) {
+            if let Some(least) = least(p) {
+                let d = distance.distance(p);
+                assert!(d >= least, "{text}: the ball at {p} is hidden by only {d}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 20, "{text}: {checked} points checked");
+    }
+}
+
+/// Random capsules, cones capped by balls and hollowed cups, turned and moved at random: the
+/// touching rule's axes and ratios must hold whichever way the parts lie ("Touching surfaces").
+#[test]
+fn random_touching_surfaces_classification() {
+    let mut rng = Rng::new(100);
+    for case in 0..12 {
+        let (r, h) = (rng.range(0.5, 5.0), rng.range(1.0, 20.0));
+        let wall = r * rng.range(1e-3, 0.2);
+        let turn = [0, 1, 2].map(|_| rng.range(-180.0, 180.0));
+        let at = rng.direction() * rng.range(0.0, 100.0);
+        let part = match case % 3 {
+            0 => format!(
+                "cylinder(h = {h}, r = {r}); sphere({r}); translate([0, 0, {h}]) sphere({r});"
+            ),
+            // A ball of the cone's radius where the cone's side is steep enough to meet it only
+            // at its rim, and one inside the cone touching its side along a circle.
+            1 => format!(
+                "cylinder(h = {h}, r1 = {r}, r2 = 0); sphere({r}); \
+                 translate([0, 0, {h} / 2]) sphere({r} / 2 * {h} / sqrt({h} * {h} + {r} * {r}));"
+            ),
+            _ => format!(
+                "difference() {{ union() {{ cylinder(h = {h}, r = {r}); sphere({r}); }} \
+                 union() {{ cylinder(h = {h} + 1, r = {r} - {wall}); sphere({r} - {wall}); }} }}"
+            ),
+        };
+        let text = format!(
+            "translate([{}, {}, {}]) rotate([{}, {}, {}]) {{ {part} }}",
+            at.x, at.y, at.z, turn[0], turn[1], turn[2]
+        );
+        let dnf = common::compile_text("random.qcsg", text.clone()).expect("random touching");
+        let (decisive, _) = check(&dnf, 200 + case);
+        assert!(decisive >= 250, "{text}: {decisive}");
     }
 }
 
