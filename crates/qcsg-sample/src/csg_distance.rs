@@ -127,6 +127,13 @@
 //! - **One side of a slab.** The outside of a slab is a union of two half-spaces, which no rule
 //!   above can pair. Where a term's box lies on the inner side of one of the slab's planes, the
 //!   literal is the half-space beyond the other plane within the term, and stands as that.
+//! - **Strips of no width.** On a sampled plane, two half-spaces of term `a` whose sections face
+//!   each other across a strip no wider than the length tolerance within the term's box leave
+//!   the term no area there: it samples nothing on that sheet. Cutting a box with another box
+//!   turned by 45°, as OpenSCAD models make a triangular gusset, gives a DNF term for each of the
+//!   cutter's faces; where the two faces meet on the gusset's bottom plane, the term of the face
+//!   that misses the gusset is that line. Eq. 22 there was the distance to the line, and
+//!   `openscad_bracket` at 1 % gave up 1,024 rectangles along it; now none.
 
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, BoxIndex, Dnf};
@@ -833,6 +840,10 @@ impl SheetViews {
                 TermView::new(literals, region, (extent, floor))
             })
             .collect();
+        let own_empty = own_empty
+            || plane.is_some_and(|plane| {
+                no_area_between(&own_sides, &plane, &own_term.bounds, tolerance)
+            });
         Self {
             plane,
             own,
@@ -1717,6 +1728,37 @@ fn own_half_spaces(own: &[Refined], plane: Option<&HalfSpace>) -> Vec<HalfSpace>
         .flatten()
         .filter(|h| plane.is_none_or(|p| h.normal.cross(p.normal).length() > PARALLEL))
         .collect()
+}
+
+/// Whether two of term `a`'s half-spaces `sides` meet the sampled `plane` in half-planes facing
+/// each other across a strip no wider than `tolerance` within the term's `bounds`: the term has
+/// no area on the plane ("Strips of no width"). A gusset cut off by a 45° box: the cutter's two
+/// faces meet on the gusset's bottom plane, and the DNF term of the face that misses the
+/// gusset leaves only the line where they meet.
+fn no_area_between(sides: &[HalfSpace], plane: &HalfSpace, bounds: &Aabb, tolerance: f64) -> bool {
+    // `n · x ≤ c` on the plane `p · x = o` is `m · x ≤ (c − (n · p) o) / |m'|`, `m = m' / |m'|`
+    // with `m' = n − (n · p) p` its normal within the plane.
+    let sections: Vec<(DVec3, f64)> = sides
+        .iter()
+        .filter_map(|h| {
+            let across = h.normal.dot(plane.normal);
+            let within = h.normal - across * plane.normal;
+            let length = within.length();
+            (length > PARALLEL)
+                .then(|| (within / length, (h.offset - across * plane.offset) / length))
+        })
+        .collect();
+    let corners = bounds.corners();
+    sections.iter().enumerate().any(|(i, &(m1, c1))| {
+        sections[i + 1..].iter().any(|&(m2, c2)| {
+            // Depth inside both half-planes is at most half the sum of the two depths, which is
+            // linear in `x`: its largest value over the box is at a corner.
+            m1.dot(m2) < 0.0
+                && corners
+                    .iter()
+                    .all(|&x| c1 - m1.dot(x) + c2 - m2.dot(x) <= 2.0 * tolerance)
+        })
+    })
 }
 
 /// A planar literal of another term without the half-spaces that term `a` holds too (see

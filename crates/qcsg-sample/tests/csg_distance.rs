@@ -395,6 +395,34 @@ fn random_touching_surfaces_classification() {
     }
 }
 
+/// Gussets cut from a box by a box turned 45° about their edge, as OpenSCAD models make them,
+/// turned at random: the term of the cutter's face that misses the gusset has only a line on the
+/// gusset's bottom plane, which eq. 22 must see as no area ("Strips of no width").
+#[test]
+fn strips_of_no_width_classification() {
+    let mut rng = Rng::new(300);
+    for case in 0..6 {
+        let (a, w) = (rng.range(5.0, 30.0), rng.range(1.0, 6.0));
+        let turn = [0, 1, 2].map(|_| {
+            if case == 0 {
+                0.0
+            } else {
+                rng.range(-180.0, 180.0)
+            }
+        });
+        let text = format!(
+            "rotate([{}, {}, {}]) difference() {{
+                cube([{w}, {a}, {a}]);
+                translate([-1, {a}, 0]) rotate([45, 0, 0]) cube([{w} + 2, {a} * 2, {a} * 2]);
+            }}",
+            turn[0], turn[1], turn[2]
+        );
+        let dnf = common::compile_text("gusset.qcsg", text.clone()).expect("gusset");
+        let (decisive, _) = check(&dnf, 300 + case);
+        assert!(decisive >= 250, "{text}: {decisive}");
+    }
+}
+
 #[test]
 fn box_distance_is_exact() {
     let b = Aabb::new(DVec3::ZERO, DVec3::ONE);
