@@ -110,6 +110,7 @@ use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
     Deferred, GivenUp, Probed, REGION_BLOCK, RegionContext, SampleIndex, SubdivisionStats,
     given_up_share, grow_radius, probe_given_up, refine_deferred, sample_region, settle_given_up,
+    settle_parts,
 };
 
 /// One sample on the CSG surface.
@@ -764,6 +765,7 @@ fn sample_on_pool(
     // What stays unresolved is settled at its cone's apex if it lies there: per patch, the
     // rectangles and how far from the frame's centre (a cone's apex) they reach.
     let mut at_apex: Vec<(u64, f64)> = patches.iter().map(|p| p.given_up).collect();
+    let mut unsettled: Vec<(&GivenUp, Vec<GivenUp>)> = Vec::new();
     for leaf in &uncovered {
         let before = stats.subdivision.distance_queries;
         let probed = match context(leaf.region) {
@@ -771,22 +773,33 @@ fn sample_on_pool(
                 let (region, out) = (&regions[leaf.region].1, (&mut samples, first_probed));
                 probe_given_up(&ctx, region, leaf, out, &mut stats.subdivision)
             }
-            _ => Probed::Unresolved,
+            _ => Probed::Unresolved(Vec::new()),
         };
         allowance = allowance.saturating_sub(stats.subdivision.distance_queries - before);
+        match probed {
+            Probed::Covered => stats.subdivision.unresolved_covered += leaf.count,
+            Probed::Off => stats.subdivision.discarded += leaf.count,
+            Probed::Unresolved(parts) => unsettled.push((leaf, parts)),
+        }
+    }
+    // What probing left of each, against every sample; what stays unresolved is settled at its
+    // cone's apex if it lies there.
+    let parts: Vec<Vec<GivenUp>> = unsettled
+        .iter_mut()
+        .map(|(_, p)| std::mem::take(p))
+        .collect();
+    let covered = settle_parts(dnf, &parts, &mut samples, radius);
+    for ((leaf, _), covered) in unsettled.into_iter().zip(covered) {
         let patch = regions.get(leaf.region).map(|(patch, _, _)| *patch);
-        let counter = match (probed, patch) {
-            (Probed::Covered, _) => &mut stats.subdivision.unresolved_covered,
-            (Probed::Off, _) => &mut stats.subdivision.discarded,
-            (Probed::Unresolved, Some(p)) => {
+        match (covered, patch) {
+            (true, _) => stats.subdivision.unresolved_covered += leaf.count,
+            (false, Some(p)) => {
                 let reach = (leaf.point.position - patches[p].frame.centre).length() + leaf.extent;
                 let (count, far) = &mut at_apex[p];
                 (*count, *far) = (*count + leaf.count, far.max(reach));
-                continue;
             }
-            (Probed::Unresolved, None) => &mut stats.subdivision.unresolved,
-        };
-        *counter += leaf.count;
+            (false, None) => stats.subdivision.unresolved += leaf.count,
+        }
     }
     settle_apices(dnf, (&patches, &at_apex), radius, &mut samples, &mut stats);
     let clip_lists = clip::assign(dnf, &mut samples);

@@ -630,6 +630,49 @@ pub fn settle_given_up(
     radius: f64,
     stats: &mut SubdivisionStats,
 ) -> Vec<GivenUp> {
+    let covered = cover_given_up(dnf, given_up, samples, radius);
+    let mut uncovered = Vec::new();
+    for (g, covered) in given_up.iter().zip(covered) {
+        if covered {
+            stats.unresolved_covered += g.count;
+        } else {
+            uncovered.push(*g);
+        }
+    }
+    uncovered
+}
+
+/// Whether all the parts a probe left of each given-up rectangle ([`Probed::Unresolved`]) are
+/// covered by samples, as [`settle_given_up`] covers (the covering samples' radii grown): a
+/// rectangle that touches the surface only along its edge, where it meets a filled one, has
+/// parts along that edge close enough to the filled one's samples when the whole is not.
+pub fn settle_parts(
+    dnf: &Dnf,
+    parts: &[Vec<GivenUp>],
+    samples: &mut [Sample],
+    radius: f64,
+) -> Vec<bool> {
+    let all: Vec<GivenUp> = parts.iter().flatten().copied().collect();
+    let covered = cover_given_up(dnf, &all, samples, radius);
+    let mut start = 0;
+    parts
+        .iter()
+        .map(|p| {
+            let of_this = &covered[start..start + p.len()];
+            start += p.len();
+            !p.is_empty() && of_this.iter().all(|&c| c)
+        })
+        .collect()
+}
+
+/// Whether a sample covers each given-up rectangle (the ball of radius `extent` around its
+/// point), the covering samples' radii grown as needed to at most `radius`.
+fn cover_given_up(
+    dnf: &Dnf,
+    given_up: &[GivenUp],
+    samples: &mut [Sample],
+    radius: f64,
+) -> Vec<bool> {
     let centres: Vec<(u32, DVec3)> = given_up
         .iter()
         .map(|g| (g.quadric, g.point.position))
@@ -639,17 +682,15 @@ pub fn settle_given_up(
         .iter()
         .map(|g| index.cover((g.quadric, g.term), g.point, g.extent))
         .collect();
-    let mut uncovered = Vec::new();
-    for (g, cover) in given_up.iter().zip(covers) {
-        match cover {
-            Some((i, needed)) => {
-                stats.unresolved_covered += g.count;
-                grow_radius(samples, i, needed);
-            }
-            None => uncovered.push(*g),
-        }
-    }
-    uncovered
+    drop(index);
+    covers
+        .into_iter()
+        .map(|cover| {
+            cover
+                .inspect(|&(i, needed)| grow_radius(samples, i, needed))
+                .is_some()
+        })
+        .collect()
 }
 
 /// Levels of quadrants below a given-up rectangle that [`probe_given_up`] looks at: down to a
@@ -683,7 +724,7 @@ pub fn probe_given_up(
         return Probed::Covered;
     }
     if leaf.count != 1 {
-        return Probed::Unresolved;
+        return Probed::Unresolved(Vec::new());
     }
     let distortion = rect_distortion(region, &leaf.rect);
     match probe(ctx, region, leaf.rect, distortion, PROBE_LEVELS, stats) {
@@ -694,11 +735,26 @@ pub fn probe_given_up(
             if out.len() > before {
                 Probed::Covered
             } else {
-                Probed::Unresolved
+                Probed::Unresolved(Vec::new())
             }
         }
         Probe::Off => Probed::Off,
-        Probe::Unknown => Probed::Unresolved,
+        Probe::Unknown(parts) => Probed::Unresolved(
+            parts
+                .into_iter()
+                .map(|rect| {
+                    let point = centre_point(ctx, region, &rect);
+                    let extent = 0.5 * distortion * rect.diagonal();
+                    point.map(|point| GivenUp {
+                        point,
+                        extent,
+                        rect,
+                        ..*leaf
+                    })
+                })
+                .collect::<Option<Vec<GivenUp>>>()
+                .unwrap_or_default(),
+        ),
     }
 }
 
@@ -708,8 +764,8 @@ enum Probe {
     Inside(f64, f64),
     /// No point of the rectangle is on it.
     Off,
-    /// Neither.
-    Unknown,
+    /// Neither: the parts, at the deepest level, that are neither.
+    Unknown(Vec<Rect>),
 }
 
 /// [`probe_given_up`]'s search below `rect`, `levels` levels of quadrants deep.
@@ -731,9 +787,9 @@ fn probe(
         return Probe::Off;
     }
     if levels == 0 {
-        return Probe::Unknown;
+        return Probe::Unknown(vec![rect]);
     }
-    let mut off = true;
+    let mut unknown = Vec::new();
     for (x, y) in [(rect.x.0, cx), (cx, rect.x.1)]
         .into_iter()
         .flat_map(|x| [(rect.y.0, cy), (cy, rect.y.1)].map(|y| (x, y)))
@@ -741,21 +797,27 @@ fn probe(
         match probe(ctx, region, Rect { x, y }, distortion, levels - 1, stats) {
             Probe::Inside(x, y) => return Probe::Inside(x, y),
             Probe::Off => {}
-            Probe::Unknown => off = false,
+            Probe::Unknown(parts) => unknown.extend(parts),
         }
     }
-    if off { Probe::Off } else { Probe::Unknown }
+    if unknown.is_empty() {
+        Probe::Off
+    } else {
+        Probe::Unknown(unknown)
+    }
 }
 
 /// What [`probe_given_up`] made of a rectangle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Probed {
     /// A sample covers it.
     Covered,
     /// No point of it is on the CSG surface.
     Off,
-    /// Neither is proven.
-    Unresolved,
+    /// Neither is proven. The rest of the rectangle is off the surface but for these parts,
+    /// each smaller than it (none where it was not probed): if samples cover them all, they
+    /// cover what of it is on the surface ([`settle_parts`]).
+    Unresolved(Vec<GivenUp>),
 }
 
 /// Whether one of the samples `out[i]` for `i` in `indices` that `draws` accepts covers the
