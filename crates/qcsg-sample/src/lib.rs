@@ -29,7 +29,9 @@
 //!   side, same term or one holding them) covers them, or they are split down to
 //!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint; what is given up there and no
 //!   sample reaches is probed a few levels further down within a budget
-//!   ([`subdivide::probe_given_up`], `PROBE_QUERIES`), and counted when still unsettled
+//!   ([`subdivide::probe_given_up`], `PROBE_QUERIES`), and around one point down to a speck of
+//!   the length tolerance (`SPECK`); the parts left are settled against every sample
+//!   ([`subdivide::settle_parts`]), and counted when still unsettled
 //!   ([`subdivide::SubdivisionStats::unresolved`]);
 //! - eq. 22 of each sampled literal keeps only the other terms near the part its regions hold,
 //!   found in an R-tree of the terms' boxes, and, of a term of many literals, only those that
@@ -66,8 +68,9 @@
 //!   can be high;
 //! - around a cone's apex, where no heightfield has bounded distortion, what the region
 //!   decomposition and the subdivision give up is settled at the apex by a ring of samples
-//!   ([`apex`]); a plane that meets the cone only at its apex still leaves a few rectangles
-//!   around that point;
+//!   ([`apex`]); a plane that meets the cone only at its apex is probed around that point
+//!   down to a speck of the length tolerance, `1e-9` of the diagonal (`SPECK`), where the
+//!   apex is a double point known only to rounding;
 //! - positions come from the heightfields, moved onto the quadric by up to two Newton steps
 //!   (which bring samples on a slab of half-width `1e-6` from `1.2e-7` of the diagonal off the
 //!   quadric to within `1e-9`); cones are left unrefined, because a step next to the apex can
@@ -246,6 +249,11 @@ const PROBE_QUERIES: u64 = 16_384;
 /// Fraction of the DNF's diagonal within which a sample counts as on its quadric without
 /// Newton steps.
 const SNAP_SETTLED: f64 = 1e-12;
+
+/// Fraction of the DNF's diagonal below which a part of a rectangle on the surface is a speck
+/// ([`RegionContext::speck`]): the length tolerance of the scene, below which eq. 22 takes a
+/// point to lie on a plane.
+const SPECK: f64 = 1e-9;
 
 /// A basic region with the index of its patch and a box around the patch's part in it.
 type PlacedRegion = (usize, BasicRegion, Aabb);
@@ -660,6 +668,7 @@ fn sample_on_pool(
     // Heightfield points this close to their quadric are not refined (the guarantee asks for
     // 1e-9 of the diagonal; Newton steps are for cancellation far above this).
     let settled = SNAP_SETTLED * (dnf.bounds.max - dnf.bounds.min).length();
+    let speck = SPECK * (dnf.bounds.max - dnf.bounds.min).length();
     let context = |index: usize| {
         let (patch, region, _) = regions.get(index)?;
         let patch = patches.get(*patch)?;
@@ -670,6 +679,7 @@ fn sample_on_pool(
             distance: near.get(index)?.as_ref()?,
             radius,
             snap: (patch.kind != QuadricKind::Cone).then_some(settled),
+            speck,
             budget: &budget,
         })
     };

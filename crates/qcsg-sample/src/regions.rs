@@ -89,6 +89,19 @@ impl Rect {
         (0.5 * (self.x.0 + self.x.1), 0.5 * (self.y.0 + self.y.1))
     }
 
+    /// The four quadrants, split at the centre.
+    pub fn quadrants(&self) -> [Rect; 4] {
+        let (cx, cy) = self.centre();
+        let (xs, ys) = (
+            [(self.x.0, cx), (cx, self.x.1)],
+            [(self.y.0, cy), (cy, self.y.1)],
+        );
+        std::array::from_fn(|k| Rect {
+            x: xs[k / 2],
+            y: ys[k % 2],
+        })
+    }
+
     /// Whether `(x, y)` lies in the closed rectangle.
     pub fn contains(&self, x: f64, y: f64) -> bool {
         self.x.0 <= x && x <= self.x.1 && self.y.0 <= y && y <= self.y.1

@@ -74,7 +74,7 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use qcsg_csg::Dnf;
-use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
+use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind};
 
 use crate::Sample;
 use crate::budget::{Budget, Meter};
@@ -165,6 +165,9 @@ pub struct RegionContext<'a> {
     /// Samples farther than this from the quadric (`|Q| / ‖∇Q‖`) are moved onto it by Newton
     /// steps (`snap_to_surface`); `None` for cones, which are left alone.
     pub snap: Option<f64>,
+    /// Parts of a rectangle no larger than this on the surface are specks, below the length
+    /// tolerance of the scene ([`probe_given_up`]).
+    pub speck: f64,
 }
 
 /// A rectangle with its corner distances `[x0y0, x1y0, x0y1, x1y1]` and the heightfield's
@@ -698,6 +701,14 @@ fn cover_given_up(
 /// on most stability scenes, for two to four times the queries spent probing.
 const PROBE_LEVELS: u32 = 2;
 
+/// Most parts a probe follows further down to a speck ([`probe_given_up`]): those around one
+/// point, which is a corner of at most four.
+const POINT_PARTS: usize = 4;
+
+/// Most levels a probe follows parts around one point: far below any speck (`2⁻⁶⁰` of the
+/// rectangle).
+const POINT_LEVELS: u32 = 60;
+
 /// The last resort for a given-up rectangle that no sample reaches. A sample of the same term
 /// and quadric that an earlier probe made, `out[first..]`, covers it if it reaches (its radius
 /// grown to at most `r`). Else the rectangle is probed at its centre and, where that settles
@@ -708,7 +719,9 @@ const PROBE_LEVELS: u32 = 2;
 /// - if every part is off the surface by a disc that reaches its corners, no point of the
 ///   rectangle is on it (the usual case: a rectangle within a hair of a surface it does not
 ///   cross, as where the hollowed cube's corner ball, a face and the big ball meet, at 0.15 % of
-///   the diagonal).
+///   the diagonal);
+/// - parts that are neither and lie around one point are followed further down
+///   (`down_to_speck`); what is left is returned, for [`settle_parts`].
 ///
 /// Only a rectangle that stands for itself (`count` 1) is probed.
 pub fn probe_given_up(
@@ -727,7 +740,11 @@ pub fn probe_given_up(
         return Probed::Unresolved(Vec::new());
     }
     let distortion = rect_distortion(region, &leaf.rect);
-    match probe(ctx, region, leaf.rect, distortion, PROBE_LEVELS, stats) {
+    let probed = match probe(ctx, region, leaf.rect, distortion, PROBE_LEVELS, stats) {
+        Probe::Unknown(parts) => down_to_speck(ctx, region, parts, distortion, stats),
+        decided => decided,
+    };
+    match probed {
         Probe::Inside(x, y) => {
             let footprint = distortion * leaf.rect.diagonal();
             let before = out.len();
@@ -756,6 +773,49 @@ pub fn probe_given_up(
                 .unwrap_or_default(),
         ),
     }
+}
+
+/// Follows the parts a probe left (`parts`, with `distortion`) further down while they lie
+/// around one point ([`POINT_PARTS`]): where all the rest of a rectangle is proven off the
+/// surface, that point is all that is left, as where three branches of a tree start at the
+/// centre of their trunk's cap and eq. 22, which looks at one term at a time, is zero. Once
+/// every part's footprint is a speck ([`RegionContext::speck`]), nothing of the rectangle but
+/// a speck is on the surface: it is off. A point on the surface found on the way is `Inside`;
+/// where the parts spread along a curve instead, `parts` are returned as they came.
+fn down_to_speck(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    parts: Vec<Rect>,
+    distortion: f64,
+    stats: &mut SubdivisionStats,
+) -> Probe {
+    // Around a cone's apex no heightfield point has a normal: that is for the apex rings.
+    if ctx.quadric.kind() == QuadricKind::Cone {
+        return Probe::Unknown(parts);
+    }
+    let mut left = parts.clone();
+    for _ in 0..POINT_LEVELS {
+        if left.len() > POINT_PARTS {
+            break;
+        }
+        if left.iter().all(|p| distortion * p.diagonal() <= ctx.speck) {
+            return Probe::Off;
+        }
+        // A part's centre was probed already, as a quadrant one level up.
+        let mut smaller = Vec::new();
+        for quadrant in left.iter().flat_map(Rect::quadrants) {
+            match probe(ctx, region, quadrant, distortion, 0, stats) {
+                Probe::Inside(x, y) => return Probe::Inside(x, y),
+                Probe::Off => {}
+                Probe::Unknown(quadrant) => smaller.extend(quadrant),
+            }
+        }
+        if smaller.is_empty() {
+            return Probe::Off;
+        }
+        left = smaller;
+    }
+    Probe::Unknown(parts)
 }
 
 /// What eq. 22 at the centres of a rectangle and its quadrants shows.
@@ -790,11 +850,8 @@ fn probe(
         return Probe::Unknown(vec![rect]);
     }
     let mut unknown = Vec::new();
-    for (x, y) in [(rect.x.0, cx), (cx, rect.x.1)]
-        .into_iter()
-        .flat_map(|x| [(rect.y.0, cy), (cy, rect.y.1)].map(|y| (x, y)))
-    {
-        match probe(ctx, region, Rect { x, y }, distortion, levels - 1, stats) {
+    for quadrant in rect.quadrants() {
+        match probe(ctx, region, quadrant, distortion, levels - 1, stats) {
             Probe::Inside(x, y) => return Probe::Inside(x, y),
             Probe::Off => {}
             Probe::Unknown(parts) => unknown.extend(parts),
