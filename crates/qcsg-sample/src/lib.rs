@@ -58,12 +58,13 @@
 //!   "Tangent planes", "Planar sections": the rounded boxes of `examples/customizer_box.qcsg`,
 //!   the chess bishop's foot, a countersink's top `0.01` above a face), and so are surfaces a
 //!   small gap apart when one is an offset of the other (nested balls, coaxial cylinders:
-//!   "Offset surfaces") and curved surfaces that touch or nest with shared principal axes (a
-//!   ball and a cylinder of its radius, a ball inside another touching it: "Touching
-//!   surfaces"). This is left where curved surfaces without shared axes nearly coincide (two
-//!   ellipsoids `1e-9` apart, turned differently), where a cut face between them is a ring
-//!   `1e-9` wide (`tests/stability/nested_spheres_shell.qcsg`), and where a tilted part's
-//!   axis-aligned term boxes span both planes of a slab whose outside a term holds
+//!   "Offset surfaces") and curved surfaces that touch or nest with shared principal axes or on
+//!   an ellipsoid (a ball and a cylinder of its radius, a ball inside another touching it, an
+//!   ellipsoid touching the inside of another turned differently: "Touching surfaces"). This
+//!   is left where curved surfaces cross at a grazing angle over an area (two ellipsoids `1e-9`
+//!   apart, turned differently, each poking out of the other), where a cut face between them
+//!   is a ring `1e-9` wide (`tests/stability/nested_spheres_shell.qcsg`), and where a tilted
+//!   part's axis-aligned term boxes span both planes of a slab whose outside a term holds
 //!   (`tests/stability/tangent_rounded_tray_tilted.qcsg`). Nothing is lost there, but the cost
 //!   can be high;
 //! - around a cone's apex, where no heightfield has bounded distortion, what the region

@@ -298,7 +298,8 @@ fn offset_surfaces_classification() {
 /// Eq. 22 must stay right there, and it must see past the contact: the capsule's ball is hidden
 /// inside the cylinder by about its height above the cylinder's cap, where the distance to the
 /// cylinder's side alone is only `z² / 2r`, and a ball inside an ellipsoid `1e-9` longer
-/// (which brute force cannot tell apart) is hidden everywhere.
+/// (which brute force cannot tell apart) and an ellipsoid touching the inside of another turned
+/// differently are hidden everywhere.
 #[test]
 fn touching_surfaces_classification() {
     let capsule = "cylinder(h = 24, r = 10);\nsphere(10);";
@@ -326,33 +327,50 @@ fn touching_surfaces_classification() {
         let (decisive, _) = check(&dnf, 80 + seed as u64);
         assert!(decisive >= 250, "{name}: {decisive}");
     }
-    // The ball of a term of its own, and how far eq. 22 must put each of its points off the
-    // surface.
+    // The inner of two solids, a term of its own, and how far eq. 22 must put each of its
+    // points off the surface.
     type LeastDistance = fn(DVec3) -> Option<f64>;
-    let hidden: [(&str, LeastDistance); 2] = [
+    let hidden: [(&str, LeastDistance); 3] = [
         (capsule, |p| (p.z >= 1.0).then_some(0.5 * p.z)),
         ("sphere(1);\nscale([1, 1, 1 + 1e-9]) sphere(1);", |_| {
             Some(0.1)
         }),
+        // Ellipsoids turned differently, the inner touching the outer at its tips: no axes in
+        // common, so the S-lemma's search finds the multiple.
+        (
+            "scale([3, 2, 2.5]) sphere(1);\nrotate([30, 0, 0]) scale([3, 1, 1.5]) sphere(1);",
+            |_| Some(1.0),
+        ),
     ];
     for (seed, (text, least)) in hidden.into_iter().enumerate() {
         let dnf = common::compile_text("hidden.qcsg", text.to_string()).expect(text);
-        let (ball, term) = (dnf.terms.iter().enumerate())
-            .find_map(|(t, term)| {
-                let &ball = term.literals.first()?;
-                let kind = dnf.quadrics[ball as usize].quadric.kind();
-                let alone = term.literals.len() == 1 && kind == QuadricKind::Sphere;
-                alone.then_some((ball, t as u32))
-            })
-            .expect("the ball's term");
-        let q = dnf.quadrics[ball as usize].quadric;
-        let distance = CsgDistance::new(&dnf, ball, term).expect("indices");
+        let alone: Vec<(u32, u32)> = (dnf.terms.iter().enumerate())
+            .filter(|(_, term)| term.literals.len() == 1)
+            .map(|(t, term)| (term.literals[0], t as u32))
+            .collect();
+        let quadric = |i: u32| dnf.quadrics[i as usize].quadric;
+        let inside_another = |&&(i, _): &&(u32, u32)| {
+            let mut rng = Rng::new(1);
+            let p = points_on(&quadric(i), &dnf.bounds, 1, &mut rng)[0];
+            dnf.terms
+                .iter()
+                .flat_map(|t| &t.literals)
+                .any(|&j| j != i && quadric(j).value(p) < 0.0)
+        };
+        let &(inner, term) = alone
+            .iter()
+            .find(inside_another)
+            .expect("the inner solid's term");
+        let distance = CsgDistance::new(&dnf, inner, term).expect("indices");
         let mut rng = Rng::new(90 + seed as u64);
         let mut checked = 0;
-        for p in points_on(&q, &dnf.bounds, 200, &mut rng) {
+        for p in points_on(&quadric(inner), &dnf.bounds, 200, &mut rng) {
             if let Some(least) = least(p) {
                 let d = distance.distance(p);
-                assert!(d >= least, "{text}: the ball at {p} is hidden by only {d}");
+                assert!(
+                    d >= least,
+                    "{text}: the inner surface at {p} is hidden by only {d}"
+                );
                 checked += 1;
             }
         }
@@ -360,17 +378,30 @@ fn touching_surfaces_classification() {
     }
 }
 
-/// Random capsules, cones capped by balls and hollowed cups, turned and moved at random: the
-/// touching rule's axes and ratios must hold whichever way the parts lie ("Touching surfaces").
+/// Random capsules, cones capped by balls, hollowed cups and pairs of ellipsoids, turned and
+/// moved at random: the touching rule's axes, ratios and S-lemma search must hold whichever
+/// way the parts lie ("Touching surfaces").
 #[test]
 fn random_touching_surfaces_classification() {
     let mut rng = Rng::new(100);
-    for case in 0..12 {
+    for case in 0..16 {
         let (r, h) = (rng.range(0.5, 5.0), rng.range(1.0, 20.0));
         let wall = r * rng.range(1e-3, 0.2);
         let turn = [0, 1, 2].map(|_| rng.range(-180.0, 180.0));
         let at = rng.direction() * rng.range(0.0, 100.0);
-        let part = match case % 3 {
+        let axes = |rng: &mut Rng| [0, 1, 2].map(|_| rng.range(0.5, 3.0));
+        let part = match case % 4 {
+            // Two ellipsoids turned differently, nested or crossing (the S-lemma's case).
+            3 => {
+                let (outer, inner) = (axes(&mut rng), axes(&mut rng));
+                let spin = [0, 1, 2].map(|_| rng.range(-90.0, 90.0));
+                let shift = rng.direction() * rng.range(0.0, 0.5);
+                format!(
+                    "scale({outer:?}) sphere(1); translate([{}, {}, {}]) rotate({spin:?}) \
+                     scale({inner:?}) sphere(1);",
+                    shift.x, shift.y, shift.z
+                )
+            }
             0 => format!(
                 "cylinder(h = {h}, r = {r}); sphere({r}); translate([0, 0, {h}]) sphere({r});"
             ),
