@@ -458,7 +458,7 @@ impl CsgDistance {
                     }
                     // Made half-spaces have no entry, and are planes: no pencil needs them.
                     let axes = shapes.shapes.get(i as usize).map(|s| &s.axes);
-                    let pair = ((&q, &shape.axes), (&o, axes));
+                    let pair = ((&q, shape), (&o, axes));
                     match bounded
                         .then(|| on_surface(pair.0, pair.1, &grown))
                         .flatten()
@@ -977,7 +977,7 @@ struct HalfSpace {
 /// literal holds (fails) on all the surface but a curve or a point. A literal equal to `q` or
 /// to its complement leaves nothing and is `None` (other rules handle those).
 fn on_surface(
-    (q, q_axes): (&Quadric, &[DVec3; 3]),
+    (q, shape): (&Quadric, &Shape),
     (literal, literal_axes): (&Quadric, Option<&[DVec3; 3]>),
     bounds: &Aabb,
 ) -> Option<bool> {
@@ -994,8 +994,24 @@ fn on_surface(
     if offset && let Some(holds) = remainder_sign(q, literal, (lambda, None), bounds) {
         return Some(holds);
     }
-    let Some((basis, ratios)) = pencil(q, literal, [Some(q_axes), literal_axes]) else {
-        return s_lemma(q, literal, bounds);
+    // The literal above and below zero at points of the surface (in the box, for the rules
+    // that bound it over the box; anywhere, for the S-lemma's, which are global): neither can
+    // hold throughout. Most pairs are parts that cross, and this spares them the search.
+    let margin = remainder_margin(q, literal, 0.0, bounds);
+    let signs = |tips: &mut dyn Iterator<Item = &DVec3>| {
+        tips.fold((false, false), |(above, below), &tip| {
+            let value = literal.value(tip);
+            (above || value > margin, below || value < -margin)
+        })
+    };
+    if signs(&mut shape.tips.iter().filter(|&&tip| bounds.contains(tip))) == (true, true) {
+        return None;
+    }
+    let Some((basis, ratios)) = pencil(q, literal, [Some(&shape.axes), literal_axes]) else {
+        return match signs(&mut shape.tips.iter()) {
+            (true, true) => None,
+            (above, below) => s_lemma(q, literal, bounds, (!above, !below)),
+        };
     };
     let tried = |ratio: f64| offset && (ratio - lambda).abs() <= 1e-12 * lambda.abs();
     ratios
@@ -1058,8 +1074,14 @@ fn pencil(
 /// definite, `λ` above (below) the largest (smallest) eigenvalue of `A^(−1/2) B A^(−1/2)`;
 /// there the largest (smallest) value of the remainder is convex (concave) in `λ`, and a
 /// golden-section search finds its best. An ellipsoid inside another turned differently,
-/// touching it at its tips, is left out this way.
-fn s_lemma(q: &Quadric, literal: &Quadric, bounds: &Aabb) -> Option<bool> {
+/// touching it at its tips, is left out this way. `(may_hold, may_fail)`: which of the two the
+/// literal's signs at the ellipsoid's tips leave open.
+fn s_lemma(
+    q: &Quadric,
+    literal: &Quadric,
+    bounds: &Aabb,
+    (may_hold, may_fail): (bool, bool),
+) -> Option<bool> {
     // The surface is that of `−q` too: take the sign that makes `A` positive definite.
     let (low, high) = q.eigenvalue_bounds();
     let q = match (low > 0.0, high < 0.0) {
@@ -1077,35 +1099,6 @@ fn s_lemma(q: &Quadric, literal: &Quadric, bounds: &Aabb) -> Option<bool> {
     if !(smallest.is_finite() && largest.is_finite()) {
         return None;
     }
-    // The literal at the tips of the ellipsoid's axes: where it is positive at one and negative
-    // at another (a part crossing the ellipsoid, the usual case), neither can hold.
-    let centre_local = DVec3::from_array(std::array::from_fn(|k| {
-        -frame
-            .vectors
-            .iter()
-            .zip(frame.values)
-            .map(|(v, value)| v[k] * v.dot(q.linear()) / value)
-            .sum::<f64>()
-    }));
-    let size = -q.value_local(centre_local);
-    let tips = frame
-        .vectors
-        .iter()
-        .zip(frame.values)
-        .flat_map(|(v, value)| {
-            let half = *v * (size / value).max(0.0).sqrt();
-            [centre_local + half, centre_local - half]
-        });
-    let signs = tips.fold((false, false), |(above, below), tip| {
-        let value = literal.value(q.origin() + tip);
-        (above || value > 0.0, below || value < 0.0)
-    });
-    let candidates: &[bool] = match signs {
-        (true, true) => return None,
-        (true, false) => &[false],
-        (false, true) => &[true],
-        (false, false) => &[true, false],
-    };
     let moved = q.with_origin(literal.origin()).coefficients();
     let lb = literal.coefficients();
     // The largest value of `literal − λ q` over all of space, for `λ` where its square part is
@@ -1134,7 +1127,8 @@ fn s_lemma(q: &Quadric, literal: &Quadric, bounds: &Aabb) -> Option<bool> {
     };
     let spread =
         largest - smallest + (literal.matrix_norm() / q.matrix_norm()).max(f64::MIN_POSITIVE);
-    for &holds in candidates {
+    let candidates = [(true, may_hold), (false, may_fail)];
+    for holds in candidates.into_iter().filter(|c| c.1).map(|c| c.0) {
         // From just past the extreme `λ` outwards; the best is bracketed once the value grows.
         let (start, outwards) = if holds {
             (largest, 1.0)
@@ -1521,6 +1515,10 @@ impl Ellipsoidal {
 struct Shape {
     /// Its principal axes ([`PrincipalFrame::axes`]).
     axes: [DVec3; 3],
+    /// Points of its surface: its centre moved along each principal axis to the surface, both
+    /// ways, where that meets it (an ellipsoid's six tips, a cylinder's four).
+    tips: Vec<DVec3>,
+
     is_planar: bool,
     /// Its half-spaces, when planar ([`planar_parts`]).
     planar: Option<PlanarParts>,
@@ -1534,8 +1532,17 @@ impl Shape {
             qcsg_quadric::classify_frame(&frame, &Tolerances::default()),
             QuadricKind::Plane | QuadricKind::ParallelPlanes
         );
+        let tips = (0..3)
+            .filter(|&k| frame.linear[k] == 0.0 && frame.eigenvalues[k] != 0.0)
+            .filter_map(|k| {
+                let reach = (-frame.constant / frame.eigenvalues[k]).sqrt();
+                (reach > 0.0 && reach.is_finite()).then(|| reach * frame.axes[k])
+            })
+            .flat_map(|half| [frame.centre + half, frame.centre - half])
+            .collect();
         Self {
             axes: frame.axes,
+            tips,
             is_planar,
             planar: is_planar.then(|| planar_parts(q)).flatten(),
             ellipsoidal: (!is_planar)
