@@ -370,7 +370,8 @@ struct SheetViews {
 impl CsgDistance {
     /// The distance for quadric `quadric` sampled as a literal of term `term` of `dnf`.
     /// `None` if the indices are out of range, or where another literal of the term fails on all
-    /// of the quadric's surface (it has no part in the term: "Offset surfaces").
+    /// of the quadric's surface (it has no part in the term: "Offset surfaces", "Touching
+    /// surfaces").
     pub fn new(dnf: &Dnf, quadric: u32, term: u32) -> Option<Self> {
         Self::for_part(dnf, quadric, term, &Aabb::EVERYTHING)
     }
@@ -967,15 +968,15 @@ struct HalfSpace {
 
 /// Whether `literal` holds on all of the surface of `q` inside `bounds` (`Some(true)`), on none of
 /// it (`Some(false)`), or neither is known (`None`), for a `q` with a square part (not one
-/// plane) ("Offset surfaces", "Touching surfaces"); each comes with its principal axes where
-/// known. On the
-/// surface `q = 0`, so there the literal equals `literal − λ q` for any `λ`. Tried are the `λ`
-/// that make the square part of that remainder vanish (an offset: a plane or a constant is
-/// left) or semidefinite (surfaces that touch along a curve, or nest without touching); the
-/// remainder is bounded over the box with a margin for points that lie on `q` only up to
-/// rounding. Where the remainder reaches zero only within that margin the surfaces touch: the
-/// literal holds (fails) on all the surface but a curve or a point. A literal equal to `q` or
-/// to its complement leaves nothing and is `None` (other rules handle those).
+/// plane) ("Offset surfaces", "Touching surfaces"), with `q`'s shape and the literal's
+/// principal axes where known. On the surface `q = 0`, so there the literal equals
+/// `literal − λ q` for any `λ`. Tried are the `λ` that make the square part of that remainder
+/// vanish (an offset: a plane or a constant is left) or semidefinite (surfaces that touch along
+/// a curve, or nest without touching); the remainder is bounded over the box with a margin for
+/// points that lie on `q` only up to rounding. Where the remainder reaches zero only within
+/// that margin the surfaces touch: the literal holds (fails) on all the surface but a curve or
+/// a point. A literal equal to `q` or to its complement leaves nothing and is `None` (other
+/// rules handle those).
 fn on_surface(
     (q, shape): (&Quadric, &Shape),
     (literal, literal_axes): (&Quadric, Option<&[DVec3; 3]>),
@@ -1031,16 +1032,10 @@ fn pencil(
     axes: [Option<&[DVec3; 3]>; 2],
 ) -> Option<([DVec3; 3], Vec<f64>)> {
     let (a, b) = (q.matrix_a(), literal.matrix_a());
-    let form = |m: &[[f64; 3]; 3], u: DVec3, v: DVec3| {
-        u.dot(DVec3::new(
-            DVec3::from_array(m[0]).dot(v),
-            DVec3::from_array(m[1]).dot(v),
-            DVec3::from_array(m[2]).dot(v),
-        ))
-    };
+    let form = quadratic_form;
     let (norm_a, norm_b) = (q.matrix_norm(), literal.matrix_norm());
     // Tight: parts turned by a transform share axes to rounding, while two ellipsoids `1e-9`
-    // apart turned differently are off by about that much, and need `definite_pencil`.
+    // apart turned differently are off by about that much, and go to the S-lemma.
     let diagonalises = |basis: &[DVec3; 3]| {
         [(0, 1), (0, 2), (1, 2)].iter().all(|&(i, j)| {
             form(&a, basis[i], basis[j]).abs() <= 1e-12 * norm_a
@@ -1283,11 +1278,7 @@ fn range_in_basis(q: &Quadric, basis: &[DVec3; 3], bounds: &Aabb) -> Option<(f64
     let [(c0, h0), (c1, h1), (c2, h2)] = basis.map(along);
     let (centres, halves) = (DVec3::new(c0, c1, c2), DVec3::new(h0, h1, h2));
     let a = q.matrix_a();
-    let form = |i: usize, j: usize| {
-        let v = basis[j];
-        let row = |r: usize| DVec3::from_array(a[r]).dot(v);
-        basis[i].dot(DVec3::new(row(0), row(1), row(2)))
-    };
+    let form = |i: usize, j: usize| quadratic_form(&a, basis[i], basis[j]);
     let l = q.linear();
     let turned = Quadric::new(
         DVec3::ZERO,
@@ -1518,7 +1509,6 @@ struct Shape {
     /// Points of its surface: its centre moved along each principal axis to the surface, both
     /// ways, where that meets it (an ellipsoid's six tips, a cylinder's four).
     tips: Vec<DVec3>,
-
     is_planar: bool,
     /// Its half-spaces, when planar ([`planar_parts`]).
     planar: Option<PlanarParts>,
