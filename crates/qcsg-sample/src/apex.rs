@@ -10,9 +10,11 @@
 //! The rectangles are settled at the apex itself with eq. 22 of their literal:
 //! - `d(A) > ε`: no point of the quadric within `ε` of `A` is on the CSG surface (eq. 22's
 //!   positive claim), so none of the rectangles is;
-//! - `d(A) < −(r/2 + ε)`: every point of the quadric within `r/2 + ε` of `A` is on the surface
-//!   (the negative claim). Samples are placed at `r/2` from `A` along `N` rulings of each nappe,
-//!   with the radius `r/2 + ε`, which reaches every point within `ε` of `A`. In the cone's
+//! - `d(A) < −(ρ + ε)`: every point of the quadric within `ρ + ε` of `A` is on the surface
+//!   (the negative claim). Samples are placed at `ρ ≤ r/2` from `A` along `N` rulings of each
+//!   nappe, with the radius `ρ + ε`, which reaches every point within `ε` of `A`. `ρ` is `r/2`,
+//!   or a quarter of that and so on (while above `4ε`) where the part is smaller than the
+//!   radius and a ring that far out leaves it (`RING_TRIES`). In the cone's
 //!   principal frame `λ₁x² + λ₂y² − λ₃z² = 0` the ruling at parameter `φ` is
 //!   `(cos φ / √λ₁, sin φ / √λ₂, ±1 / √λ₃)` and its normal is along
 //!   `g(φ) = (√λ₁ cos φ, √λ₂ sin φ, ∓√λ₃)`, the same all along it; two rulings of one nappe
@@ -20,7 +22,7 @@
 //!   and the smallest power of two `N` that makes this positive, every point within `ε` of `A`
 //!   faces the same side as the ring sample on the nearest ruling of its nappe, as the
 //!   guarantee asks ([`crate::Sample::same_side`]);
-//! - otherwise the surface's border passes within `r/2` of the apex, as where a cone's apex is
+//! - otherwise the surface's border passes within `ρ` of the apex, as where a cone's apex is
 //!   the tip of a part (`cylinder(h, r1, r2 = 0)` ends with a plane through the apex). Each
 //!   nappe is then settled on its own: it is covered if eq. 22 puts every ring point of it on
 //!   the surface (the ring samples reach every point of the nappe within `ε` of `A`, as above),
@@ -38,6 +40,10 @@ use crate::csg_distance::CsgDistance;
 
 /// Most rulings per nappe of an apex ring; a cone too flat for this many is left alone.
 const MAX_RULINGS: usize = 256;
+
+/// Distances from the apex at which a ring is tried: `r/2`, then a quarter of the last each
+/// time (while above four times the reach of the rectangles).
+const RING_TRIES: usize = 6;
 
 /// What became of the rectangles given up around one apex.
 #[derive(Debug, PartialEq)]
@@ -68,26 +74,35 @@ pub fn settle(
     if d > reach {
         return Settled::Off;
     }
-    let along = 0.5 * radius;
     let Some(cone) = Cone::new(frame) else {
         return Settled::Unresolved;
     };
-    let whole = d < -(along + reach);
+    // Rings at `r/2` from the apex, then closer, for a part smaller than the radius.
+    let alongs = std::iter::successors(Some(0.5 * radius), |a| Some(0.25 * a))
+        .take_while(|&along| along > 4.0 * reach)
+        .take(RING_TRIES);
     let mut samples = Vec::new();
     for nappe in [1.0, -1.0] {
-        let Some(points) = cone.ring(q, nappe, along) else {
-            return Settled::Unresolved;
-        };
-        if whole || points.iter().all(|(p, _)| distance.distance(*p) < 0.0) {
-            samples.extend(points.into_iter().map(|(position, normal)| Sample {
-                position,
-                normal,
-                quadric,
-                term,
-                radius: (along + reach).min(radius),
-                clip_list: 0,
-            }));
-        } else if !others.iter().any(|l| cone.misses(l, nappe, reach, radius)) {
+        let mut placed = false;
+        for along in alongs.clone() {
+            let Some(points) = cone.ring(q, nappe, along) else {
+                return Settled::Unresolved;
+            };
+            let whole = d < -(along + reach);
+            if whole || points.iter().all(|(p, _)| distance.distance(*p) < 0.0) {
+                samples.extend(points.into_iter().map(|(position, normal)| Sample {
+                    position,
+                    normal,
+                    quadric,
+                    term,
+                    radius: (along + reach).min(radius),
+                    clip_list: 0,
+                }));
+                placed = true;
+                break;
+            }
+        }
+        if !placed && !others.iter().any(|l| cone.misses(l, nappe, reach, radius)) {
             return Settled::Unresolved;
         }
     }
