@@ -3,7 +3,7 @@
 //! writes `docs/report.md`).
 //!
 //! - [`pipeline`]: source text to the DNF, as `qcsg` does it, keeping every diagnostic;
-//! - [`reference`]: reference points on the exact CSG surface by ray casting the DNF,
+//! - [`reference`](mod@reference): reference points on the exact CSG surface by ray casting the DNF,
 //!   independently of the sampler;
 //! - [`metrics`]: coverage error (k-d trees of samples per quadric), on-surface error, samples
 //!   off the CSG surface, non-finite output;

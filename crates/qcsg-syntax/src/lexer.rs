@@ -290,7 +290,7 @@ pub struct Lexed {
 /// reported, which keeps the parser's recursion (and every later tree walk) bounded.
 pub const MAX_NESTING: usize = 256;
 
-/// The estimated depth of the tree (see [`limit_nesting`]) may reach this much.
+/// The estimated depth of the tree (see `limit_nesting`) may reach this much.
 pub const MAX_DEPTH: usize = 1024;
 
 /// Splits `text` into tokens and comments. Never fails: problems become diagnostics and
