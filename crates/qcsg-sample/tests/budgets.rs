@@ -24,6 +24,28 @@ const ANY: u64 = u64::MAX;
 
 const BUDGETS: &[Budget] = &[
     Budget {
+        example: "crates/qcsg-splat/tests/scenes/coincident_faces.qcsg",
+        radius: 0.01,
+        max_queries: 60_000,
+        max_unresolved: 0,
+        max_samples: ANY,
+        guards: "one side of a slab up to the tolerance: a cut flush with three faces of a box \
+                 leaves, within the box, one side of each of the cut's slabs and a layer of no \
+                 thickness (while the box had to lie strictly inside: 361,882 queries and \
+                 24,584 rectangles unproven; now 28,209 and none)",
+    },
+    Budget {
+        example: "tests/stability/coincident_difference_same.qcsg",
+        radius: 0.05,
+        max_queries: 10_000,
+        max_unresolved: 0,
+        max_samples: 0,
+        guards: "one side of a slab up to the tolerance: a cube minus itself has no surface, \
+                 and each term is the cube against a face of no width (before: the coincident \
+                 faces subdivided down to the cut-off, 1.6 million rectangles at 30 %; now 384 \
+                 queries)",
+    },
+    Budget {
         example: "examples/quadric_primitives.qcsg",
         radius: 0.3,
         max_queries: 60_000,
