@@ -62,11 +62,9 @@
 //!   an ellipsoid (a ball and a cylinder of its radius, a ball inside another touching it, an
 //!   ellipsoid touching the inside of another turned differently: "Touching surfaces"). This
 //!   is left where curved surfaces cross at a grazing angle over an area (two ellipsoids `1e-9`
-//!   apart, turned differently, each poking out of the other), where a cut face between them
-//!   is a ring `1e-9` wide (`tests/stability/nested_spheres_shell.qcsg`), and where a tilted
-//!   part's axis-aligned term boxes span both planes of a slab whose outside a term holds
-//!   (`tests/stability/tangent_rounded_tray_tilted.qcsg`). Nothing is lost there, but the cost
-//!   can be high;
+//!   apart, turned differently, each poking out of the other) and where a cut face between
+//!   them is a ring `1e-9` wide (`tests/stability/nested_spheres_shell.qcsg`). Nothing is lost
+//!   there, but the cost can be high;
 //! - around a cone's apex, where no heightfield has bounded distortion, what the region
 //!   decomposition and the subdivision give up is settled at the apex by a ring of samples
 //!   ([`apex`]); a plane that meets the cone only at its apex is probed around that point
