@@ -785,15 +785,7 @@ impl SheetViews {
                         .then(|| one_side(seen.parts.as_ref(), bounds, tolerance))
                         .flatten();
                     match side {
-                        Some(half) => Refined {
-                            index,
-                            quadric: Quadric::half_space(half.point, half.normal)
-                                .unwrap_or(seen.refined),
-                            planar: true,
-                            parts: Some((vec![half], false)),
-                            same: false,
-                            complement: false,
-                        },
+                        Some(half) => Refined::one_side(index, half, seen.refined),
                         None => Refined {
                             index,
                             quadric: seen.refined,
@@ -892,6 +884,21 @@ struct Refined {
     parts: Option<PlanarParts>,
     same: bool,
     complement: bool,
+}
+
+impl Refined {
+    /// Literal `index`, the outside of a slab, as the one half-space `half` of it that the term
+    /// holds ("One side of a slab"); `outside` stands if the half-space cannot be formed.
+    fn one_side(index: u32, half: HalfSpace, outside: Quadric) -> Self {
+        Self {
+            index,
+            quadric: Quadric::half_space(half.point, half.normal).unwrap_or(outside),
+            planar: true,
+            parts: Some((vec![half], false)),
+            same: false,
+            complement: false,
+        }
+    }
 }
 
 /// [`CsgDistance`] for the points of one box ([`CsgDistance::near`]). A term whose box is at
@@ -1904,14 +1911,7 @@ fn one_side_with_area(
             (false, true) => b,
             (true, true) => continue,
         };
-        *r = Refined {
-            index: r.index,
-            quadric: Quadric::half_space(half.point, half.normal).unwrap_or(r.quadric),
-            planar: true,
-            parts: Some((vec![half], false)),
-            same: false,
-            complement: false,
-        };
+        *r = Refined::one_side(r.index, half, r.quadric);
     }
     false
 }
