@@ -147,7 +147,7 @@
 
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, BoxIndex, Dnf};
-use qcsg_quadric::{DMat4, DVec3, PrincipalFrame, Quadric, QuadricKind, Tolerances};
+use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind, Tolerances};
 use rustc_hash::FxHashMap;
 
 /// Relative tolerance for "the same quadric" when comparing literals.
@@ -1010,7 +1010,8 @@ fn on_surface(
     let lambda = dot(&a, &b) / square;
     let residual: [f64; 10] = std::array::from_fn(|k| b[k] - lambda * a[k]);
     let offset = dot(&residual, &residual) <= 1e-18 * dot(&b, &b);
-    if offset && let Some(holds) = remainder_sign(q, literal, (lambda, None), bounds) {
+    let sampled = (q, shape.ellipsoidal.as_ref());
+    if offset && let Some(holds) = remainder_sign(sampled, literal, (lambda, None), bounds) {
         return Some(holds);
     }
     // The literal above and below zero at points of the surface (in the box, for the rules
@@ -1036,7 +1037,7 @@ fn on_surface(
     ratios
         .into_iter()
         .filter(|&ratio| !tried(ratio))
-        .find_map(|lambda| remainder_sign(q, literal, (lambda, Some(&basis)), bounds))
+        .find_map(|lambda| remainder_sign(sampled, literal, (lambda, Some(&basis)), bounds))
 }
 
 /// A basis of eigenvectors that `A` and `B`, the square parts of `q` and `literal`, share
@@ -1190,7 +1191,7 @@ fn quadratic_form(m: &[[f64; 3]; 3], x: DVec3, y: DVec3) -> f64 {
 /// `Some(true)` where it is at most zero, `Some(false)` where it is at least zero, up to a
 /// margin for rounding, but not both. `basis`, where given, diagonalises its square part.
 fn remainder_sign(
-    q: &Quadric,
+    (q, solid): (&Quadric, Option<&Ellipsoidal>),
     literal: &Quadric,
     (lambda, basis): (f64, Option<&[DVec3; 3]>),
     bounds: &Aabb,
@@ -1218,7 +1219,10 @@ fn remainder_sign(
     if let Some(decided) = sign(range) {
         return decided;
     }
-    let range = tighter(range, range_on_ellipsoid(q, &rest));
+    let range = tighter(
+        range,
+        solid.and_then(|solid| range_on_ellipsoid(solid, &rest)),
+    );
     if let Some(decided) = sign(range) {
         return decided;
     }
@@ -1247,39 +1251,30 @@ fn remainder_margin(q: &Quadric, literal: &Quadric, lambda: f64, bounds: &Aabb) 
         * (size(&b, reach) + lambda.abs() * (size(&moved, reach) + size(&q.coefficients(), shift)))
 }
 
-/// Where `q` is an ellipsoid, a range of `rest`'s values over its surface: exact for the plane
-/// part of `rest` (a linear function's extremes over an ellipsoid), widened by what its square
-/// part, if any, can add there. Over the surface rather than a box around it, this sees that a
-/// ball touching the inside of another at one point lies inside it everywhere else.
-fn range_on_ellipsoid(q: &Quadric, rest: &Quadric) -> Option<(f64, f64)> {
-    let (lower, upper) = q.eigenvalue_bounds();
-    let (q, smallest) = match (lower > 0.0, upper < 0.0) {
-        (true, _) => (*q, lower),
-        (_, true) => (q.negated(), -upper),
-        _ => return None,
-    };
-    // The surface is `(x − c)ᵀ A (x − c) = k` about its centre `c`.
-    let [r0, r1, r2] = q.matrix_a();
-    let inverse = DMat4::from_cols_array_2d(&[
-        [r0[0], r0[1], r0[2], 0.0],
-        [r1[0], r1[1], r1[2], 0.0],
-        [r2[0], r2[1], r2[2], 0.0],
-        [0.0, 0.0, 0.0, 1.0],
-    ])
-    .inverse();
-    let centre_local = -inverse.transform_vector3(q.linear());
-    let k = -q.value_local(centre_local);
-    let centre = q.origin() + centre_local;
-    if !(k >= 0.0 && centre.is_finite()) {
+/// Where the sampled quadric is an ellipsoid (`solid`, its principal form), a range of
+/// `rest`'s values over its surface: exact for the plane part of `rest` (a linear function's
+/// extremes over an ellipsoid, as in [`Ellipsoidal::span`]), widened by what its square part,
+/// if any, can add there. Over the surface rather than a box around it, this sees that a ball
+/// touching the inside of another at one point lies inside it everywhere else.
+fn range_on_ellipsoid(solid: &Ellipsoidal, rest: &Quadric) -> Option<(f64, f64)> {
+    // The surface is `Σ λ_k u_k² = −κ` in the frame, `u_k` along the axes from the centre.
+    let frame = &solid.frame;
+    if frame.eigenvalues.contains(&0.0) {
         return None;
     }
     // `rest = 2 gᵀ(x − o) + j + (x − o)ᵀ M (x − o)`: over the surface the plane part ranges over
-    // its value at the centre ± `2 √(k gᵀA⁻¹g)`, the square part at most `‖M‖` times the
-    // farthest point's squared distance from `o`.
+    // its value at the centre ± `2 √(−κ Σ (g·u_k)² / λ_k)`, the square part at most `‖M‖` times
+    // the farthest point's squared distance from `o`.
     let g = rest.linear();
-    let middle = 2.0 * g.dot(centre - rest.origin()) + rest.constant();
-    let half = 2.0 * (k * g.dot(inverse.transform_vector3(g))).max(0.0).sqrt();
-    let farthest = (centre - rest.origin()).length() + (k / smallest).sqrt();
+    let middle = 2.0 * g.dot(frame.centre - rest.origin()) + rest.constant();
+    let across: f64 = (frame.axes.iter().zip(frame.eigenvalues))
+        .map(|(axis, lambda)| g.dot(*axis).powi(2) / lambda)
+        .sum();
+    let half = 2.0 * (-frame.constant * across).max(0.0).sqrt();
+    let semi_axis = (frame.eigenvalues.iter())
+        .map(|lambda| (-frame.constant / lambda).sqrt())
+        .fold(0.0, f64::max);
+    let farthest = (frame.centre - rest.origin()).length() + semi_axis;
     let spread = half + rest.matrix_norm() * farthest * farthest;
     spread
         .is_finite()
