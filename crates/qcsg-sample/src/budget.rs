@@ -134,6 +134,11 @@ impl<'a> Meter<'a> {
         }
     }
 
+    /// Takes the running totals as charged: what was done since was charged elsewhere.
+    pub fn skip_to(&mut self, samples: u64, queries: u64) {
+        (self.samples, self.queries) = (samples, queries);
+    }
+
     /// Charges everything up to the running totals; `false` when the worker should stop.
     pub fn finish(&mut self, samples: u64, queries: u64) -> bool {
         let fresh = (samples - self.samples, queries - self.queries);

@@ -7,8 +7,9 @@
 //! decomposed into basic regions of low distortion inside the term's box ([`regions`]); each basic
 //! region is subdivided adaptively, driven by the quadric-relative CSG distance of eq. 22
 //! ([`csg_distance`]) at its corners and the distortion bounds of §3.4 ([`subdivide`]). Regions
-//! are sampled in parallel with rayon, then the small rectangles the first pass left unproven
-//! ([`subdivide`], "Two passes"); the output is the concatenation in region order, then in
+//! are sampled in parallel with rayon, large rectangles split between threads ([`subdivide`],
+//! "Threads"), then the small rectangles the first pass left unproven ([`subdivide`], "Two
+//! passes"); the output is the concatenation in region order, then in
 //! deferred order, so it is byte-identical for any thread count.
 //!
 //! Decisions where the paper leaves room, each documented and tested in its module:

@@ -59,6 +59,14 @@
 //! first pass's, in the order of the deferred rectangles, so the output does not depend on the
 //! thread count.
 //!
+//! **Threads.** Basic regions are shared out in runs ([`crate::sample`]), but one region can
+//! hold much of the work (a face of a dimpled cube: a quarter of all samples). A rectangle whose
+//! footprint is at least [`TASK_FOOTPRINT`] radii is split into halves of which the second may
+//! be taken by an idle thread (rayon's work stealing over the subdivision tree, as paper 000
+//! §7 suggests). The second half's small rectangles then look back only at its own samples,
+//! on one thread as on many, so the output stays the same for any thread count; on one thread
+//! it costs a join per large rectangle and nothing is copied.
+//!
 //! **The cutoff.** Only a proof keeps the guarantee: the paper's cut-off at a tenth of the splat
 //! "can theoretically result in small holes", and a cutoff of `r / 16` here missed a sliver of
 //! `examples/precision_part.qcsg` that the reference points found. A surface sliver that avoids
@@ -69,6 +77,7 @@
 //! [`SubdivisionStats::unresolved`], so the count says whether a hole was possible at all.
 
 use std::ops::Range;
+use std::sync::PoisonError;
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
@@ -417,9 +426,33 @@ pub fn sample_region(
     deferred: &mut Vec<Deferred>,
     stats: &mut SubdivisionStats,
 ) {
+    let root = Cell::new(ctx, region, region.rect, stats);
+    subdivide(
+        (ctx, index, region),
+        root,
+        (out, block_start),
+        deferred,
+        stats,
+    );
+}
+
+/// Rectangles whose footprint is at least this many radii are split into halves that other
+/// threads may take ([`split_in_parallel`]): a large face is otherwise one piece of work, which
+/// left one thread sampling a quarter of a dimpled cube while the other waited.
+pub const TASK_FOOTPRINT: f64 = 32.0;
+
+/// The subdivision of `root`, a cell of basic region number `index`, depth first; its small
+/// rectangles may be covered by `out[look_back..]`.
+fn subdivide(
+    (ctx, index, region): (&RegionContext<'_>, usize, &BasicRegion),
+    root: Cell,
+    (out, look_back): (&mut Vec<Sample>, usize),
+    deferred: &mut Vec<Deferred>,
+    stats: &mut SubdivisionStats,
+) {
     let (first_sample, first_deferred) = (out.len(), deferred.len());
     let first_queries = stats.distance_queries;
-    let mut stack = vec![Cell::new(ctx, region, region.rect, stats)];
+    let mut stack = vec![root];
     let mut meter = Meter::new(ctx.budget, region.quadric);
     // Deferred rectangles count as samples: each one is held in memory until the second pass.
     let pending = |out: &[Sample], deferred: &[Deferred], stats: &SubdivisionStats| {
@@ -439,10 +472,18 @@ pub fn sample_region(
             stats.other_plane += 1;
             continue;
         }
-        match classify(ctx, region, &cell, (out, block_start), stats) {
+        match classify(ctx, region, &cell, (out, look_back), stats) {
             Verdict::Discarded | Verdict::Filled | Verdict::Small => {}
             Verdict::Unproven { .. } => deferred.push(defer(cell)),
             Verdict::Split => match split(ctx, region, &cell, stats) {
+                Some(halves) if cell_footprint(region, &cell) >= TASK_FOOTPRINT * ctx.radius => {
+                    // The halves charge the budget themselves.
+                    meter.finish(held, queries);
+                    let task = (ctx, index, region);
+                    split_in_parallel(task, halves, (out, look_back), deferred, stats);
+                    let (held, queries) = pending(out, deferred, stats);
+                    meter.skip_to(held, queries);
+                }
                 Some((low, high)) => {
                     stack.push(high);
                     stack.push(low);
@@ -453,6 +494,52 @@ pub fn sample_region(
     }
     let (held, queries) = pending(out, deferred, stats);
     meter.finish(held, queries);
+}
+
+/// The subdivisions of the two halves of a large cell, low then high, the high one open to
+/// another thread (rayon's work stealing). The low half continues in `out`; the high half's
+/// small rectangles look back only at its own samples, whichever thread takes it, so the output
+/// does not depend on the thread count. It writes to `out` too when the low half is done by
+/// the time it starts (always on one thread), else to buffers of its own, appended after.
+fn split_in_parallel(
+    task: (&RegionContext<'_>, usize, &BasicRegion),
+    (low, high): (Cell, Cell),
+    (out, look_back): (&mut Vec<Sample>, usize),
+    deferred: &mut Vec<Deferred>,
+    stats: &mut SubdivisionStats,
+) {
+    // The outputs, and whether the low half is done with them.
+    let shared = std::sync::Mutex::new((out, deferred, stats, false));
+    let (_, own) = rayon::join(
+        || {
+            let mut shared = shared.lock().unwrap_or_else(PoisonError::into_inner);
+            let (out, deferred, stats, done) = &mut *shared;
+            subdivide(task, low, (out, look_back), deferred, stats);
+            *done = true;
+        },
+        || {
+            // Busy: the low half holds them (this thread runs this half while the low one
+            // waits for work it handed out, or another thread took this half).
+            if let Ok(mut shared) = shared.try_lock()
+                && shared.3
+            {
+                let (out, deferred, stats, _) = &mut *shared;
+                let start = out.len();
+                subdivide(task, high, (out, start), deferred, stats);
+                return None;
+            }
+            let (mut out, mut deferred) = (Vec::new(), Vec::new());
+            let mut stats = SubdivisionStats::default();
+            subdivide(task, high, (&mut out, 0), &mut deferred, &mut stats);
+            Some((out, deferred, stats))
+        },
+    );
+    if let Some((more, more_deferred, counters)) = own {
+        let (out, deferred, stats, _) = shared.into_inner().unwrap_or_else(PoisonError::into_inner);
+        out.extend_from_slice(&more);
+        deferred.extend_from_slice(&more_deferred);
+        stats.add(&counters);
+    }
 }
 
 /// Second pass over one deferred rectangle. It is covered as soon as a sample of the same
@@ -1277,6 +1364,11 @@ fn cell_distortion(region: &BasicRegion, cell: &Cell) -> f64 {
         .iter()
         .try_fold(0.0f64, |high, slope| slope.map(|s| high.max(s)));
     bounded_distortion(region, highest.map(|s| (1.0 + s).sqrt()))
+}
+
+/// The world footprint of a cell: its diagonal times its distortion bound.
+fn cell_footprint(region: &BasicRegion, cell: &Cell) -> f64 {
+    cell_distortion(region, cell) * cell.rect.diagonal()
 }
 
 /// A rectangle's distortion bound `high` (`None` where undefined), within the region's.
