@@ -7,7 +7,7 @@ mod common;
 
 use common::{check_samples, diagonal, reference_points, uncovered};
 use qcsg_csg::Dnf;
-use qcsg_sample::{Sampling, sample};
+use qcsg_sample::{Sampling, resample, sample};
 
 fn run(name: &str, dnf: &Dnf, relative_radius: f64) -> Sampling {
     run_with(name, dnf, relative_radius, false)
@@ -137,17 +137,18 @@ fn smaller_radius() {
 
 /// The output does not depend on the thread count, also where large rectangles are split
 /// between threads (at 0.4 % of the diagonal a face of the cube is about 150 radii wide, far
-/// above `TASK_FOOTPRINT`) and more threads than cores make them steal from each other.
+/// above `TASK_FOOTPRINT`) and more threads than cores make them steal from each other; nor on
+/// the memory of an earlier output it is written to (`resample`), larger or smaller.
 #[test]
 fn identical_for_any_thread_count() {
     let dnf = common::cube_minus_cylinder();
-    let with = |threads: usize, r: f64| {
+    let pool = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .expect("pool")
-            .install(|| sample(&dnf, r).expect("sample"))
     };
+    let with = |threads: usize, r: f64| pool(threads).install(|| sample(&dnf, r).expect("sample"));
     let bits = |s: &Sampling| -> Vec<u64> {
         s.samples
             .iter()
@@ -171,7 +172,9 @@ fn identical_for_any_thread_count() {
             })
             .collect()
     };
-    for fraction in [0.03, 0.004] {
+    let fractions = [0.03, 0.004];
+    let mut previous = [Sampling::default(), Sampling::default()];
+    for (k, fraction) in fractions.into_iter().enumerate() {
         let r = fraction * diagonal(&dnf);
         let one = with(1, r);
         assert!(one.stats.clip_indices > 0, "no clipping exercised");
@@ -181,7 +184,24 @@ fn identical_for_any_thread_count() {
             assert_eq!(one.stats, more.stats, "{what}");
             assert_eq!(one.clip_lists, more.clip_lists, "{what}");
             assert!(bits(&one) == bits(&more), "{what}: samples differ");
+            previous[k] = more;
         }
+    }
+    // Each radius again into the other's output, the larger and then the smaller.
+    for (k, fraction) in fractions.into_iter().enumerate() {
+        let r = fraction * diagonal(&dnf);
+        let earlier = std::mem::take(&mut previous[1 - k]);
+        let again = pool(2).install(|| resample(&dnf, r, earlier).expect("sample"));
+        let fresh = with(1, r);
+        assert_eq!(fresh.stats, again.stats, "resampled at {fraction}");
+        assert_eq!(
+            fresh.clip_lists, again.clip_lists,
+            "resampled at {fraction}"
+        );
+        assert!(
+            bits(&fresh) == bits(&again),
+            "resampled at {fraction}: samples differ"
+        );
     }
 }
 
