@@ -15,10 +15,15 @@
 //!
 //! **Small regions.** A rectangle whose world footprint `δ_max · diagonal` is at most `r` needs
 //! only one sample on the CSG surface anywhere inside it: the first corner with `d < 0` gets it
-//! (the paper's special case), else the centre if `d(centre) < 0`. The sample's radius is reduced
+//! (the paper's special case), else the centre if `d(centre) < 0`; where `d(centre) > 0`, its disc
+//! alone proves the rectangle off the surface once it reaches the corners (every point lies
+//! within half the diagonal of the centre): beside a feature curve the corners are near the
+//! curve and their discs small, and this takes 9 % of the queries off three balls at 1 % of
+//! the diagonal, without a sample more or less. The sample's radius is reduced
 //! to the footprint (§6.1: less overdraw, same guarantee). Every point of a rectangle lies within
 //! half its footprint of its centre, so one of footprint up to `2r` that the corner discs do not
-//! classify is covered by a sample at its centre when `d(centre) < 0`, and split otherwise. Most
+//! classify is covered by a sample at its centre when `d(centre) < 0`, and split otherwise (unless
+//! the centre's disc reaches the corners). Most
 //! such rectangles lie along feature curves; the examples at 1 % of the diagonal take 8 % to 73 %
 //! fewer samples in all than when they were split (a quarter to a third on most). If one of the
 //! last samples of the same quadric and term is near enough to cover a small rectangle with a
@@ -180,13 +185,14 @@ pub struct RegionContext<'a> {
 }
 
 /// A rectangle with its corner distances `[x0y0, x1y0, x0y1, x1y1]` and the heightfield's
-/// squared slopes there ([`qcsg_quadric::Heightfield::slope_squared`]), from which its
-/// distortion bound follows ([`cell_distortion`]).
+/// squared slopes there ([`qcsg_quadric::Heightfield::slope_squared`], NaN where it has none),
+/// from which its distortion bound follows ([`cell_distortion`]). Cells are copied at every
+/// split and push: NaN instead of `Option` keeps them a third smaller.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Cell {
     rect: Rect,
     d: [f64; 4],
-    slope: [Option<f64>; 4],
+    slope: [f64; 4],
     /// Whether all of it is known to belong to the region ([`BasicRegion::owns`]); its parts
     /// are then too, and no more border tests are needed below it.
     owned: bool,
@@ -203,7 +209,7 @@ impl Cell {
         let mut cell = Self {
             rect,
             d: [0.0; 4],
-            slope: [None; 4],
+            slope: [f64::NAN; 4],
             owned: false,
         };
         for k in 0..4 {
@@ -227,15 +233,15 @@ impl Cell {
     }
 }
 
-/// Eq. 22 ([`query`]) and the squared slope at a corner.
+/// Eq. 22 ([`query`]) and the squared slope at a corner (NaN where there is none).
 fn corner_values(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
     x: f64,
     y: f64,
     stats: &mut SubdivisionStats,
-) -> (f64, Option<f64>) {
-    let slope = region.heightfield.slope_squared(x, y);
+) -> (f64, f64) {
+    let slope = region.heightfield.slope_squared(x, y).unwrap_or(f64::NAN);
     (query(ctx, region, x, y, stats), slope)
 }
 
@@ -307,10 +313,15 @@ fn classify(
                 return Verdict::Small;
             }
             let (cx, cy) = rect.centre();
-            if query(ctx, region, cx, cy, stats) < 0.0 {
+            let centre = query(ctx, region, cx, cy, stats);
+            if centre < 0.0 {
                 emit(ctx, region, cx, cy, 0.5 * footprint, out);
                 stats.small += 1;
                 return Verdict::Small;
+            }
+            if centre / distortion >= 0.5 * diagonal {
+                stats.discarded += 1;
+                return Verdict::Discarded;
             }
         }
         return Verdict::Split;
@@ -326,10 +337,16 @@ fn classify(
         return Verdict::Small;
     }
     let (cx, cy) = rect.centre();
-    if query(ctx, region, cx, cy, stats) < 0.0 {
+    let centre = query(ctx, region, cx, cy, stats);
+    if centre < 0.0 {
         emit(ctx, region, cx, cy, (0.5 * footprint).min(ctx.radius), out);
         stats.small += 1;
         return Verdict::Small;
+    }
+    // Every point lies within half the diagonal of the centre.
+    if centre / distortion >= 0.5 * diagonal {
+        stats.discarded += 1;
+        return Verdict::Discarded;
     }
     Verdict::Unproven { footprint }
 }
@@ -1359,10 +1376,8 @@ fn cell_distortion(region: &BasicRegion, cell: &Cell) -> f64 {
     if (x.0 < 0.0 && x.1 > 0.0) || (y.0 < 0.0 && y.1 > 0.0) {
         return rect_distortion(region, &cell.rect);
     }
-    let highest = cell
-        .slope
-        .iter()
-        .try_fold(0.0f64, |high, slope| slope.map(|s| high.max(s)));
+    let highest =
+        (cell.slope.iter()).try_fold(0.0f64, |high, &s| (!s.is_nan()).then(|| high.max(s)));
     bounded_distortion(region, highest.map(|s| (1.0 + s).sqrt()))
 }
 
