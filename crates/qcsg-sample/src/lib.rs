@@ -9,8 +9,8 @@
 //! ([`csg_distance`]) at its corners and the distortion bounds of §3.4 ([`subdivide`]). Regions
 //! are sampled in parallel with rayon, large rectangles split between threads ([`subdivide`],
 //! "Threads"), then the small rectangles the first pass left unproven ([`subdivide`], "Two
-//! passes"); the output is the concatenation in region order, then in
-//! deferred order, so it is byte-identical for any thread count.
+//! passes"); the output is the concatenation in region order, then in deferred order, so it is
+//! byte-identical for any thread count.
 //!
 //! Decisions where the paper leaves room, each documented and tested in its module:
 //! - basic regions are axis-aligned rectangles found by an exact refinement of eqs. 15-16 with
@@ -719,8 +719,8 @@ fn sample_on_pool(
         .next_multiple_of(REGION_BLOCK);
     let runs = regions.len().div_ceil(run_length);
     let first_pass = InOrder::default();
-    // The first run taken writes to the memory given; as the first appended, it becomes the
-    // output, and the other runs' samples are copied into the memory beyond its own.
+    // The first run to ask for buffers gets the memory given (mostly run 0: appended first,
+    // its buffer becomes the output, and the other runs' samples are copied in after its own).
     lock(&first_pass.spare).push((memory, Vec::new(), SubdivisionStats::default()));
     let next_run = AtomicUsize::new(0);
     (0..rayon::current_num_threads())
