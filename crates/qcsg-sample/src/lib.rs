@@ -223,6 +223,33 @@ pub struct Sampling {
     pub clip_lists: ClipLists,
     /// The counters.
     pub stats: SampleStats,
+    /// Buffers the run's threads wrote to before their samples were copied into `samples`,
+    /// kept for [`resample`] (on one thread there are none; on more, at most as much memory
+    /// as the samples copied, freed with the rest).
+    spare: SpareBuffers,
+}
+
+/// Empty sample buffers with their memory, for the next run ([`resample`]). They are not part
+/// of the output: copies and comparisons leave them out.
+#[derive(Default)]
+struct SpareBuffers(Vec<Vec<Sample>>);
+
+impl Clone for SpareBuffers {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl PartialEq for SpareBuffers {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for SpareBuffers {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} spare buffers", self.0.len())
+    }
 }
 
 /// One literal of one term, ready to be sampled.
@@ -542,7 +569,7 @@ impl InOrder {
     }
 
     /// The whole output, once every run is in.
-    fn into_output(self) -> FirstPass {
+    fn into_output(self) -> (FirstPass, SpareBuffers) {
         let mut all = self
             .output
             .into_inner()
@@ -553,10 +580,19 @@ impl InOrder {
             .pending
             .into_inner()
             .unwrap_or_else(PoisonError::into_inner);
+        let mut spare = self
+            .spare
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner);
         for (_, mut run) in waiting {
             append(&mut all, &mut run);
+            spare.push(run);
         }
-        all
+        let buffers = spare.into_iter().map(|(samples, _, _)| samples);
+        (
+            all,
+            SpareBuffers(buffers.filter(|b| b.capacity() > 0).collect()),
+        )
     }
 }
 
@@ -605,7 +641,8 @@ pub fn sample_with_limits(
 /// output is the same as [`sample`]'s. A program that samples again and again (a preview that
 /// follows every edit, a benchmark) writes its samples to memory that is mapped already: the
 /// operating system maps a fresh page at its first touch, and a run at 0.15 % of the diagonal
-/// writes tens of megabytes of samples.
+/// writes tens of megabytes of samples. On more threads than one, the buffers the other runs
+/// of regions wrote to are reused too.
 pub fn resample(dnf: &Dnf, radius: f64, previous: Sampling) -> Result<Sampling, SampleError> {
     let quiet: &(dyn Fn(Progress) + Sync) = &|_| {};
     resample_with_limits(dnf, radius, (SampleLimits::default(), quiet), previous)
@@ -623,6 +660,7 @@ pub fn resample_with_limits(
     }
     let mut memory = previous.samples;
     memory.clear();
+    let memory = (memory, previous.spare);
     // Called from outside the pool, every parallel step below would hand its work to the pool
     // and wait for it: a wake-up of a sleeping thread each, tens of microseconds on a virtual
     // machine. Moving the whole run onto a pool thread costs one.
@@ -638,7 +676,7 @@ fn sample_on_pool(
     dnf: &Dnf,
     radius: f64,
     (limits, progress): (SampleLimits, &(dyn Fn(Progress) + Sync)),
-    memory: Vec<Sample>,
+    (memory, spare): (Vec<Sample>, SpareBuffers),
 ) -> Result<Sampling, SampleError> {
     let budget = Budget::new(limits);
     let crossed = |budget: &Budget| match budget.crossed() {
@@ -721,7 +759,12 @@ fn sample_on_pool(
     let first_pass = InOrder::default();
     // The first run to ask for buffers gets the memory given (mostly run 0: appended first,
     // its buffer becomes the output, and the other runs' samples are copied in after its own).
-    lock(&first_pass.spare).push((memory, Vec::new(), SubdivisionStats::default()));
+    {
+        let mut buffers = lock(&first_pass.spare);
+        let empty = |samples| (samples, Vec::new(), SubdivisionStats::default());
+        buffers.extend(spare.0.into_iter().map(empty));
+        buffers.push(empty(memory));
+    }
     let next_run = AtomicUsize::new(0);
     (0..rayon::current_num_threads())
         .into_par_iter()
@@ -748,7 +791,7 @@ fn sample_on_pool(
                 first_pass.finish(run, (out, deferred, counters));
             }
         });
-    let (mut samples, deferred, counters) = first_pass.into_output();
+    let ((mut samples, deferred, counters), spare) = first_pass.into_output();
     stats.subdivision.add(&counters);
     crossed(&budget)?;
     // Second pass: the rectangles the first left unproven, against all first-pass samples.
@@ -848,5 +891,6 @@ fn sample_on_pool(
         samples,
         clip_lists,
         stats,
+        spare,
     })
 }
