@@ -749,11 +749,12 @@ fn report(
          for work), and the speed-up cannot exceed that. What keeps it below 2:\n\n\
          - **memory**: two threads streaming through memory, each through its own {mib} MiB, \
            got **{memory:.2}×** the throughput of one in this run. Every sample is written once \
-           and read a few times, so the sample-heavy rows (the small radii) scale least. The \
-           runs of regions a second thread samples go to buffers of their own, copied into the \
-           output in order, and those buffers are mapped anew: the operating system took \
-           **{first_touch:.2} µs** to map each 4 KiB page at its first touch ({per_sample:.0} ns \
-           per 72-byte sample, what the *new memory* column pays for every sample);\n\
+           and read a few times, so the sample-heavy rows (the small radii) scale least: the \
+           runs of regions a second thread samples go to buffers of their own (reused from run \
+           to run, as `resample` does), which are copied into the output in order. Memory new \
+           to the process costs more: the operating system took **{first_touch:.2} µs** to map \
+           each 4 KiB page at its first touch ({per_sample:.0} ns per 72-byte sample, what the \
+           *new memory* column pays for every sample);\n\
          - **steps on one thread**: numbering the clip lists and grouping the second pass's \
            index (the first pass's output is appended in order while the other thread samples);\n\
          - the other work on this shared machine (see the load average).\n\n\
