@@ -1011,13 +1011,16 @@ fn on_surface(
     let residual: [f64; 10] = std::array::from_fn(|k| b[k] - lambda * a[k]);
     let offset = dot(&residual, &residual) <= 1e-18 * dot(&b, &b);
     let sampled = (q, shape.ellipsoidal.as_ref());
-    if offset && let Some(holds) = remainder_sign(sampled, literal, (lambda, None), bounds) {
+    // `q` about the literal's origin, where the literal's coefficients are exact.
+    let moved = q.with_origin(literal.origin()).coefficients();
+    let literal_moved = (literal, &moved);
+    if offset && let Some(holds) = remainder_sign(sampled, literal_moved, (lambda, None), bounds) {
         return Some(holds);
     }
     // The literal above and below zero at points of the surface (in the box, for the rules
     // that bound it over the box; anywhere, for the S-lemma's, which are global): neither can
     // hold throughout. Most pairs are parts that cross, and this spares them the search.
-    let margin = remainder_margin(q, literal, 0.0, bounds);
+    let margin = remainder_margin(q, literal_moved, 0.0, bounds);
     let signs = |tips: &mut dyn Iterator<Item = &DVec3>| {
         tips.fold((false, false), |(above, below), &tip| {
             let value = literal.value(tip);
@@ -1030,14 +1033,14 @@ fn on_surface(
     let Some((basis, ratios)) = pencil(q, literal, [Some(&shape.axes), literal_axes]) else {
         return match signs(&mut shape.tips.iter()) {
             (true, true) => None,
-            (above, below) => s_lemma(q, literal, bounds, (!above, !below)),
+            (above, below) => s_lemma(q, literal_moved, bounds, (!above, !below)),
         };
     };
     let tried = |ratio: f64| offset && (ratio - lambda).abs() <= 1e-12 * lambda.abs();
     ratios
         .into_iter()
         .filter(|&ratio| !tried(ratio))
-        .find_map(|lambda| remainder_sign(sampled, literal, (lambda, Some(&basis)), bounds))
+        .find_map(|lambda| remainder_sign(sampled, literal_moved, (lambda, Some(&basis)), bounds))
 }
 
 /// A basis of eigenvectors that `A` and `B`, the square parts of `q` and `literal`, share
@@ -1092,15 +1095,15 @@ fn pencil(
 /// literal's signs at the ellipsoid's tips leave open.
 fn s_lemma(
     q: &Quadric,
-    literal: &Quadric,
+    (literal, moved): (&Quadric, &[f64; 10]),
     bounds: &Aabb,
     (may_hold, may_fail): (bool, bool),
 ) -> Option<bool> {
     // The surface is that of `−q` too: take the sign that makes `A` positive definite.
     let (low, high) = q.eigenvalue_bounds();
-    let q = match (low > 0.0, high < 0.0) {
-        (true, _) => *q,
-        (_, true) => q.negated(),
+    let (q, moved) = match (low > 0.0, high < 0.0) {
+        (true, _) => (*q, *moved),
+        (_, true) => (q.negated(), moved.map(|c| -c)),
         _ => return None,
     };
     // The extreme `λ` of the pencil, in `q`'s axes scaled to make `A` the identity.
@@ -1113,7 +1116,6 @@ fn s_lemma(
     if !(smallest.is_finite() && largest.is_finite()) {
         return None;
     }
-    let moved = q.with_origin(literal.origin()).coefficients();
     let lb = literal.coefficients();
     // The largest value of `literal − λ q` over all of space, for `λ` where its square part is
     // negative definite (`holds`), or the negated smallest, where it is positive definite.
@@ -1165,7 +1167,7 @@ fn s_lemma(
         }
         let best = 0.5 * (lo + hi);
         let lambda = start + outwards * best;
-        let margin = remainder_margin(&q, literal, lambda, bounds);
+        let margin = remainder_margin(&q, (literal, &moved), lambda, bounds);
         let value = at(best);
         // Below zero by more than the margin everywhere, or touching zero within it.
         if value <= margin {
@@ -1189,21 +1191,20 @@ fn quadratic_form(m: &[[f64; 3]; 3], x: DVec3, y: DVec3) -> f64 {
 
 /// The sign of `literal − λ q` over the surface of `q` inside `bounds` ([`on_surface`]):
 /// `Some(true)` where it is at most zero, `Some(false)` where it is at least zero, up to a
-/// margin for rounding, but not both. `basis`, where given, diagonalises its square part.
+/// margin for rounding, but not both. `moved` is `q` about the literal's origin; `basis`, where
+/// given, diagonalises the remainder's square part.
 fn remainder_sign(
     (q, solid): (&Quadric, Option<&Ellipsoidal>),
-    literal: &Quadric,
+    (literal, moved): (&Quadric, &[f64; 10]),
     (lambda, basis): (f64, Option<&[DVec3; 3]>),
     bounds: &Aabb,
 ) -> Option<bool> {
     let b = literal.coefficients();
-    // About the literal's origin, where its coefficients are exact.
-    let moved = q.with_origin(literal.origin()).coefficients();
     let rest = Quadric::new(
         literal.origin(),
         std::array::from_fn(|k| b[k] - lambda * moved[k]),
     )?;
-    let margin = remainder_margin(q, literal, lambda, bounds);
+    let margin = remainder_margin(q, (literal, moved), lambda, bounds);
     let sign = |(low, high): (f64, f64)| match (high <= margin, low >= -margin) {
         // Zero throughout: the literal is `q` or its complement there.
         (true, true) => Some(None),
@@ -1230,13 +1231,17 @@ fn remainder_sign(
     sign(range).flatten()
 }
 
-/// What rounding in `literal`, in `λ q` and in moving `q`'s origin to the literal's can amount
-/// to over `bounds`: a tiny multiple of the sizes of their terms there (and of `q`'s terms at
-/// the shift).
-fn remainder_margin(q: &Quadric, literal: &Quadric, lambda: f64, bounds: &Aabb) -> f64 {
+/// What rounding in `literal`, in `λ q` and in moving `q`'s origin to the literal's (`moved`)
+/// can amount to over `bounds`: a tiny multiple of the sizes of their terms there (and of
+/// `q`'s terms at the shift).
+fn remainder_margin(
+    q: &Quadric,
+    (literal, moved): (&Quadric, &[f64; 10]),
+    lambda: f64,
+    bounds: &Aabb,
+) -> f64 {
     let b = literal.coefficients();
     let shift = (literal.origin() - q.origin()).length();
-    let moved = q.with_origin(literal.origin()).coefficients();
     let reach = bounds
         .corners()
         .iter()
@@ -1247,8 +1252,7 @@ fn remainder_margin(q: &Quadric, literal: &Quadric, lambda: f64, bounds: &Aabb) 
         let linear = 2.0 * c[6..9].iter().map(|v| v.abs()).sum::<f64>();
         square * at * at + linear * at + c[9].abs()
     };
-    1e-12
-        * (size(&b, reach) + lambda.abs() * (size(&moved, reach) + size(&q.coefficients(), shift)))
+    1e-12 * (size(&b, reach) + lambda.abs() * (size(moved, reach) + size(&q.coefficients(), shift)))
 }
 
 /// Where the sampled quadric is an ellipsoid (`solid`, its principal form), a range of
