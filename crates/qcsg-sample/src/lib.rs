@@ -30,9 +30,10 @@
 //!   side, same term or one holding them) covers them, or they are split down to
 //!   [`subdivide::SMALL_REGION_FRACTION`] of the footprint; what is given up there and no
 //!   sample reaches is probed a few levels further down within a budget
-//!   ([`subdivide::probe_given_up`], `PROBE_QUERIES`), and around one point down to a speck of
-//!   the length tolerance (`SPECK`); the parts left are settled against every sample
-//!   ([`subdivide::settle_parts`]), and counted when still unsettled
+//!   ([`subdivide::probe_given_up`], `PROBE_QUERIES`), around one point down to a speck of
+//!   the length tolerance (`SPECK`), and downhill along eq. 22 from the centre, which finds a
+//!   band of surface too thin for any probe to land on; the parts left are settled against
+//!   every sample ([`subdivide::settle_parts`]), and counted when still unsettled
 //!   ([`subdivide::SubdivisionStats::unresolved`]);
 //! - eq. 22 of each sampled literal keeps only the other terms near the part its regions hold,
 //!   found in an R-tree of the terms' boxes, and, of a term of many literals, only those that
@@ -63,9 +64,10 @@
 //!   an ellipsoid (a ball and a cylinder of its radius, a ball inside another touching it, an
 //!   ellipsoid touching the inside of another turned differently: "Touching surfaces"). This
 //!   is left where curved surfaces cross at a grazing angle over an area (two ellipsoids `1e-9`
-//!   apart, turned differently, each poking out of the other) and where a cut face between
-//!   them is a ring `1e-9` wide (`tests/stability/nested_spheres_shell.qcsg`). Nothing is lost
-//!   there, but the cost can be high;
+//!   apart, turned differently, each poking out of the other): nothing is lost there, but the
+//!   cost can be high. Where a cut face between two such surfaces is a ring `1e-9` wide
+//!   (`tests/stability/nested_spheres_shell.qcsg`), the given-up rectangles across it are
+//!   settled by searching downhill along eq. 22 for a point of the ring;
 //! - around a cone's apex, where no heightfield has bounded distortion, what the region
 //!   decomposition and the subdivision give up is settled at the apex by a ring of samples
 //!   ([`apex`]); a plane that meets the cone only at its apex is probed around that point

@@ -840,7 +840,10 @@ const POINT_LEVELS: u32 = 60;
 ///   cross, as where the hollowed cube's corner ball, a face and the big ball meet, at 0.15 % of
 ///   the diagonal);
 /// - parts that are neither and lie around one point are followed further down
-///   (`down_to_speck`); what is left is returned, for [`settle_parts`].
+///   (`down_to_speck`);
+/// - else eq. 22 is followed downhill from the centre, across a band of surface that may be too
+///   thin for any centre to land on (`seek_surface`); a point found on the surface gets a sample
+///   as above. What is left is returned, for [`settle_parts`].
 ///
 /// Only a rectangle that stands for itself (`count` 1) is probed.
 pub fn probe_given_up(
@@ -860,7 +863,14 @@ pub fn probe_given_up(
     }
     let distortion = rect_distortion(region, &leaf.rect);
     let probed = match probe(ctx, region, leaf.rect, distortion, PROBE_LEVELS, stats) {
-        Probe::Unknown(parts) => down_to_speck(ctx, region, parts, distortion, stats),
+        Probe::Unknown(parts) => match down_to_speck(ctx, region, parts, distortion, stats) {
+            Probe::Unknown(parts) => match seek_surface(ctx, region, &leaf.rect, distortion, stats)
+            {
+                Some((x, y)) => Probe::Inside(x, y),
+                None => Probe::Unknown(parts),
+            },
+            decided => decided,
+        },
         decided => decided,
     };
     match probed {
@@ -935,6 +945,87 @@ fn down_to_speck(
         left = smaller;
     }
     Probe::Unknown(parts)
+}
+
+/// Most steps [`seek_surface`] takes along its line.
+const SEEK_STEPS: usize = 12;
+
+/// [`seek_surface`]'s difference quotients step this fraction of the distance to the surface
+/// that eq. 22 allows, so that both points lie on the same side of it.
+const SEEK_STEP: f64 = 1e-3;
+
+/// Relative to the coordinates, the shortest step of a difference quotient: far above their
+/// rounding.
+const SEEK_ROUNDING: f64 = 1e-12;
+
+/// A point of `rect` on the CSG surface, found by following eq. 22 downhill from the centre:
+/// where the surface is a band too thin for any corner or centre to land on (the cut rim of a
+/// wall `1e-9` thick), eq. 22 along a line across the band falls to it at a steady slope and
+/// rises past it, a V whose tip dips below zero only over the band's width. The line follows
+/// the gradient at the centre (by difference quotients); Newton steps along the falling side
+/// find the rising one, then the crossing of the two sides, taken as lines, is the next guess.
+/// Only a point where eq. 22 is negative counts, so the search proves what it finds; it gives
+/// up when the sides cross above zero (surfaces that touch without crossing), leave the
+/// rectangle or after [`SEEK_STEPS`] steps.
+fn seek_surface(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    rect: &Rect,
+    distortion: f64,
+    stats: &mut SubdivisionStats,
+) -> Option<(f64, f64)> {
+    let (cx, cy) = rect.centre();
+    let d0 = query(ctx, region, cx, cy, stats);
+    if !(d0 > 0.0 && d0.is_finite()) {
+        return None;
+    }
+    // Eq. 22 changes by at most `distortion` per unit of the plane.
+    let shortest = SEEK_ROUNDING * (cx.abs().max(cy.abs()) + rect.diagonal());
+    let step = |d: f64| (SEEK_STEP * d / distortion.max(1.0)).max(shortest);
+    let h = step(d0);
+    let gx = (query(ctx, region, cx + h, cy, stats) - d0) / h;
+    let gy = (query(ctx, region, cx, cy + h, stats) - d0) / h;
+    let g = gx.hypot(gy);
+    if !(g > 0.0 && g.is_finite()) {
+        return None;
+    }
+    let (ux, uy) = (-gx / g, -gy / g);
+    let point = |t: f64| (cx + t * ux, cy + t * uy);
+    // Each side as a point on it: (t, d, slope).
+    let mut falling = (0.0, d0, -g);
+    let mut rising: Option<(f64, f64, f64)> = None;
+    for _ in 0..SEEK_STEPS {
+        let t = match rising {
+            None => falling.0 - falling.1 / falling.2,
+            Some(rising) => {
+                let t = (rising.1 - falling.1 + falling.2 * falling.0 - rising.2 * rising.0)
+                    / (falling.2 - rising.2);
+                if falling.1 + falling.2 * (t - falling.0) > 0.0 {
+                    return None;
+                }
+                t
+            }
+        };
+        let (x, y) = point(t);
+        if !rect.contains(x, y) {
+            return None;
+        }
+        let d = query(ctx, region, x, y, stats);
+        if d < 0.0 {
+            return Some((x, y));
+        }
+        let h = step(d);
+        let (xh, yh) = point(t + h);
+        let slope = (query(ctx, region, xh, yh, stats) - d) / h;
+        if slope < 0.0 {
+            falling = (t, d, slope);
+        } else if slope > 0.0 {
+            rising = Some((t, d, slope));
+        } else {
+            return None;
+        }
+    }
+    None
 }
 
 /// What eq. 22 at the centres of a rectangle and its quadrants shows.

@@ -135,6 +135,50 @@ fn smaller_radius() {
     );
 }
 
+/// The cut rim of a spherical wall `1e-9` thick is a ring of that width on the cutting plane:
+/// no corner or centre of the subdivision lands on it, and ray-cast reference points hardly
+/// ever do. Points on the ring's middle circle must each have a sample on the plane within `r`,
+/// found by following eq. 22 downhill across the ring (`seek_surface`).
+#[test]
+fn rim_of_a_wall_1e9_thick() {
+    let text = "difference() { sphere(1 + 1e-9); sphere(1); halfspace([0, 0, -1], -0.3); }";
+    let dnf = common::compile_text("shell.qcsg", text.to_string()).expect("compiles");
+    let plane = dnf
+        .quadrics
+        .iter()
+        .position(|q| q.quadric.kind() == qcsg_quadric::QuadricKind::Plane)
+        .expect("the cutting plane") as u32;
+    // The ring lies between the spheres' sections with the plane z = 0.3.
+    let middle = (0.5 * ((1.0f64 + 1e-9).powi(2) + 1.0) - 0.09).sqrt();
+    let ring: Vec<(u32, qcsg_quadric::DVec3)> = (0..720)
+        .map(|k| {
+            let angle = f64::from(k) * std::f64::consts::TAU / 720.0;
+            let p = qcsg_quadric::DVec3::new(middle * angle.cos(), middle * angle.sin(), 0.3);
+            (plane, p)
+        })
+        .collect();
+    let diag = diagonal(&dnf);
+    for relative_radius in [0.05, 0.1] {
+        let name = format!("wall 1e-9 thick at {relative_radius}");
+        let r = relative_radius * diag;
+        let sampling = sample(&dnf, r).expect("valid radius");
+        let (worst, off) = check_samples(&dnf, &sampling.samples, 1e-9 * diag);
+        assert!(
+            worst <= 1e-9 && off == 0,
+            "{name}: {worst:e} off, {off} off the surface"
+        );
+        let unresolved = sampling.stats.subdivision.unresolved;
+        assert_eq!(unresolved, 0, "{name}: unproven rectangles");
+        let missing = uncovered(&dnf, &sampling.samples, &ring, r, 4e-9 * diag);
+        assert!(
+            missing.is_empty(),
+            "{name}: {} of the ring's 720 points have no sample on the plane within r, e.g. {:?}",
+            missing.len(),
+            &missing[..missing.len().min(3)]
+        );
+    }
+}
+
 /// The output does not depend on the thread count, also where large rectangles are split
 /// between threads (at 0.4 % of the diagonal a face of the cube is about 150 radii wide, far
 /// above `TASK_FOOTPRINT`) and more threads than cores make them steal from each other; nor on
