@@ -149,6 +149,7 @@ use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, BoxIndex, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind, Tolerances};
 use rustc_hash::FxHashMap;
+use std::sync::{Mutex, PoisonError};
 
 /// Relative tolerance for "the same quadric" when comparing literals.
 const SAME_QUADRIC: f64 = 1e-12;
@@ -520,7 +521,11 @@ impl CsgDistance {
         };
         let sheets = planes
             .into_iter()
-            .map(|plane| SheetViews::new(dnf, shapes, (quadric, term), plane, &terms))
+            .enumerate()
+            .map(|(sheet, plane)| {
+                let sheet = (sheet as u32, plane);
+                SheetViews::new(dnf, shapes, (quadric, term), sheet, &terms)
+            })
             .collect();
         let literals_left_out =
             terms.own.1.is_finite() || terms.others.iter().any(|((_, floor), _)| floor.is_finite());
@@ -683,13 +688,13 @@ impl CsgDistance {
 }
 
 impl SheetViews {
-    /// The views of every term from `plane`, a sheet of the sampled quadric `quadric` of term
-    /// `term` (the whole quadric when `None`).
+    /// The views of every term from `plane`, sheet `sheet` of the sampled quadric `quadric` of
+    /// term `term` (the whole quadric when `None`).
     fn new(
         dnf: &Dnf,
         shapes: &Shapes,
         (quadric, term): (u32, u32),
-        plane: Option<HalfSpace>,
+        (sheet, plane): (u32, Option<HalfSpace>),
         terms: &NearTerms,
     ) -> Self {
         let tolerance = shapes.tolerance;
@@ -722,11 +727,17 @@ impl SheetViews {
             .map(|(i, entry, shape)| {
                 let o = entry.quadric;
                 let contact = contact.of(shape);
-                let same = i == quadric || same_value(&o);
-                let complement = complement_value(&o);
-                let section = (!(same || complement) && contact == Contact::Crosses)
-                    .then(|| plane.and_then(|h| section(&o, &h)))
-                    .flatten();
+                let SeenFromSheet {
+                    same,
+                    complement,
+                    section,
+                } = shapes.seen_from_sheet(
+                    (quadric, sheet, i),
+                    || (i == quadric || same_value(&o), complement_value(&o)),
+                    |same, complement| !(same || complement) && contact == Contact::Crosses,
+                    || plane.and_then(|h| section(&o, &h)),
+                );
+                let section = section.flatten();
                 let (refined, planar, parts) = match section {
                     Some((section, parts)) => (section, parts.is_some(), parts),
                     None => (o, shape.is_planar, shape.planar.clone()),
@@ -873,6 +884,16 @@ struct Seen {
     planar: bool,
     /// The half-spaces of `refined`, when planar ([`planar_parts`]).
     parts: Option<PlanarParts>,
+}
+
+/// A literal of the DNF as a sheet of a sampled quadric sees it, whatever the term: whether it
+/// is the sampled quadric or its complement, and its section by the sheet's plane (`None` until
+/// a view has asked for it).
+#[derive(Clone)]
+struct SeenFromSheet {
+    same: bool,
+    complement: bool,
+    section: Option<Option<(Quadric, Option<PlanarParts>)>>,
 }
 
 /// A literal of a term as the view holds it.
@@ -1574,6 +1595,11 @@ pub(crate) struct Shapes {
     merged: Vec<(TermLiterals, (usize, usize))>,
     /// For each term, the indices in `merged` of its unions.
     merged_with: Vec<Vec<u32>>,
+    /// Whether each quadric is a literal of more than one term.
+    shared: Vec<bool>,
+    /// What the sheets of shared quadrics see of other literals ([`Shapes::seen_from_sheet`]), by
+    /// sampled quadric, sheet and literal.
+    seen_from_sheets: Mutex<FxHashMap<(u32, u32, u32), SeenFromSheet>>,
 }
 
 impl Shapes {
@@ -1604,6 +1630,12 @@ impl Shapes {
             merged_with[*i].push(m as u32);
             merged_with[*k].push(m as u32);
         }
+        let mut terms_of = vec![0u32; dnf.quadrics.len()];
+        for literals in &terms {
+            for &(i, _) in literals {
+                terms_of[i as usize] += 1;
+            }
+        }
         Self {
             diagonal,
             tolerance,
@@ -1612,12 +1644,60 @@ impl Shapes {
             boxes,
             merged,
             merged_with,
+            shared: terms_of.into_iter().map(|count| count > 1).collect(),
+            seen_from_sheets: Mutex::default(),
         }
     }
 
     /// The shape of a quadric of the DNF (checked by the caller).
     fn of(&self, quadric: u32) -> &Shape {
         &self.shapes[quadric as usize]
+    }
+
+    /// What sheet `sheet` of `quadric` sees of `literal`: whether it is the sampled quadric or
+    /// its complement (`identity`), and its section by the sheet (`section`) when `wanted`.
+    /// A quadric that several terms hold (a DNF expanded from unions and differences repeats
+    /// its literals in many terms) is sampled once per term, and each time its sheets would
+    /// find the same sections (eigen decompositions of each literal): for such quadrics they
+    /// are kept, and a view that wants a section where an earlier one did not makes it then.
+    fn seen_from_sheet(
+        &self,
+        (quadric, sheet, literal): (u32, u32, u32),
+        identity: impl Fn() -> (bool, bool),
+        wanted: impl Fn(bool, bool) -> bool,
+        section: impl Fn() -> Option<(Quadric, Option<PlanarParts>)>,
+    ) -> SeenFromSheet {
+        let complete = |known: Option<SeenFromSheet>| {
+            let mut seen = known.unwrap_or_else(|| {
+                let (same, complement) = identity();
+                SeenFromSheet {
+                    same,
+                    complement,
+                    section: None,
+                }
+            });
+            let fill = seen.section.is_none() && wanted(seen.same, seen.complement);
+            if fill {
+                seen.section = Some(section());
+            }
+            (seen, fill)
+        };
+        if !self.shared.get(quadric as usize).copied().unwrap_or(false) {
+            return complete(None).0;
+        }
+        let key = (quadric, sheet, literal);
+        let lock = || {
+            self.seen_from_sheets
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+        };
+        let known = lock().get(&key).cloned();
+        let new = known.is_none();
+        let (seen, filled) = complete(known);
+        if new || filled {
+            lock().insert(key, seen.clone());
+        }
+        seen
     }
 }
 
