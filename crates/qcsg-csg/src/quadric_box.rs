@@ -207,7 +207,17 @@ pub fn classify(q: &Quadric, bounds: &Aabb) -> BoxClass {
 /// be formed (an infinite box along an axis the quadric depends on yields infinite ends, which
 /// is still returned; `None` only for degenerate input).
 pub fn value_range(q: &Quadric, bounds: &Aabb) -> Option<(f64, f64)> {
-    let origin = q.origin();
+    coefficient_range(q.origin(), &q.coefficients(), bounds)
+}
+
+/// [`value_range`] of the quadric with `coefficients` about `origin` (as
+/// [`Quadric::coefficients`] orders them), for a caller that has no [`Quadric`] and needs none:
+/// building one finds the eigenvalues of its square part, which the range does not use.
+pub fn coefficient_range(
+    origin: DVec3,
+    coefficients: &[f64; 10],
+    bounds: &Aabb,
+) -> Option<(f64, f64)> {
     let mut x = [(0.0, 0.0); 3];
     for (axis, interval) in x.iter_mut().enumerate() {
         let (lo, hi) = (bounds.min[axis], bounds.max[axis]);
@@ -219,9 +229,9 @@ pub fn value_range(q: &Quadric, bounds: &Aabb) -> Option<(f64, f64)> {
         let pad = |v: f64, w: f64| 2.0 * EPS * v.abs().max(w.abs());
         *interval = (a - pad(a, lo), b + pad(b, hi));
     }
-    let a = q.matrix_a();
-    let l = q.linear();
-    let j = q.constant();
+    let [a00, a11, a22, a01, a02, a12, l0, l1, l2, j] = *coefficients;
+    let a = [[a00, a01, a02], [a01, a11, a12], [a02, a12, a22]];
+    let l = [l0, l1, l2];
     let mut lo = j;
     let mut hi = j;
     let mut magnitude = j.abs();

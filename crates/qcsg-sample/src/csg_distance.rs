@@ -1221,7 +1221,7 @@ fn remainder_sign(
     bounds: &Aabb,
 ) -> Option<bool> {
     let b = literal.coefficients();
-    let rest = Quadric::new(
+    let rest = Remainder::new(
         literal.origin(),
         std::array::from_fn(|k| b[k] - lambda * moved[k]),
     )?;
@@ -1237,7 +1237,7 @@ fn remainder_sign(
     let tighter = |(low, high): (f64, f64), other: Option<(f64, f64)>| {
         other.map_or((low, high), |(l, h)| (low.max(l), high.min(h)))
     };
-    let range = quadric_box::value_range(&rest, bounds)?;
+    let range = rest.range(bounds)?;
     if let Some(decided) = sign(range) {
         return decided;
     }
@@ -1281,7 +1281,7 @@ fn remainder_margin(
 /// extremes over an ellipsoid, as in [`Ellipsoidal::span`]), widened by what its square part,
 /// if any, can add there. Over the surface rather than a box around it, this sees that a ball
 /// touching the inside of another at one point lies inside it everywhere else.
-fn range_on_ellipsoid(solid: &Ellipsoidal, rest: &Quadric) -> Option<(f64, f64)> {
+fn range_on_ellipsoid(solid: &Ellipsoidal, rest: &Remainder) -> Option<(f64, f64)> {
     // The surface is `Σ λ_k u_k² = −κ` in the frame, `u_k` along the axes from the centre.
     let frame = &solid.frame;
     if frame.eigenvalues.contains(&0.0) {
@@ -1291,7 +1291,7 @@ fn range_on_ellipsoid(solid: &Ellipsoidal, rest: &Quadric) -> Option<(f64, f64)>
     // its value at the centre ± `2 √(−κ Σ (g·u_k)² / λ_k)`, the square part at most `‖M‖` times
     // the farthest point's squared distance from `o`.
     let g = rest.linear();
-    let middle = 2.0 * g.dot(frame.centre - rest.origin()) + rest.constant();
+    let middle = 2.0 * g.dot(frame.centre - rest.origin) + rest.constant();
     let across: f64 = (frame.axes.iter().zip(frame.eigenvalues))
         .map(|(axis, lambda)| g.dot(*axis).powi(2) / lambda)
         .sum();
@@ -1299,7 +1299,7 @@ fn range_on_ellipsoid(solid: &Ellipsoidal, rest: &Quadric) -> Option<(f64, f64)>
     let semi_axis = (frame.eigenvalues.iter())
         .map(|lambda| (-frame.constant / lambda).sqrt())
         .fold(0.0, f64::max);
-    let farthest = (frame.centre - rest.origin()).length() + semi_axis;
+    let farthest = (frame.centre - rest.origin).length() + semi_axis;
     let spread = half + rest.matrix_norm() * farthest * farthest;
     spread
         .is_finite()
@@ -1309,8 +1309,8 @@ fn range_on_ellipsoid(solid: &Ellipsoidal, rest: &Quadric) -> Option<(f64, f64)>
 /// A range of `q`'s values over `bounds` by interval arithmetic in `basis` over the box's
 /// projections on it: exact for a square part that is a single square in that basis, as
 /// `−z²`, whichever way it is turned.
-fn range_in_basis(q: &Quadric, basis: &[DVec3; 3], bounds: &Aabb) -> Option<(f64, f64)> {
-    let centre = 0.5 * (bounds.min + bounds.max) - q.origin();
+fn range_in_basis(q: &Remainder, basis: &[DVec3; 3], bounds: &Aabb) -> Option<(f64, f64)> {
+    let centre = 0.5 * (bounds.min + bounds.max) - q.origin;
     let half = 0.5 * (bounds.max - bounds.min);
     let along = |v: DVec3| (v.dot(centre), v.abs().dot(half));
     let [(c0, h0), (c1, h1), (c2, h2)] = basis.map(along);
@@ -1318,7 +1318,7 @@ fn range_in_basis(q: &Quadric, basis: &[DVec3; 3], bounds: &Aabb) -> Option<(f64
     let a = q.matrix_a();
     let form = |i: usize, j: usize| quadratic_form(&a, basis[i], basis[j]);
     let l = q.linear();
-    let turned = Quadric::new(
+    let turned = Remainder::new(
         DVec3::ZERO,
         [
             form(0, 0),
@@ -1333,7 +1333,50 @@ fn range_in_basis(q: &Quadric, basis: &[DVec3; 3], bounds: &Aabb) -> Option<(f64
             q.constant(),
         ],
     )?;
-    quadric_box::value_range(&turned, &Aabb::new(centres - halves, centres + halves))
+    turned.range(&Aabb::new(centres - halves, centres + halves))
+}
+
+/// A remainder `literal − λ q` of [`remainder_sign`]: a quadric's coefficients about `origin`
+/// (in [`Quadric::coefficients`]' order), without the eigenvalue bounds that building a
+/// [`Quadric`] finds, which its ranges do not use (they took a tenth of the setup of a run on
+/// scenes of many terms).
+struct Remainder {
+    origin: DVec3,
+    coefficients: [f64; 10],
+}
+
+impl Remainder {
+    /// `None` if not finite.
+    fn new(origin: DVec3, coefficients: [f64; 10]) -> Option<Self> {
+        (origin.is_finite() && coefficients.iter().all(|c| c.is_finite())).then_some(Self {
+            origin,
+            coefficients,
+        })
+    }
+
+    fn matrix_a(&self) -> [[f64; 3]; 3] {
+        let [a, b, c, d, e, f, ..] = self.coefficients;
+        [[a, d, e], [d, b, f], [e, f, c]]
+    }
+
+    fn linear(&self) -> DVec3 {
+        DVec3::from_slice(&self.coefficients[6..9])
+    }
+
+    fn constant(&self) -> f64 {
+        self.coefficients[9]
+    }
+
+    /// Frobenius norm of the square part.
+    fn matrix_norm(&self) -> f64 {
+        let [a, b, c, d, e, f, ..] = self.coefficients;
+        (a * a + b * b + c * c + 2.0 * (d * d + e * e + f * f)).sqrt()
+    }
+
+    /// A rigorous enclosure of its values over `bounds` ([`quadric_box::coefficient_range`]).
+    fn range(&self, bounds: &Aabb) -> Option<(f64, f64)> {
+        quadric_box::coefficient_range(self.origin, &self.coefficients, bounds)
+    }
 }
 
 /// The half-spaces whose intersection is the solid of `q`: one for a half-space, two for a slab;
