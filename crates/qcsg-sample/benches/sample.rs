@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 
 use qcsg_csg::Dnf;
 use qcsg_quadric::{DMat4, DVec3, Quadric};
-use qcsg_sample::{SampleStats, resample, sample};
+use qcsg_sample::{SampleStats, Sampling, resample, sample};
 
 /// The paper's Table 2 rows: quadrics, then per splat size (samples, distance queries, clip
 /// indices, sampling ms on one 4.8 GHz core).
@@ -207,8 +207,7 @@ fn median_seconds(budget: Duration, mut f: impl FnMut()) -> f64 {
         f();
         times.push(t.elapsed().as_secs_f64());
     }
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
+    median(times)
 }
 
 /// Nanoseconds per `Q(x)` over a batch of 1024 points near an ellipsoid (as in
@@ -474,16 +473,13 @@ struct Row {
     copies: (f64, f64),
 }
 
-/// Median seconds of `runs` one-thread runs of `dnf` at `r` alone, then while an independent
-/// copy of the same work runs at the same time, each on a core of its own with its own memory:
-/// nothing is shared but the machine (caches, memory, clock), so `2 × alone / together` is the
-/// most two threads of any division of the work can gain here.
+/// Median seconds of one-thread runs of `dnf` at `r` alone and while an independent copy of the
+/// same work runs at the same time, each on a core of its own with its own memory: nothing is
+/// shared but the machine (caches, memory, clock), so `2 × alone / together` is the most two
+/// threads of any division of the work can gain here. `runs` of each, in three alternating
+/// rounds.
 fn two_copies_seconds(dnf: &Dnf, r: f64, runs: usize) -> (f64, f64) {
-    let median = |mut times: Vec<f64>| {
-        times.sort_by(f64::total_cmp);
-        times[times.len() / 2]
-    };
-    let copies = |count: usize| {
+    let copies = |count: usize, runs: usize| {
         let start = std::sync::Barrier::new(count);
         let copy = || {
             let pool = rayon::ThreadPoolBuilder::new()
@@ -506,10 +502,51 @@ fn two_copies_seconds(dnf: &Dnf, r: f64, runs: usize) -> (f64, f64) {
         std::thread::scope(|scope| {
             let running: Vec<_> = (0..count).map(|_| scope.spawn(copy)).collect();
             let times = running.into_iter().flat_map(|c| c.join().expect("copy"));
-            median(times.collect())
+            times.collect::<Vec<f64>>()
         })
     };
-    (copies(1), copies(2))
+    let (mut alone, mut together) = (Vec::new(), Vec::new());
+    for _ in 0..3 {
+        alone.extend(copies(1, runs.div_ceil(3)));
+        together.extend(copies(2, runs.div_ceil(3)));
+    }
+    (median(alone), median(together))
+}
+
+/// The median of `times`.
+fn median(mut times: Vec<f64>) -> f64 {
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+/// Runs of `first` and of `second` in a row that [`median_pair`] takes in turn.
+const TURN: usize = 3;
+
+/// Medians of runs of `first` and `second`, [`TURN`] of one then as many of the other (at least
+/// two turns each, more while under `budget` each), so that a change in the machine's load
+/// while they run touches both alike, with the total seconds of each. Within a turn the runs
+/// follow each other as repeated runs do (a thread pool that has just worked does not sleep);
+/// the first run of a turn wakes its pool, a third of the runs, above the median when slower.
+fn median_pair(
+    budget: Duration,
+    mut first: impl FnMut(),
+    mut second: impl FnMut(),
+) -> ((f64, f64), (f64, f64)) {
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let started = Instant::now();
+    let turn = |f: &mut dyn FnMut(), times: &mut Vec<f64>| {
+        for _ in 0..TURN {
+            let t = Instant::now();
+            f();
+            times.push(t.elapsed().as_secs_f64());
+        }
+    };
+    while a.len() < 2 * TURN || (started.elapsed() < 2 * budget && a.len() < 24) {
+        turn(&mut first, &mut a);
+        turn(&mut second, &mut b);
+    }
+    let (sum_a, sum_b) = (a.iter().sum(), b.iter().sum());
+    ((median(a), sum_a), (median(b), sum_b))
 }
 
 fn measure(dnf: &Dnf, r: f64) -> Row {
@@ -528,16 +565,21 @@ fn measure(dnf: &Dnf, r: f64) -> Row {
             black_box(sample(black_box(dnf), r).expect("sample"));
         })
     });
-    let mut again = || {
-        let earlier = std::mem::take(&mut previous);
-        previous = resample(black_box(dnf), r, earlier).expect("sample");
+    // Each pool samples into its own earlier output (the other threads' buffers included).
+    let mut on_two = previous.clone();
+    let again = |pool: &rayon::ThreadPool, previous: &mut Sampling| {
+        let earlier = std::mem::take(previous);
+        *previous = pool.install(|| resample(black_box(dnf), r, earlier).expect("sample"));
     };
-    let one = one_pool.install(|| median_seconds(budget, &mut again));
-    let (wall_start, cpu_start) = (Instant::now(), cpu_seconds());
-    let two = two_pool.install(|| median_seconds(budget, &mut again));
-    let two_wall = wall_start.elapsed().as_secs_f64();
-    let two_cpu = cpu_start.zip(cpu_seconds()).map(|(a, b)| b - a);
-    // As many runs as `median_seconds` makes in its budget.
+    let cpu_start = cpu_seconds();
+    let ((one, one_total), (two, two_wall)) = median_pair(
+        budget,
+        || again(&one_pool, &mut previous),
+        || again(&two_pool, &mut on_two),
+    );
+    // One thread keeps one core busy: the rest of the CPU time is the 2-thread runs'.
+    let two_cpu = cpu_start.zip(cpu_seconds()).map(|(a, b)| b - a - one_total);
+    // As many runs as `median_pair` makes of each in its budget.
     let runs = ((budget.as_secs_f64() / one) as usize).clamp(3, 25);
     let copies = two_copies_seconds(dnf, r, runs);
     Row {
@@ -642,14 +684,15 @@ fn report(
          ```console\n$ cargo bench -p qcsg-sample --bench sample\n```\n\n\
          which rewrites this file (source: `crates/qcsg-sample/benches/sample.rs`; the scenes are \
          built there). Times are medians of repeated runs (at least 3) in one process; \
-         1- and 2-thread times of a row are measured back to back, so their ratio (the speed-up) \
-         is from one run. Each run writes into the previous run's output \
+         the 1- and 2-thread runs of a row take turns, so that a change in the load of this \
+         shared machine touches both alike, and their ratio (the speed-up) is from one \
+         measurement. Each run writes into the previous run's output \
          (`qcsg_sample::resample`, as a preview that samples again on every edit), but for the \
          column *new memory*, where each run allocates its output anew (`sample`, as one \
          `qcsg sample` command does) and the operating system maps each of its pages at the \
          first touch. *Two copies* is the time of a one-thread run while an independent copy \
-         of it runs on the other core, and *ceiling* twice the time of one alone, measured just \
-         before, over it.\n"
+         of it runs on the other core, and *ceiling* twice the time of one alone, measured in \
+         rounds taking turns with it, over it.\n"
     );
     let _ = writeln!(out, "## Machine and load\n");
     let _ = writeln!(out, "| | paper | this run |\n|---|---|---|");
@@ -801,7 +844,7 @@ fn report(
          for work), and the speed-up cannot exceed that.\n\n\
          Two copies of the one-thread run at once, one on each core with memory of its own \
          (*two copies*: they share nothing but the machine), took {:.1} ms a run over all \
-         rows against {:.1} ms for one alone just before: on this machine two threads can gain at most \
+         rows against {:.1} ms for one alone: on this machine two threads can gain at most \
          **{ceiling:.2}×** over one on this work, however it is divided (*ceiling*, twice the \
          time alone over the two copies'), and the sampler's {:.2}× is {:.0} % of that. \
          Single rows move by up to a fifth between measurements on this shared machine (a \
