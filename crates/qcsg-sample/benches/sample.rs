@@ -468,8 +468,8 @@ struct Row {
     /// Wall and CPU seconds spent in the 2-thread runs (cores actually obtained = CPU / wall).
     two_wall: f64,
     two_cpu: Option<f64>,
-    /// Median seconds of a one-thread run alone, then while a second copy runs on the other
-    /// core, measured back to back.
+    /// Median seconds of a one-thread run alone, and while a second copy runs on the other
+    /// core ([`two_copies_seconds`]).
     copies: (f64, f64),
 }
 

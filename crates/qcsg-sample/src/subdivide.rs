@@ -311,16 +311,8 @@ fn classify(
                 stats.small += 1;
                 return Verdict::Small;
             }
-            let (cx, cy) = rect.centre();
-            let centre = query(ctx, region, cx, cy, stats);
-            if centre < 0.0 {
-                emit(ctx, region, cx, cy, 0.5 * footprint, out);
-                stats.small += 1;
-                return Verdict::Small;
-            }
-            if centre / distortion >= 0.5 * diagonal {
-                stats.discarded += 1;
-                return Verdict::Discarded;
+            if let Some(verdict) = at_centre(ctx, region, (&rect, distortion), out, stats) {
+                return verdict;
             }
         }
         return Verdict::Split;
@@ -335,19 +327,35 @@ fn classify(
         stats.small += 1;
         return Verdict::Small;
     }
+    at_centre(ctx, region, (&rect, distortion), out, stats)
+        .unwrap_or(Verdict::Unproven { footprint })
+}
+
+/// What eq. 22 at the centre of a rectangle of footprint up to `2r` settles: every point lies
+/// within half the diagonal of the centre, so a sample there covers it when the centre is on
+/// the surface (`Small`), and the centre's disc proves it off the surface when it reaches the
+/// corners (`Discarded`).
+fn at_centre(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    (rect, distortion): (&Rect, f64),
+    out: &mut Vec<Sample>,
+    stats: &mut SubdivisionStats,
+) -> Option<Verdict> {
+    let half_diagonal = 0.5 * rect.diagonal();
     let (cx, cy) = rect.centre();
     let centre = query(ctx, region, cx, cy, stats);
     if centre < 0.0 {
-        emit(ctx, region, cx, cy, (0.5 * footprint).min(ctx.radius), out);
+        let radius = (distortion * half_diagonal).min(ctx.radius);
+        emit(ctx, region, cx, cy, radius, out);
         stats.small += 1;
-        return Verdict::Small;
+        return Some(Verdict::Small);
     }
-    // Every point lies within half the diagonal of the centre.
-    if centre / distortion >= 0.5 * diagonal {
+    if centre / distortion >= half_diagonal {
         stats.discarded += 1;
-        return Verdict::Discarded;
+        return Some(Verdict::Discarded);
     }
-    Verdict::Unproven { footprint }
+    None
 }
 
 /// Whether the discs of radii `radii` around the corners of `rect` (in [`corner`] order)
@@ -469,8 +477,8 @@ pub fn sample_region(
 }
 
 /// Rectangles whose footprint is at least this many radii are split into halves that other
-/// threads may take (see "Threads" in the module docs): a large face is otherwise one piece of work, which
-/// left one thread sampling a quarter of a dimpled cube while the other waited.
+/// threads may take (see "Threads" in the module docs): a large face is otherwise one piece of
+/// work, which left one thread sampling a quarter of a dimpled cube while the other waited.
 pub const TASK_FOOTPRINT: f64 = 32.0;
 
 /// The subdivision of `root`, a cell of basic region number `index`, depth first; its small
@@ -605,7 +613,7 @@ pub fn refine_deferred(
         let samples = (out.len() - first_sample) as u64;
         (samples, stats.distance_queries - queries_before)
     };
-    let root_footprint = cell_distortion(region, &deferred.cell) * deferred.cell.rect.diagonal();
+    let root_footprint = cell_footprint(region, &deferred.cell);
     while let Some((mut cell, classified)) = stack.pop() {
         let (samples, queries) = done(out, stats);
         if !meter.tick(samples, queries) {
