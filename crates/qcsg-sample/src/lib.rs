@@ -113,7 +113,7 @@ use crate::csg_distance::NearDistance;
 use crate::csg_distance::{CsgDistance, Shapes};
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
-    Deferred, GivenUp, Probed, REGION_BLOCK, RegionContext, SampleIndex, SubdivisionStats,
+    Deferred, Emitted, GivenUp, Probed, REGION_BLOCK, RegionContext, SampleIndex, SubdivisionStats,
     given_up_share, grow_radius, probe_given_up, refine_deferred, sample_region, settle_given_up,
     settle_parts,
 };
@@ -522,7 +522,7 @@ fn fold_runs(count: usize) -> (usize, usize) {
 }
 
 /// The first pass's output of a run of regions.
-type FirstPass = (Vec<Sample>, Vec<Deferred>, SubdivisionStats);
+type FirstPass = (Emitted, Vec<Deferred>, SubdivisionStats);
 
 /// The first pass's runs, appended in run order by whichever thread finishes a run whose
 /// predecessors are all in: the thread that holds the output appends every run that is ready,
@@ -590,7 +590,7 @@ impl InOrder {
             append(&mut all, &mut run);
             spare.push(run);
         }
-        let buffers = spare.into_iter().map(|(samples, _, _)| samples);
+        let buffers = spare.into_iter().map(|(emitted, _, _)| emitted.samples);
         (
             all,
             SpareBuffers(buffers.filter(|b| b.capacity() > 0).collect()),
@@ -609,7 +609,7 @@ fn append(all: &mut FirstPass, more: &mut FirstPass) {
         }
         more.clear();
     }
-    move_items(&mut all.0, &mut more.0);
+    all.0.append(&mut more.0);
     move_items(&mut all.1, &mut more.1);
     all.2.add(&std::mem::take(&mut more.2));
 }
@@ -763,7 +763,8 @@ fn sample_on_pool(
     // its buffer becomes the output, and the other runs' samples are copied in after its own).
     {
         let mut buffers = lock(&first_pass.spare);
-        let empty = |samples| (samples, Vec::new(), SubdivisionStats::default());
+        let empty =
+            |samples: Vec<Sample>| (samples.into(), Vec::new(), SubdivisionStats::default());
         buffers.extend(spare.0.into_iter().map(empty));
         buffers.push(empty(memory));
     }
@@ -793,7 +794,7 @@ fn sample_on_pool(
                 first_pass.finish(run, (out, deferred, counters));
             }
         });
-    let ((mut samples, deferred, counters), spare) = first_pass.into_output();
+    let ((first, deferred, counters), spare) = first_pass.into_output();
     stats.subdivision.add(&counters);
     crossed(&budget)?;
     // Second pass: the rectangles the first left unproven, against all first-pass samples.
@@ -805,9 +806,9 @@ fn sample_on_pool(
             Some((region.quadric, d.centre_point(&ctx, region)?))
         })
         .collect();
-    let index = SampleIndex::new(dnf, &samples, &centres, radius);
+    let index = SampleIndex::new(dnf, (&first.samples, &first.boxes), &centres, radius);
     let share = given_up_share(deferred.len());
-    type SecondPass = (Vec<Sample>, Vec<GivenUp>, Vec<(u32, f64)>, SubdivisionStats);
+    type SecondPass = (Emitted, Vec<GivenUp>, Vec<(u32, f64)>, SubdivisionStats);
     let (shortest, longest) = fold_runs(deferred.len());
     let (more, given_up, grown, counters) = deferred
         .par_iter()
@@ -827,7 +828,7 @@ fn sample_on_pool(
         .collect::<Vec<SecondPass>>()
         .into_iter()
         .reduce(|(mut out, mut given_up, mut grown, mut counters), more| {
-            out.extend(more.0);
+            out.extend_from_slice(&more.0);
             given_up.extend(more.1);
             grown.extend(more.2);
             counters.add(&more.3);
@@ -835,10 +836,11 @@ fn sample_on_pool(
         })
         .unwrap_or_default();
     drop(index);
+    let mut samples = first.samples;
     for (i, needed) in grown {
         grow_radius(&mut samples, i, needed);
     }
-    samples.extend(more);
+    samples.extend(more.samples);
     stats.subdivision.add(&counters);
     crossed(&budget)?;
     // Last: what the second pass gave up, against every sample.

@@ -263,6 +263,117 @@ impl Deferred {
     }
 }
 
+/// Samples as a subdivision emits them, with boxes around runs of consecutive samples
+/// ([`SampleBox`]): the second pass's index reads only the runs whose box comes near a
+/// deferred rectangle ([`SampleIndex::new`]), a few percent of the samples at small radii. The
+/// subdivision goes depth first and fills row by row, so consecutive samples lie close
+/// together. It dereferences to the samples.
+#[derive(Clone, Debug, Default)]
+pub struct Emitted {
+    /// The samples, in order.
+    pub samples: Vec<Sample>,
+    /// Boxes around `samples[..boxed]`, in order, one after the other.
+    pub boxes: Vec<SampleBox>,
+    boxed: usize,
+}
+
+/// Consecutive samples of one quadric and a box that holds their positions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleBox {
+    /// The first sample.
+    pub start: u32,
+    /// One past the last sample.
+    pub end: u32,
+    /// Their quadric.
+    pub quadric: u32,
+    /// The box's lowest corner.
+    pub low: DVec3,
+    /// The box's highest corner.
+    pub high: DVec3,
+}
+
+/// Most samples of one box: a long row of a fill that passes near a deferred rectangle is read
+/// only where it does.
+const BOX_SAMPLES: usize = 32;
+
+impl Emitted {
+    /// Boxes the samples emitted since the last call, in runs of one quadric of at most
+    /// [`BOX_SAMPLES`]. Called after each fill, each region and before appending, so that
+    /// a box holds one fill's samples (or the few emitted between fills), which lie close
+    /// together.
+    pub fn box_new(&mut self) {
+        let first = self.boxed;
+        for run in self.samples[first..].chunk_by(|a, b| a.quadric == b.quadric) {
+            for piece in run.chunks(BOX_SAMPLES) {
+                let (low, high) = piece
+                    .iter()
+                    .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), s| {
+                        (low.min(s.position), high.max(s.position))
+                    });
+                self.boxes.push(SampleBox {
+                    start: self.boxed as u32,
+                    end: (self.boxed + piece.len()) as u32,
+                    quadric: piece[0].quadric,
+                    low,
+                    high,
+                });
+                self.boxed += piece.len();
+            }
+        }
+    }
+
+    /// Moves `more` to the end, leaving it empty (with its buffers when they were copied;
+    /// into an empty `self` they are taken over instead).
+    pub fn append(&mut self, more: &mut Emitted) {
+        more.box_new();
+        if self.samples.is_empty() {
+            std::mem::swap(self, more);
+        } else {
+            self.box_new();
+            let offset = self.samples.len() as u32;
+            let shifted = more.boxes.iter().map(|b| SampleBox {
+                start: b.start + offset,
+                end: b.end + offset,
+                ..*b
+            });
+            self.boxes.extend(shifted);
+            self.samples.extend_from_slice(&more.samples);
+            self.boxed = self.samples.len();
+        }
+        more.clear();
+    }
+
+    /// Empties it, keeping its memory.
+    pub fn clear(&mut self) {
+        self.samples.clear();
+        self.boxes.clear();
+        self.boxed = 0;
+    }
+}
+
+impl From<Vec<Sample>> for Emitted {
+    fn from(samples: Vec<Sample>) -> Self {
+        Self {
+            samples,
+            ..Self::default()
+        }
+    }
+}
+
+impl std::ops::Deref for Emitted {
+    type Target = Vec<Sample>;
+
+    fn deref(&self) -> &Vec<Sample> {
+        &self.samples
+    }
+}
+
+impl std::ops::DerefMut for Emitted {
+    fn deref_mut(&mut self) -> &mut Vec<Sample> {
+        &mut self.samples
+    }
+}
+
 /// What a cell is after its corner distances are looked at.
 enum Verdict {
     /// Proven off the surface.
@@ -284,7 +395,7 @@ fn classify(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
     cell: &Cell,
-    (out, first): (&mut Vec<Sample>, usize),
+    (out, first): (&mut Emitted, usize),
     stats: &mut SubdivisionStats,
 ) -> Verdict {
     stats.rectangles += 1;
@@ -462,7 +573,7 @@ fn split(
 pub fn sample_region(
     ctx: &RegionContext<'_>,
     (index, region): (usize, &BasicRegion),
-    (out, block_start): (&mut Vec<Sample>, usize),
+    (out, block_start): (&mut Emitted, usize),
     deferred: &mut Vec<Deferred>,
     stats: &mut SubdivisionStats,
 ) {
@@ -474,6 +585,7 @@ pub fn sample_region(
         deferred,
         stats,
     );
+    out.box_new();
 }
 
 /// Rectangles whose footprint is at least this many radii are split into halves that other
@@ -486,7 +598,7 @@ pub const TASK_FOOTPRINT: f64 = 32.0;
 fn subdivide(
     (ctx, index, region): (&RegionContext<'_>, usize, &BasicRegion),
     root: Cell,
-    (out, look_back): (&mut Vec<Sample>, usize),
+    (out, look_back): (&mut Emitted, usize),
     deferred: &mut Vec<Deferred>,
     stats: &mut SubdivisionStats,
 ) {
@@ -544,7 +656,7 @@ fn subdivide(
 fn split_in_parallel(
     task: (&RegionContext<'_>, usize, &BasicRegion),
     (low, high): (Cell, Cell),
-    (out, look_back): (&mut Vec<Sample>, usize),
+    (out, look_back): (&mut Emitted, usize),
     deferred: &mut Vec<Deferred>,
     stats: &mut SubdivisionStats,
 ) {
@@ -568,15 +680,15 @@ fn split_in_parallel(
                 subdivide(task, high, (out, start), deferred, stats);
                 return None;
             }
-            let (mut out, mut deferred) = (Vec::new(), Vec::new());
+            let (mut out, mut deferred) = (Emitted::default(), Vec::new());
             let mut stats = SubdivisionStats::default();
             subdivide(task, high, (&mut out, 0), &mut deferred, &mut stats);
             Some((out, deferred, stats))
         },
     );
-    if let Some((more, more_deferred, counters)) = own {
+    if let Some((mut more, more_deferred, counters)) = own {
         let (out, deferred, stats, _) = shared.into_inner().unwrap_or_else(PoisonError::into_inner);
-        out.extend_from_slice(&more);
+        out.append(&mut more);
         deferred.extend_from_slice(&more_deferred);
         stats.add(&counters);
     }
@@ -596,7 +708,7 @@ pub fn refine_deferred(
     region: &BasicRegion,
     deferred: &Deferred,
     index: &SampleIndex<'_>,
-    (out, given_up, grown): (&mut Vec<Sample>, &mut Vec<GivenUp>, &mut Vec<(u32, f64)>),
+    (out, given_up, grown): (&mut Emitted, &mut Vec<GivenUp>, &mut Vec<(u32, f64)>),
     share: usize,
     stats: &mut SubdivisionStats,
 ) {
@@ -807,7 +919,7 @@ fn cover_given_up(
         .iter()
         .map(|g| (g.quadric, g.point.position))
         .collect();
-    let index = SampleIndex::new(dnf, samples, &centres, radius);
+    let index = SampleIndex::new(dnf, (samples, &[]), &centres, radius);
     let covers: Vec<Option<(u32, f64)>> = given_up
         .iter()
         .map(|g| index.cover((g.quadric, g.term), g.point, g.extent))
@@ -1189,23 +1301,50 @@ impl WantedCubes {
             bits: vec![0; self.bits.len()],
             ..*self
         };
-        let [sx, sy, _] = self.size;
-        for (word, &bits) in self.bits.iter().enumerate() {
-            let mut rest = bits;
-            while rest != 0 {
-                let bit = (word * 64 + rest.trailing_zeros() as usize) as i64;
-                rest &= rest - 1;
-                let cube = [
-                    self.low[0] + bit % sx,
-                    self.low[1] + bit / sx % sy,
-                    self.low[2] + bit / (sx * sy),
-                ];
-                for (dx, dy, dz) in NEIGHBOURS {
-                    out.mark_cube([cube[0] + dx, cube[1] + dy, cube[2] + dz]);
-                }
+        for cube in self.marked() {
+            for (dx, dy, dz) in NEIGHBOURS {
+                out.mark_cube([cube[0] + dx, cube[1] + dy, cube[2] + dz]);
             }
         }
         out
+    }
+
+    /// The map with cubes `2^by` times as large a side, each marked where one of this map's
+    /// inside it is: one test of it settles a box that would take many of this one.
+    fn coarser(&self, by: u32) -> Self {
+        let low = self.low.map(|v| v >> by);
+        let size = [0, 1, 2].map(|a| ((self.low[a] + self.size[a] - 1) >> by) - low[a] + 1);
+        let volume = size.iter().map(|&s| s as usize).product::<usize>();
+        let mut out = Self {
+            shift: self.shift + by,
+            low,
+            size,
+            bits: vec![0; volume.div_ceil(64)],
+        };
+        for cube in self.marked() {
+            out.mark_cube(cube.map(|v| v >> by));
+        }
+        out
+    }
+
+    /// The marked cubes.
+    fn marked(&self) -> impl Iterator<Item = [i64; 3]> + '_ {
+        let [sx, sy, _] = self.size;
+        self.bits.iter().enumerate().flat_map(move |(word, &bits)| {
+            let mut rest = bits;
+            std::iter::from_fn(move || {
+                if rest == 0 {
+                    return None;
+                }
+                let bit = (word * 64 + rest.trailing_zeros() as usize) as i64;
+                rest &= rest - 1;
+                Some([
+                    self.low[0] + bit % sx,
+                    self.low[1] + bit / sx % sy,
+                    self.low[2] + bit / (sx * sy),
+                ])
+            })
+        })
     }
 
     fn mark_cube(&mut self, cube: [i64; 3]) {
@@ -1216,10 +1355,57 @@ impl WantedCubes {
 
     /// Whether the cube holding fine cube `fine` is wanted.
     fn contains(&self, fine: [i64; 3]) -> bool {
-        self.bit(fine.map(|v| v >> self.shift))
+        self.contains_cube(fine.map(|v| v >> self.shift))
+    }
+
+    /// Whether a wanted cube may hold a fine cube from `low` to `high` (also when the box
+    /// spans more than [`MAX_BOX_CUBES`] cubes: testing it would cost about what reading its
+    /// samples does).
+    fn meets(&self, low: [i64; 3], high: [i64; 3]) -> bool {
+        let mut range = [(0, 0); 3];
+        let mut cubes = 1;
+        for axis in 0..3 {
+            let first = (low[axis] >> self.shift).max(self.low[axis]);
+            let last = (high[axis] >> self.shift).min(self.low[axis] + self.size[axis] - 1);
+            if first > last {
+                return false;
+            }
+            range[axis] = (first, last);
+            cubes *= last - first + 1;
+        }
+        if cubes > MAX_BOX_CUBES {
+            return true;
+        }
+        let [(x0, x1), (y0, y1), (z0, z1)] = range;
+        let [sx, sy, _] = self.size;
+        for z in z0..=z1 {
+            for y in y0..=y1 {
+                // The bits of the row, the range being inside the map's box.
+                let row = ((z - self.low[2]) * sy + y - self.low[1]) * sx - self.low[0];
+                for bit in (row + x0) as usize..=(row + x1) as usize {
+                    if self.bits[bit / 64] & (1 << (bit % 64)) != 0 {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    /// Whether coarse cube `cube` is wanted.
+    fn contains_cube(&self, cube: [i64; 3]) -> bool {
+        self.bit(cube)
             .is_some_and(|bit| self.bits[bit / 64] & (1 << (bit % 64)) != 0)
     }
 }
+
+/// Most cubes [`WantedCubes::meets`] tests one by one.
+const MAX_BOX_CUBES: i64 = 4096;
+
+/// A box is first tested on a map of cubes `2^COARSER_BY` times as large a side
+/// ([`WantedCubes::coarser`]), where the boxes far from every deferred rectangle (most of
+/// them) take a test or two.
+const COARSER_BY: u32 = 3;
 
 /// A fine cube of one quadric as one hashable number. Coordinates wrap at 2³²: cubes that far
 /// apart share a bucket, which only adds candidates that [`cover_by`] then rejects by distance.
@@ -1233,7 +1419,10 @@ fn bucket_key([x, y, z]: [i64; 3], quadric: u32) -> u128 {
 /// The first pass's samples near deferred rectangles, bucketed by quadric and by cubes of side
 /// `2r`: every sample within `r` of a point within `r / 2` of a deferred centre is found (it
 /// lies in one of the fine cubes that the ball of radius `r` around the point touches, inside a
-/// wanted cube next to the centre's).
+/// wanted cube next to the centre's). Only the boxes of samples ([`Emitted`]) that meet a
+/// wanted cube are read: at 0.15 % of the diagonal, 7 % of the samples of three balls and 4 %
+/// of those of a cube dimpled by 18 balls. With its grouping by counting instead of sorting,
+/// this took the index from 11 % to 6 % of the instructions of sampling three balls there.
 pub struct SampleIndex<'a> {
     dnf: &'a Dnf,
     samples: &'a [Sample],
@@ -1249,8 +1438,14 @@ pub struct SampleIndex<'a> {
 
 impl<'a> SampleIndex<'a> {
     /// Indexes the samples of `samples` that may cover a point near one of `centres` (surface
-    /// points with their quadric).
-    pub fn new(dnf: &'a Dnf, samples: &'a [Sample], centres: &[(u32, DVec3)], radius: f64) -> Self {
+    /// points with their quadric). Of the samples in `sample_boxes` ([`Emitted`]), only those
+    /// of the boxes that meet a cube near a centre are read.
+    pub fn new(
+        dnf: &'a Dnf,
+        (samples, sample_boxes): (&'a [Sample], &[SampleBox]),
+        centres: &[(u32, DVec3)],
+        radius: f64,
+    ) -> Self {
         let mut index = Self {
             dnf,
             samples,
@@ -1282,33 +1477,71 @@ impl<'a> SampleIndex<'a> {
                 map.mark(index.key(point));
             }
         }
-        let wanted: Vec<Option<WantedCubes>> = marked
+        let wanted: Vec<Option<(WantedCubes, WantedCubes)>> = marked
             .par_iter()
-            .map(|map| map.as_ref().map(WantedCubes::with_neighbours))
-            .collect();
-        drop(marked);
-        let mut hits: Vec<(u128, u32)> = samples
-            .par_iter()
-            .enumerate()
-            .filter_map(|(i, sample)| {
-                let wanted = wanted.get(sample.quadric as usize)?.as_ref()?;
-                let cube = index.key(sample.position);
-                wanted
-                    .contains(cube)
-                    .then(|| (bucket_key(cube, sample.quadric), i as u32))
+            .map(|map| {
+                let fine = map.as_ref()?.with_neighbours();
+                let coarse = fine.coarser(COARSER_BY);
+                Some((fine, coarse))
             })
             .collect();
-        // Sorted in parallel and grouped, rather than pushed into a vector per cube one by one
-        // (an allocation per cube, and all on one thread).
-        hits.par_sort_unstable();
-        index.buckets.reserve(hits.len() / 4);
-        let mut start = 0;
-        for run in hits.chunk_by(|a, b| a.0 == b.0) {
-            let end = start + run.len() as u32;
-            index.buckets.insert(run[0].0, (start, end));
-            start = end;
+        drop(marked);
+        // The samples to read: the boxes that meet a wanted cube, and any outside a box.
+        let mut read: Vec<Range<usize>> = Vec::new();
+        let mut add = |range: Range<usize>| match read.last_mut() {
+            Some(last) if last.end == range.start => last.end = range.end,
+            _ if range.is_empty() => {}
+            _ => read.push(range),
+        };
+        let mut next = 0;
+        for b in sample_boxes {
+            let (start, end) = (b.start as usize, b.end as usize);
+            add(next..start);
+            let wanted = wanted.get(b.quadric as usize).and_then(Option::as_ref);
+            let (low, high) = (index.key(b.low), index.key(b.high));
+            if wanted.is_some_and(|(fine, coarse)| coarse.meets(low, high) && fine.meets(low, high))
+            {
+                add(start..end);
+            }
+            next = end;
         }
-        index.members = hits.into_iter().map(|(_, i)| i).collect();
+        add(next..samples.len());
+        let hits: Vec<(u128, u32)> = read
+            .into_par_iter()
+            .flat_map_iter(|range| {
+                let wanted = &wanted;
+                let index = &index;
+                range.filter_map(move |i| {
+                    let sample = &samples[i];
+                    let (wanted, _) = wanted.get(sample.quadric as usize)?.as_ref()?;
+                    let cube = index.key(sample.position);
+                    wanted
+                        .contains(cube)
+                        .then(|| (bucket_key(cube, sample.quadric), i as u32))
+                })
+            })
+            .collect();
+        // Grouped by cube in two passes (count, then place), each cube's samples in the order
+        // of the hits, which is ascending: sorting the hits by cube and index took longer, and
+        // a vector per cube costs an allocation each.
+        let buckets = &mut index.buckets;
+        buckets.reserve(hits.len() / 4);
+        for &(key, _) in &hits {
+            buckets.entry(key).or_insert((0, 0)).1 += 1;
+        }
+        let mut start = 0;
+        for range in buckets.values_mut() {
+            let count = range.1;
+            *range = (start, start);
+            start += count;
+        }
+        index.members = vec![0; hits.len()];
+        for &(key, i) in &hits {
+            if let Some(range) = buckets.get_mut(&key) {
+                index.members[range.1 as usize] = i;
+                range.1 += 1;
+            }
+        }
         index
     }
 
@@ -1545,7 +1778,7 @@ fn fill(
     region: &BasicRegion,
     (rect, owned): (&Rect, bool),
     distortion: f64,
-    out: &mut Vec<Sample>,
+    out: &mut Emitted,
 ) -> bool {
     let spacing = std::f64::consts::SQRT_2 * ctx.radius / distortion;
     let Some((nx, ny)) = grid_shape(rect, 2.0 * ctx.radius / distortion) else {
@@ -1576,6 +1809,8 @@ fn fill(
     let (dx, dy) = (rect.width() / nx, rect.height() / ny);
     let radius = (0.5 * distortion * dx.hypot(dy)).min(ctx.radius);
     let clipped = !owned && !region.owns_all_of(rect);
+    // What was emitted before the fill gets boxes of its own.
+    out.box_new();
     for iy in 0..ny as u32 {
         let y = rect.y.0 + (f64::from(iy) + 0.5) * dy;
         let row = Row {
@@ -1591,6 +1826,7 @@ fn fill(
             row.emit(ctx, region, 0..nx as u32, out);
         }
     }
+    out.box_new();
     true
 }
 

@@ -10,7 +10,7 @@ mod common;
 use common::{Rng, sphere_scene};
 use qcsg_quadric::{DVec3, Quadric};
 use qcsg_sample::Sample;
-use qcsg_sample::subdivide::{SampleIndex, SurfacePoint};
+use qcsg_sample::subdivide::{Emitted, SampleIndex, SurfacePoint};
 
 /// A point of the unit sphere (the scene's only quadric) with its outward normal.
 fn on_sphere(direction: DVec3) -> SurfacePoint {
@@ -31,25 +31,32 @@ fn sample_at(point: SurfacePoint, radius: f64) -> Sample {
 
 /// Query points spread over the sphere, samples around each (some within `r`, some just
 /// beyond, some on the far side) and elsewhere; every query is answered like the brute force.
-fn check(r: f64, queries: usize, seed: u64) {
+/// With `boxed`, the samples come in boxes as the first pass makes them ([`Emitted`]): the
+/// samples around a query point in one, each other sample in its own, so that the index
+/// leaves out the boxes far from every query point, and must not leave out a near one.
+fn check(r: f64, queries: usize, seed: u64, boxed: bool) {
     let dnf = sphere_scene();
     let mut rng = Rng::new(seed);
     let centres: Vec<SurfacePoint> = (0..queries).map(|_| on_sphere(rng.direction())).collect();
-    let mut samples = Vec::new();
+    let mut samples = Emitted::default();
     for c in &centres {
         for _ in 0..2 {
             let offset = rng.direction() * rng.range(0.0, 2.0 * r);
             let radius = rng.range(0.2, 1.0) * r;
             samples.push(sample_at(on_sphere(c.position + offset), radius));
         }
+        samples.box_new();
         // The antipode: near in no sense, and facing away.
         samples.push(sample_at(on_sphere(-c.position), r));
+        samples.box_new();
     }
     for _ in 0..queries {
         samples.push(sample_at(on_sphere(rng.direction()), r));
+        samples.box_new();
     }
     let keys: Vec<(u32, DVec3)> = centres.iter().map(|c| (0, c.position)).collect();
-    let index = SampleIndex::new(&dnf, &samples, &keys, r);
+    let boxes = if boxed { &samples.boxes[..] } else { &[] };
+    let index = SampleIndex::new(&dnf, (&samples, boxes), &keys, r);
     let mut covered = 0;
     for c in &centres {
         // Every query of the second pass lies within `r / 2` of its key point.
@@ -88,15 +95,17 @@ fn check(r: f64, queries: usize, seed: u64) {
 fn index_matches_brute_force() {
     // Few query points, so that most cubes of the map stay unwanted.
     for seed in 0..40 {
-        check(0.05, 50, seed);
+        check(0.05, 50, seed, seed % 2 == 0);
     }
 }
 
 #[test]
 fn index_matches_brute_force_when_its_map_coarsens() {
     // At r = 1e-4 the query points span 10⁴ fine cubes a side: far more than one map holds.
-    check(1e-4, 400, 100);
-    check(1e-7, 200, 101);
+    for boxed in [false, true] {
+        check(1e-4, 400, 100, boxed);
+        check(1e-7, 200, 101, boxed);
+    }
 }
 
 /// The points where the line `origin + t · direction` meets `q`.
