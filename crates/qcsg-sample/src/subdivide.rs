@@ -1486,32 +1486,20 @@ impl<'a> SampleIndex<'a> {
             })
             .collect();
         drop(marked);
-        // The samples to read: the boxes that meet a wanted cube, and any outside a box.
-        let mut read: Vec<Range<usize>> = Vec::new();
-        let mut add = |range: Range<usize>| match read.last_mut() {
-            Some(last) if last.end == range.start => last.end = range.end,
-            _ if range.is_empty() => {}
-            _ => read.push(range),
-        };
-        let mut next = 0;
-        for b in sample_boxes {
-            let (start, end) = (b.start as usize, b.end as usize);
-            add(next..start);
+        // The samples to read: those of the boxes that meet a wanted cube, and those after the
+        // boxes (the boxes hold `samples[..boxed]`, one after the other).
+        let boxed = sample_boxes.last().map_or(0, |b| b.end as usize);
+        let near = |b: &&SampleBox| {
             let wanted = wanted.get(b.quadric as usize).and_then(Option::as_ref);
             let (low, high) = (index.key(b.low), index.key(b.high));
-            if wanted.is_some_and(|(fine, coarse)| coarse.meets(low, high) && fine.meets(low, high))
-            {
-                add(start..end);
-            }
-            next = end;
-        }
-        add(next..samples.len());
-        let hits: Vec<(u128, u32)> = read
-            .into_par_iter()
+            wanted.is_some_and(|(fine, coarse)| coarse.meets(low, high) && fine.meets(low, high))
+        };
+        let hits: Vec<(u128, u32)> = (sample_boxes.par_iter())
+            .filter(near)
+            .map(|b| b.start as usize..b.end as usize)
+            .chain(rayon::iter::once(boxed..samples.len()))
             .flat_map_iter(|range| {
-                let wanted = &wanted;
-                let index = &index;
-                range.filter_map(move |i| {
+                range.filter_map(|i| {
                     let sample = &samples[i];
                     let (wanted, _) = wanted.get(sample.quadric as usize)?.as_ref()?;
                     let cube = index.key(sample.position);
@@ -1525,9 +1513,12 @@ impl<'a> SampleIndex<'a> {
         // of the hits, which is ascending: sorting the hits by cube and index took longer, and
         // a vector per cube costs an allocation each.
         let buckets = &mut index.buckets;
-        buckets.reserve(hits.len() / 4);
-        for &(key, _) in &hits {
-            buckets.entry(key).or_insert((0, 0)).1 += 1;
+        buckets.reserve(hits.len() / 2);
+        // Consecutive hits mostly share their cube (a box's samples lie close together): one
+        // look-up per run of them.
+        let runs = || hits.chunk_by(|a, b| a.0 == b.0);
+        for run in runs() {
+            buckets.entry(run[0].0).or_insert((0, 0)).1 += run.len() as u32;
         }
         let mut start = 0;
         for range in buckets.values_mut() {
@@ -1536,10 +1527,14 @@ impl<'a> SampleIndex<'a> {
             start += count;
         }
         index.members = vec![0; hits.len()];
-        for &(key, i) in &hits {
-            if let Some(range) = buckets.get_mut(&key) {
-                index.members[range.1 as usize] = i;
-                range.1 += 1;
+        for run in runs() {
+            if let Some(range) = buckets.get_mut(&run[0].0) {
+                let end = range.1 as usize + run.len();
+                let slots = &mut index.members[range.1 as usize..end];
+                for (slot, &(_, i)) in slots.iter_mut().zip(run) {
+                    *slot = i;
+                }
+                range.1 = end as u32;
             }
         }
         index
