@@ -96,21 +96,22 @@ pub mod apex;
 pub mod budget;
 pub mod clip;
 pub mod csg_distance;
+mod in_order;
 pub mod regions;
 pub mod subdivide;
 
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, QuadricKind};
 use rayon::prelude::*;
-use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::sync::{Mutex, PoisonError};
 
 use crate::budget::{Budget, Crossed};
 pub use crate::budget::{DEFAULT_MAX_QUERIES, DEFAULT_MAX_SAMPLES, SampleLimits};
 pub use crate::clip::ClipLists;
 use crate::csg_distance::NearDistance;
 use crate::csg_distance::{CsgDistance, Shapes};
+use crate::in_order::{InOrder, lock};
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
     Deferred, Emitted, GivenUp, Probed, REGION_BLOCK, RegionContext, SampleIndex, SubdivisionStats,
@@ -524,21 +525,16 @@ fn fold_runs(count: usize) -> (usize, usize) {
 /// The first pass's output of a run of regions.
 type FirstPass = (Emitted, Vec<Deferred>, SubdivisionStats);
 
-/// The first pass's runs, appended in run order by whichever thread finishes a run whose
-/// predecessors are all in: the thread that holds the output appends every run that is ready,
-/// and one that finds the output busy leaves its run to that thread. A run's buffers go back to
-/// a pool once appended, so the next runs write to memory that is already mapped: page faults
-/// were most of the cost of concatenating the runs at the end, and more threads now fault in
-/// about as much memory as one.
-#[derive(Default)]
-struct InOrder {
-    /// The next run to append, and the finished runs waiting for their predecessors.
-    pending: Mutex<(usize, BTreeMap<usize, FirstPass>)>,
-    output: Mutex<FirstPass>,
+/// The first pass's runs, appended in run order as soon as their predecessors are
+/// ([`InOrder`]). A run's buffers go back to a pool once appended, so the next runs write to
+/// memory that is already mapped: page faults were most of the cost of concatenating the runs
+/// at the end, and more threads now fault in about as much memory as one.
+struct FirstPassRuns {
+    runs: InOrder<FirstPass, FirstPass>,
     spare: Mutex<Vec<FirstPass>>,
 }
 
-impl InOrder {
+impl FirstPassRuns {
     /// Empty buffers for a run.
     fn buffer(&self) -> FirstPass {
         lock(&self.spare).pop().unwrap_or_default()
@@ -546,47 +542,22 @@ impl InOrder {
 
     /// Hands in run `run`'s output.
     fn finish(&self, run: usize, output: FirstPass) {
-        lock(&self.pending).1.insert(run, output);
-        loop {
-            let Ok(mut all) = self.output.try_lock() else {
-                // The holder looks for ready runs again after letting go.
-                return;
-            };
-            while let Some(mut run) = {
-                let mut pending = lock(&self.pending);
-                let (next, waiting) = &mut *pending;
-                let ready = waiting.remove(next);
-                *next += usize::from(ready.is_some());
-                ready
-            } {
-                append(&mut all, &mut run);
-                lock(&self.spare).push(run);
-            }
-            drop(all);
-            let pending = lock(&self.pending);
-            if !pending.1.contains_key(&pending.0) {
-                return;
-            }
-        }
+        self.runs.finish(run, output, |all, mut run| {
+            append(all, &mut run);
+            lock(&self.spare).push(run);
+        });
     }
 
     /// The whole output, once every run is in.
     fn into_output(self) -> (FirstPass, SpareBuffers) {
-        let mut all = self
-            .output
-            .into_inner()
-            .unwrap_or_else(PoisonError::into_inner);
-        // Nothing is left waiting when every run has been handed in; appending what is keeps
-        // the output whole regardless.
-        let (_, waiting) = self
-            .pending
-            .into_inner()
-            .unwrap_or_else(PoisonError::into_inner);
+        let (mut all, waiting) = self.runs.into_parts();
         let mut spare = self
             .spare
             .into_inner()
             .unwrap_or_else(PoisonError::into_inner);
-        for (_, mut run) in waiting {
+        // Nothing is left waiting when every run has been handed in; appending what is keeps
+        // the output whole regardless.
+        for mut run in waiting {
             append(&mut all, &mut run);
             spare.push(run);
         }
@@ -612,11 +583,6 @@ fn append(all: &mut FirstPass, more: &mut FirstPass) {
     all.0.append(&mut more.0);
     move_items(&mut all.1, &mut more.1);
     all.2.add(&std::mem::take(&mut more.2));
-}
-
-/// The mutex's value, also after a panic elsewhere (the runs' data stay consistent).
-fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
-    mutex.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// [`sample`], calling `progress` when the work is known and as it gets done (from any thread;
@@ -750,7 +716,7 @@ fn sample_on_pool(
     };
     // First pass: every region on its own. Threads take runs of consecutive regions in order
     // (`fold_runs`, rounded to whole blocks of `REGION_BLOCK`), and each run's output is
-    // appended to the whole as soon as its predecessors' are ([`InOrder`]): the output is the
+    // appended to the whole as soon as its predecessors' are ([`FirstPassRuns`]): the output is the
     // same for any thread count, one thread copies nothing, and on more the copying overlaps
     // the sampling.
     let (_, longest) = fold_runs(regions.len());
@@ -758,7 +724,10 @@ fn sample_on_pool(
         .clamp(1, regions.len().max(1))
         .next_multiple_of(REGION_BLOCK);
     let runs = regions.len().div_ceil(run_length);
-    let first_pass = InOrder::default();
+    let first_pass = FirstPassRuns {
+        runs: InOrder::new(FirstPass::default()),
+        spare: Mutex::default(),
+    };
     // The first run to ask for buffers gets the memory given (mostly run 0: appended first,
     // its buffer becomes the output, and the other runs' samples are copied in after its own).
     {
