@@ -294,7 +294,7 @@ pub struct SampleBox {
 
 /// Most samples of one box: a long row of a fill that passes near a deferred rectangle is read
 /// only where it does.
-const BOX_SAMPLES: usize = 32;
+pub const BOX_SAMPLES: usize = 32;
 
 impl Emitted {
     /// Boxes the samples emitted since the last call, in runs of one quadric of at most
