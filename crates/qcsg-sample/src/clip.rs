@@ -18,10 +18,10 @@ use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::DVec3;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+use std::sync::Mutex;
 
 use crate::Sample;
 use crate::in_order::{InOrder, lock};
-use std::sync::Mutex;
 
 /// Deduplicated clip lists: list `k` is `indices[offsets[k]..offsets[k + 1]]`, indices into
 /// [`Dnf::quadrics`], ascending.

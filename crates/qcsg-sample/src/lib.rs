@@ -716,9 +716,9 @@ fn sample_on_pool(
     };
     // First pass: every region on its own. Threads take runs of consecutive regions in order
     // (`fold_runs`, rounded to whole blocks of `REGION_BLOCK`), and each run's output is
-    // appended to the whole as soon as its predecessors' are ([`FirstPassRuns`]): the output is the
-    // same for any thread count, one thread copies nothing, and on more the copying overlaps
-    // the sampling.
+    // appended to the whole as soon as its predecessors' are ([`FirstPassRuns`]): the output is
+    // the same for any thread count, one thread copies nothing, and on more the copying
+    // overlaps the sampling.
     let (_, longest) = fold_runs(regions.len());
     let run_length = longest
         .clamp(1, regions.len().max(1))
@@ -796,13 +796,15 @@ fn sample_on_pool(
         )
         .collect::<Vec<SecondPass>>()
         .into_iter()
-        .reduce(|(mut out, mut given_up, mut grown, mut counters), more| {
-            out.extend_from_slice(&more.0);
-            given_up.extend(more.1);
-            grown.extend(more.2);
-            counters.add(&more.3);
-            (out, given_up, grown, counters)
-        })
+        .reduce(
+            |(mut out, mut given_up, mut grown, mut counters), mut more| {
+                out.append(&mut more.0);
+                given_up.extend(more.1);
+                grown.extend(more.2);
+                counters.add(&more.3);
+                (out, given_up, grown, counters)
+            },
+        )
         .unwrap_or_default();
     drop(index);
     let mut samples = first.samples;

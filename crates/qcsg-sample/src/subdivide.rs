@@ -1382,10 +1382,8 @@ impl WantedCubes {
             for y in y0..=y1 {
                 // The bits of the row, the range being inside the map's box.
                 let row = ((z - self.low[2]) * sy + y - self.low[1]) * sx - self.low[0];
-                for bit in (row + x0) as usize..=(row + x1) as usize {
-                    if self.bits[bit / 64] & (1 << (bit % 64)) != 0 {
-                        return true;
-                    }
+                if ((row + x0) as usize..=(row + x1) as usize).any(|bit| self.is_set(bit)) {
+                    return true;
                 }
             }
         }
@@ -1394,8 +1392,12 @@ impl WantedCubes {
 
     /// Whether coarse cube `cube` is wanted.
     fn contains_cube(&self, cube: [i64; 3]) -> bool {
-        self.bit(cube)
-            .is_some_and(|bit| self.bits[bit / 64] & (1 << (bit % 64)) != 0)
+        self.bit(cube).is_some_and(|bit| self.is_set(bit))
+    }
+
+    /// Whether bit `bit` of the map is set.
+    fn is_set(&self, bit: usize) -> bool {
+        self.bits[bit / 64] & (1 << (bit % 64)) != 0
     }
 }
 
