@@ -301,6 +301,43 @@ fn first_touch_microseconds() -> f64 {
     per_page[per_page.len() / 2]
 }
 
+/// How long the cores of [`wake_up_microseconds`] sit idle before work is offered.
+const IDLE_GAP: Duration = Duration::from_millis(20);
+
+/// Microseconds from offering work to the second thread of a 2-thread pool until that thread
+/// starts it, median of 15: right after the pool last worked, and after it sat idle for
+/// [`IDLE_GAP`] (as the 2-thread pool does while the 1-thread runs of a row take their turn).
+/// Capped at the 5 ms the first thread works meanwhile, after which it takes the work itself.
+/// A thread without work parks; on a virtual machine its core halts, and how soon it comes
+/// back is up to the host.
+fn wake_up_microseconds() -> (f64, f64) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .expect("thread pool");
+    let busy = |length: Duration| {
+        let t = Instant::now();
+        while t.elapsed() < length {
+            std::hint::spin_loop();
+        }
+    };
+    let latency = |idle: Duration| {
+        let times = (0..15)
+            .map(|_| {
+                std::thread::sleep(idle);
+                pool.install(|| {
+                    let offered = Instant::now();
+                    let work = || busy(Duration::from_millis(5));
+                    let (_, started) = rayon::join(work, || offered.elapsed());
+                    started.as_secs_f64() * 1e6
+                })
+            })
+            .collect();
+        median(times)
+    };
+    (latency(Duration::ZERO), latency(IDLE_GAP))
+}
+
 fn load_average() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .map(|l| l.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
@@ -606,7 +643,11 @@ fn main() {
     let started = Instant::now();
     let load_before = load_average();
     let qx_before = qx_nanoseconds();
-    let machine = (memory_scaling(), first_touch_microseconds());
+    let machine = (
+        memory_scaling(),
+        first_touch_microseconds(),
+        wake_up_microseconds(),
+    );
     let grids: Vec<GridRow> = FAMILIES
         .iter()
         .flat_map(|&family| GRIDS.iter().map(move |&n| (family, n)))
@@ -671,7 +712,7 @@ fn report(
     grids: &[GridRow],
     (qx_before, qx_after, ratio): (f64, f64, f64),
     (load_before, load_after): (&str, &str),
-    (memory, first_touch): (f64, f64),
+    (memory, first_touch, (wake_busy, wake_idle)): (f64, f64, (f64, f64)),
     elapsed: Duration,
 ) -> String {
     let mut out = String::new();
@@ -858,6 +899,13 @@ fn report(
            to the process costs more: the operating system took **{first_touch:.2} µs** to map \
            each 4 KiB page at its first touch ({per_sample:.0} ns per 72-byte sample, what the \
            *new memory* column pays for every sample);\n\
+         - **waking a thread**: a thread without work parks, and its core halts. The second \
+           thread of a 2-thread pool started work offered to it {wake_busy:.0} µs after the \
+           offer when the pool had just worked, and {wake_idle:.0} µs after it when the pool \
+           had sat idle for {idle_ms} ms (as the 2-thread pool does while a row's 1-thread runs \
+           take their turn; medians of 15, capped at 5000). The two copies never wait for a \
+           core to come back, so the ceiling leaves this out: it is what the rows of a few \
+           milliseconds (the large radii) lose most of their speed-up to;\n\
          - **steps on one thread**: numbering the clip lists and grouping the second pass's \
            index (the first pass's output is appended in order while the other thread samples);\n\
          - the other work on this shared machine (see the load average);\n\
@@ -872,6 +920,7 @@ fn report(
         100.0 * total_one / total_two / ceiling,
         mib = PROBE_BYTES >> 20,
         per_sample = first_touch * 1e3 * 72.0 / 4096.0,
+        idle_ms = IDLE_GAP.as_millis(),
         reached = if total_one / total_two >= 1.8 {
             "reached in this run"
         } else {
