@@ -807,7 +807,7 @@ fn sample_on_pool(
         )
         .unwrap_or_default();
     drop(index);
-    let mut samples = first.samples;
+    let (mut samples, boxes) = (first.samples, first.boxes);
     for (i, needed) in grown {
         grow_radius(&mut samples, i, needed);
     }
@@ -815,7 +815,13 @@ fn sample_on_pool(
     stats.subdivision.add(&counters);
     crossed(&budget)?;
     // Last: what the second pass gave up, against every sample.
-    let uncovered = settle_given_up(dnf, &given_up, &mut samples, radius, &mut stats.subdivision);
+    let uncovered = settle_given_up(
+        dnf,
+        &given_up,
+        (&mut samples, &boxes),
+        radius,
+        &mut stats.subdivision,
+    );
     let first_probed = samples.len();
     let mut allowance = PROBE_QUERIES + stats.subdivision.distance_queries / 16;
     // What stays unresolved is settled at its cone's apex if it lies there: per patch, the
@@ -844,7 +850,7 @@ fn sample_on_pool(
         .iter_mut()
         .map(|(_, p)| std::mem::take(p))
         .collect();
-    let covered = settle_parts(dnf, &parts, &mut samples, radius);
+    let covered = settle_parts(dnf, &parts, (&mut samples, &boxes), radius);
     for ((leaf, _), covered) in unsettled.into_iter().zip(covered) {
         let patch = regions.get(leaf.region).map(|(patch, _, _)| *patch);
         match (covered, patch) {

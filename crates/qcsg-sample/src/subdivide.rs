@@ -862,17 +862,18 @@ pub struct GivenUp {
     pub rect: Rect,
 }
 
-/// Settles given-up rectangles against all samples: covered ones are counted in
+/// Settles given-up rectangles against all samples (`boxes` around runs of them, as
+/// [`SampleIndex::new`] takes them): covered ones are counted in
 /// [`SubdivisionStats::unresolved_covered`] (the covering sample's radius grown as needed, to
 /// at most `radius`); the rest are returned, for [`probe_given_up`].
 pub fn settle_given_up(
     dnf: &Dnf,
     given_up: &[GivenUp],
-    samples: &mut [Sample],
+    (samples, boxes): (&mut [Sample], &[SampleBox]),
     radius: f64,
     stats: &mut SubdivisionStats,
 ) -> Vec<GivenUp> {
-    let covered = cover_given_up(dnf, given_up, samples, radius);
+    let covered = cover_given_up(dnf, given_up, (samples, boxes), radius);
     let mut uncovered = Vec::new();
     for (g, covered) in given_up.iter().zip(covered) {
         if covered {
@@ -891,11 +892,11 @@ pub fn settle_given_up(
 pub fn settle_parts(
     dnf: &Dnf,
     parts: &[Vec<GivenUp>],
-    samples: &mut [Sample],
+    (samples, boxes): (&mut [Sample], &[SampleBox]),
     radius: f64,
 ) -> Vec<bool> {
     let all: Vec<GivenUp> = parts.iter().flatten().copied().collect();
-    let covered = cover_given_up(dnf, &all, samples, radius);
+    let covered = cover_given_up(dnf, &all, (samples, boxes), radius);
     let mut start = 0;
     parts
         .iter()
@@ -912,14 +913,14 @@ pub fn settle_parts(
 fn cover_given_up(
     dnf: &Dnf,
     given_up: &[GivenUp],
-    samples: &mut [Sample],
+    (samples, boxes): (&mut [Sample], &[SampleBox]),
     radius: f64,
 ) -> Vec<bool> {
     let centres: Vec<(u32, DVec3)> = given_up
         .iter()
         .map(|g| (g.quadric, g.point.position))
         .collect();
-    let index = SampleIndex::new(dnf, (samples, &[]), &centres, radius);
+    let index = SampleIndex::new(dnf, (samples, boxes), &centres, radius);
     let covers: Vec<Option<(u32, f64)>> = given_up
         .iter()
         .map(|g| index.cover((g.quadric, g.term), g.point, g.extent))
