@@ -304,10 +304,15 @@ fn first_touch_microseconds() -> f64 {
 /// How long the cores of [`wake_up_microseconds`] sit idle before work is offered.
 const IDLE_GAP: Duration = Duration::from_millis(20);
 
+/// How long the first thread of [`wake_up_microseconds`] works while the second may take its
+/// share: the most a wake-up can measure.
+const WAKE_WORK: Duration = Duration::from_millis(5);
+
 /// Microseconds from offering work to the second thread of a 2-thread pool until that thread
 /// starts it, median of 15: right after the pool last worked, and after it sat idle for
 /// [`IDLE_GAP`] (as the 2-thread pool does while the 1-thread runs of a row take their turn).
-/// Capped at the 5 ms the first thread works meanwhile, after which it takes the work itself.
+/// Capped at [`WAKE_WORK`], the first thread's work meanwhile, after which it takes the offered
+/// work itself.
 /// A thread without work parks; on a virtual machine its core halts, and how soon it comes
 /// back is up to the host.
 fn wake_up_microseconds() -> (f64, f64) {
@@ -315,9 +320,9 @@ fn wake_up_microseconds() -> (f64, f64) {
         .num_threads(2)
         .build()
         .expect("thread pool");
-    let busy = |length: Duration| {
+    let work = || {
         let t = Instant::now();
-        while t.elapsed() < length {
+        while t.elapsed() < WAKE_WORK {
             std::hint::spin_loop();
         }
     };
@@ -327,7 +332,6 @@ fn wake_up_microseconds() -> (f64, f64) {
                 std::thread::sleep(idle);
                 pool.install(|| {
                     let offered = Instant::now();
-                    let work = || busy(Duration::from_millis(5));
                     let (_, started) = rayon::join(work, || offered.elapsed());
                     started.as_secs_f64() * 1e6
                 })
@@ -903,7 +907,7 @@ fn report(
            thread of a 2-thread pool started work offered to it {wake_busy:.0} µs after the \
            offer when the pool had just worked, and {wake_idle:.0} µs after it when the pool \
            had sat idle for {idle_ms} ms (as the 2-thread pool does while a row's 1-thread runs \
-           take their turn; medians of 15, capped at 5000). The two copies never wait for a \
+           take their turn; medians of 15, capped at {wake_cap}). The two copies never wait for a \
            core to come back, so the ceiling leaves this out: it is what the rows of a few \
            milliseconds (the large radii) lose most of their speed-up to;\n\
          - **steps on one thread**: numbering the clip lists and grouping the second pass's \
@@ -921,6 +925,7 @@ fn report(
         mib = PROBE_BYTES >> 20,
         per_sample = first_touch * 1e3 * 72.0 / 4096.0,
         idle_ms = IDLE_GAP.as_millis(),
+        wake_cap = WAKE_WORK.as_micros(),
         reached = if total_one / total_two >= 1.8 {
             "reached in this run"
         } else {
