@@ -95,10 +95,10 @@ pub fn print_diagnostics(
     }
 }
 
-/// The worker threads of `--threads` (default: one per core).
+/// The worker threads of `--threads` (default: one per core, each kept to its core:
+/// [`qcsg_sample::threads`]).
 pub fn thread_pool(threads: Option<std::num::NonZeroUsize>) -> Result<rayon::ThreadPool, String> {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.map_or(0, |n| n.get()))
+    qcsg_sample::threads::pool_builder(threads.map_or(0, |n| n.get()))
         .build()
         .map_err(|error| format!("cannot start worker threads: {error}"))
 }

@@ -309,24 +309,19 @@ const IDLE_GAP: Duration = Duration::from_millis(20);
 const WAKE_WORK: Duration = Duration::from_millis(5);
 
 /// Microseconds from offering work to the second thread of a 2-thread pool until that thread
-/// starts it, median of 15: right after the pool last worked, and after it sat idle for
-/// [`IDLE_GAP`] (as the 2-thread pool does while the 1-thread runs of a row take their turn).
-/// Capped at [`WAKE_WORK`], the first thread's work meanwhile, after which it takes the offered
-/// work itself.
-/// A thread without work parks; on a virtual machine its core halts, and how soon it comes
-/// back is up to the host.
-fn wake_up_microseconds() -> (f64, f64) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .expect("thread pool");
+/// starts it, median of 15: for the benchmark's pool (threads kept to a core each,
+/// [`qcsg_sample::threads`]) right after it last worked and after it sat idle for [`IDLE_GAP`]
+/// (as the 2-thread pool does while the 1-thread runs of a row take their turn), and for a
+/// plain rayon pool after the same idle time. Capped at [`WAKE_WORK`], the first thread's work
+/// meanwhile, after which it takes the offered work itself.
+fn wake_up_microseconds() -> WakeUp {
     let work = || {
         let t = Instant::now();
         while t.elapsed() < WAKE_WORK {
             std::hint::spin_loop();
         }
     };
-    let latency = |idle: Duration| {
+    let latency = |pool: &rayon::ThreadPool, idle: Duration| {
         let times = (0..15)
             .map(|_| {
                 std::thread::sleep(idle);
@@ -339,7 +334,21 @@ fn wake_up_microseconds() -> (f64, f64) {
             .collect();
         median(times)
     };
-    (latency(Duration::ZERO), latency(IDLE_GAP))
+    let kept = qcsg_sample::threads::pool_builder(2).build();
+    let plain = rayon::ThreadPoolBuilder::new().num_threads(2).build();
+    let (kept, plain) = (kept.expect("thread pool"), plain.expect("thread pool"));
+    WakeUp {
+        busy: latency(&kept, Duration::ZERO),
+        idle: latency(&kept, IDLE_GAP),
+        plain_idle: latency(&plain, IDLE_GAP),
+    }
+}
+
+/// [`wake_up_microseconds`].
+struct WakeUp {
+    busy: f64,
+    idle: f64,
+    plain_idle: f64,
 }
 
 fn load_average() -> String {
@@ -592,8 +601,7 @@ fn median_pair(
 
 fn measure(dnf: &Dnf, r: f64) -> Row {
     let pool = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
+        qcsg_sample::threads::pool_builder(threads)
             .build()
             .expect("thread pool")
     };
@@ -716,7 +724,7 @@ fn report(
     grids: &[GridRow],
     (qx_before, qx_after, ratio): (f64, f64, f64),
     (load_before, load_after): (&str, &str),
-    (memory, first_touch, (wake_busy, wake_idle)): (f64, f64, (f64, f64)),
+    (memory, first_touch, wake): (f64, f64, WakeUp),
     elapsed: Duration,
 ) -> String {
     let mut out = String::new();
@@ -731,7 +739,9 @@ fn report(
          built there). Times are medians of repeated runs (at least 3) in one process; \
          the 1- and 2-thread runs of a row take turns, so that a change in the load of this \
          shared machine touches both alike, and their ratio (the speed-up) is from one \
-         measurement. Each run writes into the previous run's output \
+         measurement. The pools are built as `qcsg` builds its own \
+         (`qcsg_sample::threads::pool_builder`): a pool of as many threads as cores keeps each \
+         thread to a core of its own. Each run writes into the previous run's output \
          (`qcsg_sample::resample`, as a preview that samples again on every edit), but for the \
          column *new memory*, where each run allocates its output anew (`sample`, as one \
          `qcsg sample` command does) and the operating system maps each of its pages at the \
@@ -903,13 +913,15 @@ fn report(
            to the process costs more: the operating system took **{first_touch:.2} µs** to map \
            each 4 KiB page at its first touch ({per_sample:.0} ns per 72-byte sample, what the \
            *new memory* column pays for every sample);\n\
-         - **waking a thread**: a thread without work parks, and its core halts. The second \
-           thread of a 2-thread pool started work offered to it {wake_busy:.0} µs after the \
-           offer when the pool had just worked, and {wake_idle:.0} µs after it when the pool \
-           had sat idle for {idle_ms} ms (as the 2-thread pool does while a row's 1-thread runs \
-           take their turn; medians of 15, capped at {wake_cap}). The two copies never wait for a \
-           core to come back, so the ceiling leaves this out: it is what the rows of a few \
-           milliseconds (the large radii) lose most of their speed-up to;\n\
+         - **waking a thread**: a thread without work parks. The second thread of the \
+           2-thread pool started work offered to it {wake_busy:.0} µs after the offer when the \
+           pool had just worked, and {wake_idle:.0} µs after it when the pool had sat idle for \
+           {idle_ms} ms (as it does while a row's 1-thread runs take their turn; medians of 15, \
+           capped at {wake_cap}). That pool keeps each thread to a core of its own \
+           (`qcsg_sample::threads`, as `qcsg` does); in a plain rayon pool, where the kernel \
+           places a woken thread, it was **{plain_idle:.0} µs** after the same idle time: on a \
+           virtual machine the kernel may queue the woken thread on the core of the thread \
+           that woke it, behind that thread's work, until it moves it to the idle core;\n\
          - **steps on one thread**: numbering the clip lists and grouping the second pass's \
            index (the first pass's output is appended in order while the other thread samples);\n\
          - the other work on this shared machine (see the load average);\n\
@@ -924,6 +936,9 @@ fn report(
         100.0 * total_one / total_two / ceiling,
         mib = PROBE_BYTES >> 20,
         per_sample = first_touch * 1e3 * 72.0 / 4096.0,
+        wake_busy = wake.busy,
+        wake_idle = wake.idle,
+        plain_idle = wake.plain_idle,
         idle_ms = IDLE_GAP.as_millis(),
         wake_cap = WAKE_WORK.as_micros(),
         reached = if total_one / total_two >= 1.8 {

@@ -10,7 +10,8 @@
 //! are sampled in parallel with rayon, large rectangles split between threads ([`subdivide`],
 //! "Threads"), then the small rectangles the first pass left unproven ([`subdivide`], "Two
 //! passes"); the output is the concatenation in region order, then in deferred order, so it is
-//! byte-identical for any thread count.
+//! byte-identical for any thread count. [`threads::pool_builder`] builds a pool whose threads
+//! keep to a core each, which a virtual machine's scheduler otherwise stacks on one core.
 //!
 //! Decisions where the paper leaves room, each documented and tested in its module:
 //! - basic regions are axis-aligned rectangles found by an exact refinement of eqs. 15-16 with
@@ -99,6 +100,7 @@ pub mod csg_distance;
 mod in_order;
 pub mod regions;
 pub mod subdivide;
+pub mod threads;
 
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, QuadricKind};
