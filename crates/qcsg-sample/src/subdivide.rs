@@ -1433,10 +1433,69 @@ pub struct SampleIndex<'a> {
     anchor: DVec3,
     /// Fine cubes per unit length, `1 / 2r`.
     per_length: f64,
+    /// The fine cubes' samples in shards ([`shard`]), one per thread, each grouped on a thread
+    /// of its own.
+    shards: Vec<IndexShard>,
+}
+
+/// The fine cubes of one shard of a [`SampleIndex`] with their samples.
+struct IndexShard {
     /// Each fine cube's samples ([`bucket_key`]): a range of `members`.
     buckets: FxHashMap<u128, (u32, u32)>,
     /// Sample indices, grouped by fine cube, ascending within each.
     members: Vec<u32>,
+}
+
+impl IndexShard {
+    /// The samples of the cubes among `hits` (cube and sample, in ascending sample order)
+    /// that `shard` of `count` holds, in two passes (count, then place), each cube's samples
+    /// in the order of the hits: sorting the hits by cube and index took longer, and a vector
+    /// per cube costs an allocation each.
+    fn new(hits: &[(u128, u32)], (shard_index, count): (usize, usize)) -> Self {
+        let mut buckets = FxHashMap::default();
+        buckets.reserve(hits.len() / (2 * count));
+        // Consecutive hits mostly share their cube (a box's samples lie close together): one
+        // look-up per run of them.
+        let runs = || {
+            (hits.chunk_by(|a, b| a.0 == b.0)).filter(|run| shard(run[0].0, count) == shard_index)
+        };
+        let mut total = 0;
+        for run in runs() {
+            buckets.entry(run[0].0).or_insert((0, 0)).1 += run.len() as u32;
+            total += run.len();
+        }
+        let mut start = 0;
+        for range in buckets.values_mut() {
+            let in_cube = range.1;
+            *range = (start, start);
+            start += in_cube;
+        }
+        let mut members = vec![0; total];
+        for run in runs() {
+            if let Some(range) = buckets.get_mut(&run[0].0) {
+                let end = range.1 as usize + run.len();
+                let slots = &mut members[range.1 as usize..end];
+                for (slot, &(_, i)) in slots.iter_mut().zip(run) {
+                    *slot = i;
+                }
+                range.1 = end as u32;
+            }
+        }
+        Self { buckets, members }
+    }
+
+    /// The samples of cube `key`, if it has any.
+    fn get(&self, key: u128) -> Option<&[u32]> {
+        let &(start, end) = self.buckets.get(&key)?;
+        self.members.get(start as usize..end as usize)
+    }
+}
+
+/// The shard of `count` that holds cube `key` ([`bucket_key`]): by the sum of its coordinates,
+/// so that neighbouring cubes alternate between shards.
+fn shard(key: u128, count: usize) -> usize {
+    let [x, y, z] = [96, 64, 32].map(|bits| (key >> bits) as u32);
+    x.wrapping_add(y).wrapping_add(z) as usize % count
 }
 
 impl<'a> SampleIndex<'a> {
@@ -1455,8 +1514,7 @@ impl<'a> SampleIndex<'a> {
             radius,
             anchor: centres.first().map_or(DVec3::ZERO, |c| c.1),
             per_length: 0.5 / radius,
-            buckets: FxHashMap::default(),
-            members: Vec::new(),
+            shards: Vec::new(),
         };
         if centres.is_empty() {
             return index;
@@ -1512,34 +1570,13 @@ impl<'a> SampleIndex<'a> {
                 })
             })
             .collect();
-        // Grouped by cube in two passes (count, then place), each cube's samples in the order
-        // of the hits, which is ascending: sorting the hits by cube and index took longer, and
-        // a vector per cube costs an allocation each.
-        let buckets = &mut index.buckets;
-        buckets.reserve(hits.len() / 2);
-        // Consecutive hits mostly share their cube (a box's samples lie close together): one
-        // look-up per run of them.
-        let runs = || hits.chunk_by(|a, b| a.0 == b.0);
-        for run in runs() {
-            buckets.entry(run[0].0).or_insert((0, 0)).1 += run.len() as u32;
-        }
-        let mut start = 0;
-        for range in buckets.values_mut() {
-            let count = range.1;
-            *range = (start, start);
-            start += count;
-        }
-        index.members = vec![0; hits.len()];
-        for run in runs() {
-            if let Some(range) = buckets.get_mut(&run[0].0) {
-                let end = range.1 as usize + run.len();
-                let slots = &mut index.members[range.1 as usize..end];
-                for (slot, &(_, i)) in slots.iter_mut().zip(run) {
-                    *slot = i;
-                }
-                range.1 = end as u32;
-            }
-        }
+        // Grouped by cube in shards, one per thread: grouping them all on one thread took
+        // longer than reading them on two.
+        let count = rayon::current_num_threads().max(1);
+        index.shards = (0..count)
+            .into_par_iter()
+            .map(|shard_index| IndexShard::new(&hits, (shard_index, count)))
+            .collect();
         index
     }
 
@@ -1566,24 +1603,24 @@ impl<'a> SampleIndex<'a> {
             self.key(point.position - reach),
             self.key(point.position + reach),
         );
-        let mut ranges = [(0, 0); 27];
+        let count = self.shards.len();
+        let mut cubes: [&[u32]; 27] = [&[]; 27];
         let mut found = 0;
         for z in low[2]..=high[2] {
             for y in low[1]..=high[1] {
                 for x in low[0]..=high[0] {
-                    if let (Some(&range), Some(slot)) = (
-                        self.buckets.get(&bucket_key([x, y, z], quadric)),
-                        ranges.get_mut(found),
-                    ) {
-                        *slot = range;
+                    let key = bucket_key([x, y, z], quadric);
+                    let members = self.shards.get(shard(key, count.max(1)));
+                    if let (Some(members), Some(slot)) =
+                        (members.and_then(|s| s.get(key)), cubes.get_mut(found))
+                    {
+                        *slot = members;
                         found += 1;
                     }
                 }
             }
         }
-        let candidates = ranges[..found]
-            .iter()
-            .flat_map(|&(start, end)| &self.members[start as usize..end as usize]);
+        let candidates = cubes[..found].iter().flat_map(|members| members.iter());
         let samples = candidates.map(|&i| (i, &self.samples[i as usize]));
         cover_by(samples, point, extent, self.radius, |s| {
             s.term == term || inside_term(self.dnf, s, term, point.position, extent)
