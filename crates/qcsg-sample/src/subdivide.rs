@@ -1596,9 +1596,15 @@ impl<'a> SampleIndex<'a> {
         point: SurfacePoint,
         extent: f64,
     ) -> Option<(u32, f64)> {
-        // A sample within `r` of the point lies in a cube that the ball of radius `r` around
-        // it touches: with cubes of side `2r`, at most two along each axis.
-        let reach = DVec3::splat(self.radius);
+        // Only a sample within `r − extent` of the point can cover the ball (no radius exceeds
+        // `r`), and it lies in a cube that the ball of that radius around the point touches:
+        // with cubes of side `2r`, at most two along each axis, and one along an axis more
+        // often the larger `extent` is.
+        let reach = self.radius - extent;
+        if reach.is_nan() || reach < 0.0 {
+            return None;
+        }
+        let reach = DVec3::splat(reach);
         let (low, high) = (
             self.key(point.position - reach),
             self.key(point.position + reach),
