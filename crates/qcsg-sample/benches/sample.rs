@@ -922,8 +922,8 @@ fn report(
            places a woken thread, it was **{plain_idle:.0} µs** after the same idle time: on a \
            virtual machine the kernel may queue the woken thread on the core of the thread \
            that woke it, behind that thread's work, until it moves it to the idle core;\n\
-         - **steps on one thread**: numbering the clip lists and grouping the second pass's \
-           index (the first pass's output is appended in order while the other thread samples);\n\
+         - **steps on one thread**: numbering the clip lists (while the other thread computes \
+           them) and appending the first pass's runs in order (while the other thread samples);\n\
          - the other work on this shared machine (see the load average);\n\
          - the clock: a core may run slower while the other is busy too.\n\n\
          The target of 1.8× on 2 cores is {reached}.\n",

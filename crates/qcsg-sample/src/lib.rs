@@ -228,16 +228,24 @@ pub struct Sampling {
     pub clip_lists: ClipLists,
     /// The counters.
     pub stats: SampleStats,
-    /// Buffers the run's threads wrote to before their samples were copied into `samples`,
-    /// kept for [`resample`] (on one thread there are none; on more, at most as much memory
-    /// as the samples copied, freed with the rest).
+    /// The run's working buffers, emptied, kept for [`resample`]: those the threads wrote to
+    /// before their samples were copied into `samples` (on one thread there are none; on more,
+    /// at most as much memory as the samples copied), and the boxes and deferred rectangles of
+    /// the first pass. Freed with the rest.
     spare: SpareBuffers,
 }
 
-/// Empty sample buffers with their memory, for the next run ([`resample`]). They are not part
+/// Empty buffers with their memory, for the next run ([`resample`]), which then writes to
+/// memory that is mapped already instead of growing new buffers (one thread, 0.15 % of the
+/// diagonal: three balls 20.1 -> 19.2 ms, a hollowed cube 75.5 -> 73.7 ms). They are not part
 /// of the output: copies and comparisons leave them out.
 #[derive(Default)]
-struct SpareBuffers(Vec<Vec<Sample>>);
+struct SpareBuffers {
+    /// The buffers of runs of regions that were copied into the output.
+    runs: Vec<FirstPass>,
+    /// The output's boxes and deferred rectangles (no samples: those are the output's).
+    output: FirstPass,
+}
 
 impl Clone for SpareBuffers {
     fn clone(&self) -> Self {
@@ -253,7 +261,7 @@ impl PartialEq for SpareBuffers {
 
 impl std::fmt::Debug for SpareBuffers {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{} spare buffers", self.0.len())
+        write!(f, "{} spare buffers", self.runs.len() + 1)
     }
 }
 
@@ -550,8 +558,8 @@ impl FirstPassRuns {
         });
     }
 
-    /// The whole output, once every run is in.
-    fn into_output(self) -> (FirstPass, SpareBuffers) {
+    /// The whole output, once every run is in, and the buffers of the runs copied into it.
+    fn into_output(self) -> (FirstPass, Vec<FirstPass>) {
         let (mut all, waiting) = self.runs.into_parts();
         let mut spare = self
             .spare
@@ -563,11 +571,7 @@ impl FirstPassRuns {
             append(&mut all, &mut run);
             spare.push(run);
         }
-        let buffers = spare.into_iter().map(|(emitted, _, _)| emitted.samples);
-        (
-            all,
-            SpareBuffers(buffers.filter(|b| b.capacity() > 0).collect()),
-        )
+        (all, spare)
     }
 }
 
@@ -734,10 +738,10 @@ fn sample_on_pool(
     // its buffer becomes the output, and the other runs' samples are copied in after its own).
     {
         let mut buffers = lock(&first_pass.spare);
-        let empty =
-            |samples: Vec<Sample>| (samples.into(), Vec::new(), SubdivisionStats::default());
-        buffers.extend(spare.0.into_iter().map(empty));
-        buffers.push(empty(memory));
+        buffers.extend(spare.runs);
+        let mut output = spare.output;
+        output.0.samples = memory;
+        buffers.push(output);
     }
     let next_run = AtomicUsize::new(0);
     (0..rayon::current_num_threads())
@@ -765,7 +769,7 @@ fn sample_on_pool(
                 first_pass.finish(run, (out, deferred, counters));
             }
         });
-    let ((first, deferred, counters), spare) = first_pass.into_output();
+    let ((first, mut deferred, counters), spare_runs) = first_pass.into_output();
     stats.subdivision.add(&counters);
     crossed(&budget)?;
     // Second pass: the rectangles the first left unproven, against all first-pass samples.
@@ -867,6 +871,14 @@ fn sample_on_pool(
     }
     settle_apices(dnf, (&patches, &at_apex), radius, &mut samples, &mut stats);
     let clip_lists = clip::assign(dnf, &mut samples);
+    let mut spare_output = Emitted::default();
+    spare_output.boxes = boxes;
+    spare_output.clear();
+    deferred.clear();
+    let spare = SpareBuffers {
+        runs: spare_runs,
+        output: (spare_output, deferred, SubdivisionStats::default()),
+    };
     stats.samples = samples.len() as u64;
     stats.clip_lists = clip_lists.len() as u64;
     stats.clip_indices = clip_lists.indices.len() as u64;
