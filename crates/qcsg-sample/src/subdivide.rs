@@ -1448,9 +1448,9 @@ struct IndexShard {
 
 impl IndexShard {
     /// The samples of the cubes among `hits` (cube and sample, in ascending sample order)
-    /// that `shard` of `count` holds, in two passes (count, then place), each cube's samples
-    /// in the order of the hits: sorting the hits by cube and index took longer, and a vector
-    /// per cube costs an allocation each.
+    /// that shard `shard_index` of `count` holds, in two passes (count, then place), each
+    /// cube's samples in the order of the hits: sorting the hits by cube and index took
+    /// longer, and a vector per cube costs an allocation each.
     fn new(hits: &[(u128, u32)], (shard_index, count): (usize, usize)) -> Self {
         let mut buckets = FxHashMap::default();
         buckets.reserve(hits.len() / (2 * count));
