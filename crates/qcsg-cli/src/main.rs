@@ -81,7 +81,8 @@ struct CommonArgs {
     #[arg(short, long)]
     quiet: bool,
 
-    /// Worker threads (default: one per CPU core). Output does not depend on it.
+    /// Worker threads (default: one per CPU core). With one per core, each is kept to its
+    /// own core. Output does not depend on it.
     #[arg(long, value_name = "N")]
     threads: Option<NonZeroUsize>,
 }
