@@ -1601,7 +1601,7 @@ impl<'a> SampleIndex<'a> {
         // with cubes of side `2r`, at most two along each axis, and one along an axis more
         // often the larger `extent` is.
         let reach = self.radius - extent;
-        if reach.is_nan() || reach < 0.0 {
+        if reach.is_nan() || reach < 0.0 || self.shards.is_empty() {
             return None;
         }
         let reach = DVec3::splat(reach);
@@ -1616,7 +1616,7 @@ impl<'a> SampleIndex<'a> {
             for y in low[1]..=high[1] {
                 for x in low[0]..=high[0] {
                     let key = bucket_key([x, y, z], quadric);
-                    let members = self.shards.get(shard(key, count.max(1)));
+                    let members = self.shards.get(shard(key, count));
                     if let (Some(members), Some(slot)) =
                         (members.and_then(|s| s.get(key)), cubes.get_mut(found))
                     {
