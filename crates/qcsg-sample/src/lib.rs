@@ -98,6 +98,7 @@ pub mod budget;
 pub mod clip;
 pub mod csg_distance;
 mod in_order;
+mod memo;
 pub mod regions;
 pub mod subdivide;
 pub mod threads;
@@ -114,6 +115,7 @@ pub use crate::clip::ClipLists;
 use crate::csg_distance::NearDistance;
 use crate::csg_distance::{CsgDistance, Shapes};
 use crate::in_order::{InOrder, lock};
+use crate::memo::QueryMemo;
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
     Deferred, Emitted, GivenUp, Probed, REGION_BLOCK, RegionContext, SampleIndex, SubdivisionStats,
@@ -747,6 +749,7 @@ fn sample_on_pool(
     (0..rayon::current_num_threads())
         .into_par_iter()
         .for_each(|_| {
+            let mut memo = QueryMemo::default();
             loop {
                 let run = next_run.fetch_add(1, Ordering::Relaxed);
                 if run >= runs {
@@ -762,7 +765,8 @@ fn sample_on_pool(
                     }
                     if let Some(ctx) = context(index) {
                         let (region, out) = ((index, region), (&mut out, block_start));
-                        sample_region(&ctx, region, out, &mut deferred, &mut counters);
+                        let walk = (&mut memo, &mut counters);
+                        sample_region(&ctx, region, out, &mut deferred, walk);
                     }
                     progress(Progress::RegionDone);
                 }
@@ -783,32 +787,38 @@ fn sample_on_pool(
         .collect();
     let index = SampleIndex::new(dnf, (&first.samples, &first.boxes), &centres, radius);
     let share = given_up_share(deferred.len());
-    type SecondPass = (Emitted, Vec<GivenUp>, Vec<(u32, f64)>, SubdivisionStats);
+    type SecondPass = (
+        Emitted,
+        Vec<GivenUp>,
+        Vec<(u32, f64)>,
+        (QueryMemo, SubdivisionStats),
+    );
     let (shortest, longest) = fold_runs(deferred.len());
-    let (more, given_up, grown, counters) = deferred
+    let (more, given_up, grown, (_, counters)) = deferred
         .par_iter()
         .with_min_len(shortest)
         .with_max_len(longest)
         .fold(
             SecondPass::default,
-            |(mut out, mut given_up, mut grown, mut counters), d| {
+            |(mut out, mut given_up, mut grown, (mut memo, mut counters)), d| {
                 if let Some(ctx) = context(d.region) {
                     let (region, index) = (&regions[d.region].1, &index);
                     let outputs = (&mut out, &mut given_up, &mut grown);
-                    refine_deferred(&ctx, region, d, index, outputs, share, &mut counters);
+                    let walk = (&mut memo, &mut counters);
+                    refine_deferred(&ctx, region, d, index, outputs, share, walk);
                 }
-                (out, given_up, grown, counters)
+                (out, given_up, grown, (memo, counters))
             },
         )
         .collect::<Vec<SecondPass>>()
         .into_iter()
         .reduce(
-            |(mut out, mut given_up, mut grown, mut counters), mut more| {
+            |(mut out, mut given_up, mut grown, (memo, mut counters)), mut more| {
                 out.append(&mut more.0);
                 given_up.extend(more.1);
                 grown.extend(more.2);
-                counters.add(&more.3);
-                (out, given_up, grown, counters)
+                counters.add(&more.3.1);
+                (out, given_up, grown, (memo, counters))
             },
         )
         .unwrap_or_default();

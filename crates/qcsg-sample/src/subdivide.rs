@@ -94,6 +94,7 @@ use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind};
 use crate::Sample;
 use crate::budget::{Budget, Meter};
 use crate::csg_distance::NearDistance;
+use crate::memo::QueryMemo;
 use crate::regions::{BasicRegion, Owned, Rect, region_point, split_for_distortion};
 
 /// Rectangles smaller than this fraction of the sample footprint are given up when unclassified.
@@ -205,7 +206,7 @@ impl Cell {
         ctx: &RegionContext<'_>,
         region: &BasicRegion,
         rect: Rect,
-        stats: &mut SubdivisionStats,
+        (memo, stats): Walk<'_>,
     ) -> Self {
         let mut cell = Self {
             rect,
@@ -215,7 +216,7 @@ impl Cell {
         };
         for k in 0..4 {
             let (x, y) = corner(&rect, k);
-            (cell.d[k], cell.slope[k]) = corner_values(ctx, region, x, y, stats);
+            (cell.d[k], cell.slope[k]) = plane_values(ctx, region, x, y, (memo, stats));
         }
         cell
     }
@@ -234,16 +235,23 @@ impl Cell {
     }
 }
 
-/// Eq. 22 ([`query`]) and the squared slope at a corner (NaN where there is none).
-fn corner_values(
+/// What a walk of the subdivision writes to as it queries: the memo of its queries and the
+/// counters.
+type Walk<'a> = (&'a mut QueryMemo, &'a mut SubdivisionStats);
+
+/// Eq. 22 ([`query`]) and the squared slope at a corner or centre (NaN where there is none),
+/// from the walk's memo where it has them.
+fn plane_values(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
     x: f64,
     y: f64,
-    stats: &mut SubdivisionStats,
+    (memo, stats): Walk<'_>,
 ) -> (f64, f64) {
-    let slope = region.heightfield.slope_squared(x, y).unwrap_or(f64::NAN);
-    (query(ctx, region, x, y, stats), slope)
+    memo.get_or(x, y, || {
+        let slope = region.heightfield.slope_squared(x, y).unwrap_or(f64::NAN);
+        (query(ctx, region, x, y, stats), slope)
+    })
 }
 
 /// A rectangle of footprint at most `r` that the first pass left unproven (no corner and not
@@ -396,7 +404,7 @@ fn classify(
     region: &BasicRegion,
     cell: &Cell,
     (out, first): (&mut Emitted, usize),
-    stats: &mut SubdivisionStats,
+    (memo, stats): Walk<'_>,
 ) -> Verdict {
     stats.rectangles += 1;
     let rect = cell.rect;
@@ -422,7 +430,7 @@ fn classify(
                 stats.small += 1;
                 return Verdict::Small;
             }
-            if let Some(verdict) = at_centre(ctx, region, (&rect, distortion), out, stats) {
+            if let Some(verdict) = at_centre(ctx, region, (&rect, distortion), out, (memo, stats)) {
                 return verdict;
             }
         }
@@ -438,7 +446,7 @@ fn classify(
         stats.small += 1;
         return Verdict::Small;
     }
-    at_centre(ctx, region, (&rect, distortion), out, stats)
+    at_centre(ctx, region, (&rect, distortion), out, (memo, stats))
         .unwrap_or(Verdict::Unproven { footprint })
 }
 
@@ -451,11 +459,11 @@ fn at_centre(
     region: &BasicRegion,
     (rect, distortion): (&Rect, f64),
     out: &mut Vec<Sample>,
-    stats: &mut SubdivisionStats,
+    (memo, stats): Walk<'_>,
 ) -> Option<Verdict> {
     let half_diagonal = 0.5 * rect.diagonal();
     let (cx, cy) = rect.centre();
-    let centre = query(ctx, region, cx, cy, stats);
+    let (centre, _) = plane_values(ctx, region, cx, cy, (memo, stats));
     if centre < 0.0 {
         let radius = (distortion * half_diagonal).min(ctx.radius);
         emit(ctx, region, cx, cy, radius, out);
@@ -539,7 +547,7 @@ fn split(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
     cell: &Cell,
-    stats: &mut SubdivisionStats,
+    (memo, stats): Walk<'_>,
 ) -> Option<(Cell, Cell)> {
     let rect = cell.rect;
     let (low, high, along_x) = rect.split_longest();
@@ -553,8 +561,8 @@ fn split(
     } else {
         ((rect.x.0, low.y.1), (rect.x.1, low.y.1), [2, 3], [0, 1])
     };
-    let m0 = corner_values(ctx, region, x0, y0, stats);
-    let m1 = corner_values(ctx, region, x1, y1, stats);
+    let m0 = plane_values(ctx, region, x0, y0, (memo, stats));
+    let m1 = plane_values(ctx, region, x1, y1, (memo, stats));
     let (mut low_cell, mut high_cell) = (*cell, *cell);
     low_cell.rect = low;
     high_cell.rect = high;
@@ -575,15 +583,15 @@ pub fn sample_region(
     (index, region): (usize, &BasicRegion),
     (out, block_start): (&mut Emitted, usize),
     deferred: &mut Vec<Deferred>,
-    stats: &mut SubdivisionStats,
+    (memo, stats): Walk<'_>,
 ) {
-    let root = Cell::new(ctx, region, region.rect, stats);
+    let root = Cell::new(ctx, region, region.rect, (memo, stats));
     subdivide(
         (ctx, index, region),
         root,
         (out, block_start),
         deferred,
-        stats,
+        (memo, stats),
     );
     out.box_new();
 }
@@ -594,14 +602,17 @@ pub fn sample_region(
 pub const TASK_FOOTPRINT: f64 = 32.0;
 
 /// The subdivision of `root`, a cell of basic region number `index`, depth first; its small
-/// rectangles may be covered by `out[look_back..]`.
+/// rectangles may be covered by `out[look_back..]`. It starts from an empty memo, and empties
+/// it again after the halves of a large cell: each half may run on another thread with a
+/// memo of its own.
 fn subdivide(
     (ctx, index, region): (&RegionContext<'_>, usize, &BasicRegion),
     root: Cell,
     (out, look_back): (&mut Emitted, usize),
     deferred: &mut Vec<Deferred>,
-    stats: &mut SubdivisionStats,
+    (memo, stats): Walk<'_>,
 ) {
+    memo.clear();
     let (first_sample, first_deferred) = (out.len(), deferred.len());
     let first_queries = stats.distance_queries;
     let mut stack = vec![root];
@@ -624,15 +635,16 @@ fn subdivide(
             stats.other_plane += 1;
             continue;
         }
-        match classify(ctx, region, &cell, (out, look_back), stats) {
+        match classify(ctx, region, &cell, (out, look_back), (memo, stats)) {
             Verdict::Discarded | Verdict::Filled | Verdict::Small => {}
             Verdict::Unproven { .. } => deferred.push(defer(cell)),
-            Verdict::Split => match split(ctx, region, &cell, stats) {
+            Verdict::Split => match split(ctx, region, &cell, (memo, stats)) {
                 Some(halves) if cell_footprint(region, &cell) >= TASK_FOOTPRINT * ctx.radius => {
                     // The halves charge the budget themselves.
                     meter.finish(held, queries);
                     let task = (ctx, index, region);
-                    split_in_parallel(task, halves, (out, look_back), deferred, stats);
+                    split_in_parallel(task, halves, (out, look_back), deferred, (memo, stats));
+                    memo.clear();
                     let (held, queries) = pending(out, deferred, stats);
                     meter.skip_to(held, queries);
                 }
@@ -658,15 +670,15 @@ fn split_in_parallel(
     (low, high): (Cell, Cell),
     (out, look_back): (&mut Emitted, usize),
     deferred: &mut Vec<Deferred>,
-    stats: &mut SubdivisionStats,
+    (memo, stats): Walk<'_>,
 ) {
     // The outputs, and whether the low half is done with them.
-    let shared = std::sync::Mutex::new((out, deferred, stats, false));
+    let shared = std::sync::Mutex::new((out, deferred, (memo, stats), false));
     let (_, own) = rayon::join(
         || {
             let mut shared = shared.lock().unwrap_or_else(PoisonError::into_inner);
-            let (out, deferred, stats, done) = &mut *shared;
-            subdivide(task, low, (out, look_back), deferred, stats);
+            let (out, deferred, (memo, stats), done) = &mut *shared;
+            subdivide(task, low, (out, look_back), deferred, (memo, stats));
             *done = true;
         },
         || {
@@ -675,19 +687,21 @@ fn split_in_parallel(
             if let Ok(mut shared) = shared.try_lock()
                 && shared.3
             {
-                let (out, deferred, stats, _) = &mut *shared;
+                let (out, deferred, (memo, stats), _) = &mut *shared;
                 let start = out.len();
-                subdivide(task, high, (out, start), deferred, stats);
+                subdivide(task, high, (out, start), deferred, (memo, stats));
                 return None;
             }
             let (mut out, mut deferred) = (Emitted::default(), Vec::new());
-            let mut stats = SubdivisionStats::default();
-            subdivide(task, high, (&mut out, 0), &mut deferred, &mut stats);
+            let (mut memo, mut stats) = (QueryMemo::default(), SubdivisionStats::default());
+            let walk = (&mut memo, &mut stats);
+            subdivide(task, high, (&mut out, 0), &mut deferred, walk);
             Some((out, deferred, stats))
         },
     );
     if let Some((mut more, more_deferred, counters)) = own {
-        let (out, deferred, stats, _) = shared.into_inner().unwrap_or_else(PoisonError::into_inner);
+        let (out, deferred, (_, stats), _) =
+            shared.into_inner().unwrap_or_else(PoisonError::into_inner);
         out.append(&mut more);
         deferred.extend_from_slice(&more_deferred);
         stats.add(&counters);
@@ -710,8 +724,9 @@ pub fn refine_deferred(
     index: &SampleIndex<'_>,
     (out, given_up, grown): (&mut Emitted, &mut Vec<GivenUp>, &mut Vec<(u32, f64)>),
     share: usize,
-    stats: &mut SubdivisionStats,
+    (memo, stats): Walk<'_>,
 ) {
+    memo.clear();
     let cutoff = SMALL_REGION_FRACTION * ctx.radius / region.max_distortion.max(1.0);
     let first_sample = out.len();
     let first_given_up = given_up.len();
@@ -738,7 +753,7 @@ pub fn refine_deferred(
             stats.other_plane += 1;
             continue;
         } else {
-            match classify(ctx, region, &cell, (out, first_sample), stats) {
+            match classify(ctx, region, &cell, (out, first_sample), (memo, stats)) {
                 Verdict::Discarded | Verdict::Filled | Verdict::Small => continue,
                 Verdict::Unproven { footprint } => footprint,
                 Verdict::Split => f64::INFINITY,
@@ -762,7 +777,7 @@ pub fn refine_deferred(
         let halves = if cell.rect.diagonal() <= cutoff || unproven > MAX_UNPROVEN_PER_DEFERRED {
             None
         } else {
-            split(ctx, region, &cell, stats)
+            split(ctx, region, &cell, (memo, stats))
         };
         match (halves, point) {
             (Some((low, high)), _) => {
