@@ -912,6 +912,13 @@ fn report(
          size), and {fresh_low:.1}× to {fresh_high:.1}× with new memory for every run."
     );
     let ball_ns = ball_seconds * 1e9 / ball_samples.max(1) as f64;
+    // The first scene (three spheres) at the smallest radius, the last: rows go scene by
+    // scene, radius by radius.
+    let smallest = RADII.len() - 1;
+    let (heavy_scene, (heavy_size, _)) = (scenes.first().map_or("", |s| s.name), RADII[smallest]);
+    let heavy_share = rows.get(smallest).map_or(0.0, |row| {
+        100.0 * ball_ns * row.stats.samples as f64 / (row.one * 1e9)
+    });
     let _ = writeln!(
         out,
         "\nThe cost of emitting a sample, beside Table 1's *single quadric, no subdivision*: a \
@@ -921,15 +928,12 @@ fn report(
          heightfield point, a check that it lies on its quadric to `1e-12` of the scene (moved \
          onto it where it does not), its normal, and 72 bytes with position and normal in \
          `f64`. On the sample-heavy rows this sets much of the gap to the paper: the samples of \
-         three spheres at the small radius, at this cost each, are {three:.0} % of that row's \
-         one-thread time.",
+         {heavy_scene} at the {heavy_size} radius, at this cost each, are {heavy_share:.0} % of \
+         that row's one-thread time.",
         ball_seconds * 1e3,
         ball_ns / ratio,
         ball_ns / ratio / PAPER_SINGLE_NS,
         fraction = 100.0 * BALL_FRACTION,
-        three = rows.get(RADII.len() - 1).map_or(0.0, |row| {
-            100.0 * ball_ns * row.stats.samples as f64 / (row.one * 1e9)
-        }),
     );
     let two_wall: f64 = rows.iter().map(|r| r.two_wall).sum();
     let two_cpu: Option<f64> = rows.iter().map(|r| r.two_cpu).sum();
