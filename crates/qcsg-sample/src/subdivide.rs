@@ -2016,7 +2016,15 @@ const SNAP_STEPS: usize = 2;
 /// of half-width `1e-6`); the move is of that size, far below any sample radius. Cones are left
 /// alone: next to the apex, where the gradient vanishes, a step can cross the bounding literal at
 /// the tip. Returns the point with the gradient there.
+///
+/// Nearly every heightfield point is settled already; that test comes first, squared, without
+/// the square root and division of the residual: those waited on the divider, busy with the
+/// normal's, and took 4 % of sampling a lone ball.
 fn snap_to_surface(q: &Quadric, mut p: DVec3, settled: f64) -> (DVec3, DVec3) {
+    let (value, gradient) = (q.value(p), q.gradient(p));
+    if value * value <= settled * settled * gradient.length_squared() {
+        return (p, gradient);
+    }
     let residual = |p: DVec3| {
         let g = q.gradient(p);
         let length = g.length();
