@@ -4,27 +4,34 @@
 //! A literal `j` of the sample's term enters the list unless its conservative distance (eqs.
 //! 10-12, a lower bound of the true distance) exceeds the radius at the sample: then no point of
 //! `Q_j` lies within the radius, and nothing inside the splat can be cut by it. The test is
-//! conservative: a quadric whose surface does reach into the splat is never left out. A term of
-//! many literals (a plate drilled with many holes) first leaves out those whose surface provably
-//! misses a box around a run of its samples grown by their radii, so each sample tests only the
-//! literals near it.
+//! conservative: a quadric whose surface does reach into the splat is never left out.
+//!
+//! The work goes by spans, the boxes the first pass keeps around runs of consecutive samples of
+//! one quadric and term ([`SampleBox`]): a literal whose surface provably stays farther than
+//! the run's radius `r` from a span's box is left out for all its samples at once, and a span
+//! with no literal left is not read at all; its samples keep list 0, the empty list. Most spans
+//! lie inside faces, away from every other literal. A term of many literals (a plate drilled
+//! with many holes) first leaves out those whose surface misses a box around a thousand of its
+//! samples grown by `r`, then again per span.
 //!
 //! Identical lists are stored once: [`ClipLists`] is one indirection buffer, and each sample
-//! holds the index of its list. Lists are numbered in order of first use in the (deterministic)
-//! sample order, so the buffer is the same for any thread count.
+//! holds the index of its list. Lists after the empty one are numbered in order of first use in
+//! the (deterministic) sample order, so the buffer is the same for any thread count.
 
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, Dnf};
-use qcsg_quadric::DVec3;
+use qcsg_quadric::{DVec3, Quadric};
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+use std::ops::Range;
 use std::sync::Mutex;
 
 use crate::Sample;
 use crate::in_order::{InOrder, lock};
+use crate::subdivide::{SampleBox, box_runs};
 
 /// Deduplicated clip lists: list `k` is `indices[offsets[k]..offsets[k + 1]]`, indices into
-/// [`Dnf::quadrics`], ascending.
+/// [`Dnf::quadrics`], ascending. List 0 is the empty list.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ClipLists {
     /// Start of each list in `indices`, plus one final entry: `offsets.len()` is the number of
@@ -35,9 +42,10 @@ pub struct ClipLists {
 }
 
 impl Default for ClipLists {
+    /// The empty list alone, as list 0.
     fn default() -> Self {
         Self {
-            offsets: vec![0],
+            offsets: vec![0, 0],
             indices: Vec::new(),
         }
     }
@@ -63,41 +71,80 @@ impl ClipLists {
     }
 }
 
-/// Clip lists of one region's samples before deduplication: `lengths[i]` indices of sample `i`,
-/// concatenated in `indices`.
+/// Clip lists of one batch of samples before deduplication: the runs of samples (indices into
+/// the batch) that need lists, and `lengths[i]` indices of the `i`-th sample of those runs,
+/// concatenated in `indices`. The samples outside the runs keep the empty list.
 #[derive(Clone, Debug, Default)]
 struct RawClipLists {
+    runs: Vec<Range<usize>>,
     lengths: Vec<u32>,
     indices: Vec<u32>,
 }
 
 impl RawClipLists {
-    /// Appends the clip list of each sample (the other literals of its term within its radius).
+    /// Appends the clip lists of the samples of `spans` (boxes around consecutive samples of
+    /// one quadric and term, holding `samples`, which start at sample `offset`).
     ///
-    /// Neighbouring samples mostly lie far from the same literals, so each literal keeps the
-    /// last point where its conservative distance `L` was evaluated: the true distance is
-    /// 1-Lipschitz, so at a sample `Δ` away it is at least `L − Δ`, and the literal is left out
-    /// without evaluating it again when that exceeds the radius.
-    fn push_samples(&mut self, dnf: &Dnf, samples: &[Sample]) {
+    /// A literal is left out for a whole span at once when its surface stays farther than
+    /// `radius` (the largest radius of any sample) from the span's box; a span with no literal
+    /// left needs nothing, and its samples are not read. Neighbouring samples and spans mostly
+    /// lie far from the same literals, so each literal keeps the last point where its
+    /// conservative distance `L` was evaluated: the true distance is 1-Lipschitz, so at a point
+    /// `Δ` away it is at least `L − Δ`, and the literal is left out without evaluating it again
+    /// when that exceeds the radius.
+    fn push_spans(
+        &mut self,
+        dnf: &Dnf,
+        (samples, offset): (&[Sample], usize),
+        spans: &[SampleBox],
+        radius: f64,
+    ) {
         let mut anchors: Vec<Option<(DVec3, f64)>> = vec![None; dnf.quadrics.len()];
-        let (mut near, mut nearer) = (Vec::new(), Vec::new());
-        for run in samples.chunk_by(|a, b| a.term == b.term) {
+        let (mut near, mut nearer, mut close) = (Vec::new(), Vec::new(), Vec::new());
+        for run in spans.chunk_by(|a, b| a.term == b.term) {
             let Some(term) = dnf.terms.get(run[0].term as usize) else {
-                self.lengths.extend(run.iter().map(|_| 0));
                 continue;
             };
-            for chunk in run.chunks(CLIP_CHUNK) {
-                literals_near(dnf, chunk, &term.literals, &mut near);
-                for samples in chunk.chunks(CLIP_CHUNK / 16) {
-                    literals_near(dnf, samples, &near, &mut nearer);
-                    self.push_run(dnf, samples, &nearer, &mut anchors);
+            for group in chunks_of_samples(run, CLIP_CHUNK) {
+                let (low, high) = group.iter().fold(
+                    (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                    |(low, high), span| (low.min(span.low), high.max(span.high)),
+                );
+                literals_near(dnf, (low, high, radius), &term.literals, &mut near);
+                for span in group {
+                    literals_near(dnf, (span.low, span.high, radius), &near, &mut nearer);
+                    close.clear();
+                    for &literal in &nearer {
+                        let (Some(entry), Some(anchor)) = (
+                            dnf.quadrics.get(literal as usize),
+                            anchors.get_mut(literal as usize),
+                        ) else {
+                            continue;
+                        };
+                        if literal != span.quadric
+                            && !stays_away(&entry.quadric, (span.low, span.high, radius), anchor)
+                        {
+                            close.push(literal);
+                        }
+                    }
+                    if close.is_empty() {
+                        continue;
+                    }
+                    let (start, end) = (span.start as usize - offset, span.end as usize - offset);
+                    let Some(samples) = samples.get(start..end) else {
+                        continue;
+                    };
+                    self.push_run(dnf, samples, &close, &mut anchors);
+                    match self.runs.last_mut() {
+                        Some(last) if last.end == start => last.end = end,
+                        _ => self.runs.push(start..end),
+                    }
                 }
             }
         }
     }
 
-    /// [`Self::push_samples`] for samples of one term, with the literals among `literals` that
-    /// may come within their radii.
+    /// Appends the clip list of each of `samples` (of one quadric and term), among `literals`.
     fn push_run(
         &mut self,
         dnf: &Dnf,
@@ -108,9 +155,6 @@ impl RawClipLists {
         for sample in samples {
             let start = self.indices.len();
             for &literal in literals {
-                if literal == sample.quadric {
-                    continue;
-                }
                 let (Some(entry), Some(anchor)) = (
                     dnf.quadrics.get(literal as usize),
                     anchors.get_mut(literal as usize),
@@ -148,33 +192,79 @@ impl RawClipLists {
     }
 }
 
+/// Whether the surface of `quadric` provably stays farther than `radius` from every point of
+/// the box `low..high`: by the literal's last evaluation (`anchor`, see
+/// [`RawClipLists::push_spans`]) and the box's farthest corner from it, or else by an
+/// evaluation at the box's centre, which becomes the anchor when it decides.
+fn stays_away(
+    quadric: &Quadric,
+    (low, high, radius): (DVec3, DVec3, f64),
+    anchor: &mut Option<(DVec3, f64)>,
+) -> bool {
+    if let Some((point, distance)) = *anchor {
+        let slack = distance - radius;
+        let farthest = (point - low).abs().max((point - high).abs());
+        if slack > 0.0 && farthest.length_squared() < slack * slack {
+            return true;
+        }
+    }
+    let centre = 0.5 * (low + high);
+    let distance = quadric.conservative_distance(centre).abs();
+    // NaN (a box of infinite or unknown size) decides nothing.
+    if distance - 0.5 * (high - low).length() > radius {
+        *anchor = Some((centre, distance));
+        return true;
+    }
+    false
+}
+
+/// `spans` in consecutive groups of about `samples` samples (a span is never divided).
+fn chunks_of_samples(spans: &[SampleBox], samples: usize) -> impl Iterator<Item = &[SampleBox]> {
+    let mut rest = spans;
+    std::iter::from_fn(move || {
+        if rest.is_empty() {
+            return None;
+        }
+        let mut count = 0;
+        let cut = rest
+            .iter()
+            .position(|span| {
+                count += (span.end - span.start) as usize;
+                count >= samples
+            })
+            .map_or(rest.len(), |i| i + 1);
+        let (group, after) = rest.split_at(cut);
+        rest = after;
+        Some(group)
+    })
+}
+
 /// Samples per parallel batch when clip lists are computed.
 const CLIP_BATCH: usize = 4096;
 
 /// Consecutive samples of one term whose literals are first sorted out together, on a box
-/// around them all ([`literals_near`]), then again in runs of a sixteenth of this.
+/// around them all ([`literals_near`]), then again per span.
 const CLIP_CHUNK: usize = 1024;
 
-/// Terms with more literals than this sort them out by box before testing each sample.
+/// Terms with more literals than this sort them out by box before testing each span.
 const FEW_LITERALS: usize = 16;
 
-/// Into `out`, the literals of `literals` whose surface may come within its radius of one of
-/// `samples`: all of them for a term of few, else those whose surface may cross a box around
-/// the samples grown by their largest radius (`quadric_box::classify`). A literal left out has
-/// no surface point in the box, so none within any sample's radius.
-fn literals_near(dnf: &Dnf, samples: &[Sample], literals: &[u32], out: &mut Vec<u32>) {
+/// Into `out`, the literals of `literals` whose surface may come within `radius` of the box
+/// `low..high`: all of them when they are few, else those whose surface may cross the box grown
+/// by `radius` (`quadric_box::classify`). A literal left out has no surface point in the grown
+/// box, so none within the radius of any sample in the box.
+fn literals_near(
+    dnf: &Dnf,
+    (low, high, radius): (DVec3, DVec3, f64),
+    literals: &[u32],
+    out: &mut Vec<u32>,
+) {
     out.clear();
     if literals.len() <= FEW_LITERALS {
         out.extend_from_slice(literals);
         return;
     }
-    let (mut min, mut max, mut radius) = (DVec3::INFINITY, DVec3::NEG_INFINITY, 0.0f64);
-    for sample in samples {
-        min = min.min(sample.position);
-        max = max.max(sample.position);
-        radius = radius.max(sample.radius);
-    }
-    let grown = Aabb::new(min, max).expanded(radius);
+    let grown = Aabb::new(low, high).expanded(radius);
     out.extend(literals.iter().copied().filter(|&literal| {
         dnf.quadrics
             .get(literal as usize)
@@ -183,25 +273,64 @@ fn literals_near(dnf: &Dnf, samples: &[Sample], literals: &[u32], out: &mut Vec<
 }
 
 /// Computes every sample's clip list (in parallel batches), stores each distinct list once and
-/// sets `clip_list` of each sample; lists are numbered in sample order. Each batch is numbered
-/// as soon as the batches before it are ([`InOrder`]), by whichever thread holds the numbering,
-/// while the other computes: numbering after all batches left one thread idle for a twentieth
-/// of a two-thread run of a dimpled cube at 0.15 % of the diagonal.
-pub(crate) fn assign(dnf: &Dnf, samples: &mut [Sample]) -> ClipLists {
+/// sets `clip_list` of each sample; list 0 is the empty list, and the others are numbered in
+/// sample order. `boxes` are boxes around runs of the samples from the first on, as the first
+/// pass leaves them ([`SampleBox`]; what they do not hold is boxed here), and no sample's radius
+/// exceeds `radius`. Samples arrive with list 0, which those whose spans need no list keep
+/// unread: on a lone ball at 0.05 % of the diagonal, reading every sample's term had taken a
+/// fifth of the run. Each batch is numbered as soon as the batches before it are
+/// ([`InOrder`]), by whichever thread holds the numbering, while the other computes: numbering
+/// after all batches left one thread idle for a twentieth of a two-thread run of a dimpled
+/// cube at 0.15 % of the diagonal.
+pub(crate) fn assign(
+    dnf: &Dnf,
+    samples: &mut [Sample],
+    boxes: &[SampleBox],
+    radius: f64,
+) -> ClipLists {
+    // The boxes while they follow one another from the first sample, then boxes of the rest.
+    let mut boxed = 0;
+    let following = boxes
+        .iter()
+        .take_while(|b| {
+            let follows = b.start as usize == boxed && b.start < b.end;
+            let fits = b.end as usize <= samples.len();
+            boxed = if follows && fits {
+                b.end as usize
+            } else {
+                boxed
+            };
+            follows && fits
+        })
+        .count();
+    let mut rest = Vec::new();
+    box_runs(samples, boxed, &mut rest);
+    // Batches of whole spans, each with its samples.
+    let mut batches = Vec::new();
+    let mut unbatched = samples;
+    let mut offset = 0;
+    for spans in [&boxes[..following], &rest[..]] {
+        for batch in chunks_of_samples(spans, CLIP_BATCH) {
+            let end = batch.last().map_or(offset, |span| span.end as usize);
+            let (head, tail) = std::mem::take(&mut unbatched).split_at_mut(end - offset);
+            batches.push((batch, offset, head));
+            (unbatched, offset) = (tail, end);
+        }
+    }
     let numbered = InOrder::new(ClipListBuilder::default());
     // Threads take the batches in order, so that the numbering can follow close behind.
-    let batches = Mutex::new(samples.chunks_mut(CLIP_BATCH).enumerate());
+    let batches = Mutex::new(batches.into_iter().enumerate());
     (0..rayon::current_num_threads())
         .into_par_iter()
         .for_each(|_| {
             loop {
                 // The guard goes at the end of this statement, before the batch's work.
                 let next = lock(&batches).next();
-                let Some((k, batch)) = next else {
+                let Some((k, (spans, offset, batch))) = next else {
                     break;
                 };
                 let mut raw = RawClipLists::default();
-                raw.push_samples(dnf, batch);
+                raw.push_spans(dnf, (batch, offset), spans, radius);
                 numbered.finish(k, (raw, batch), |builder, (raw, batch)| {
                     builder.assign(&raw, batch);
                 });
@@ -215,30 +344,44 @@ pub(crate) fn assign(dnf: &Dnf, samples: &mut [Sample]) -> ClipLists {
 }
 
 /// Assigns every sample its list index, sharing identical lists, in sample order.
-#[derive(Default)]
 struct ClipListBuilder {
     lists: ClipLists,
     known: FxHashMap<Vec<u32>, u32>,
     /// The last list's index: neighbouring samples mostly share their list.
-    last: Option<u32>,
+    last: u32,
+}
+
+impl Default for ClipListBuilder {
+    /// The empty list only, as list 0.
+    fn default() -> Self {
+        Self {
+            lists: ClipLists::default(),
+            known: FxHashMap::from_iter([(Vec::new(), 0)]),
+            last: 0,
+        }
+    }
 }
 
 impl ClipListBuilder {
-    /// Sets `clip_list` of each sample from its raw list (same order as `samples`).
+    /// Sets `clip_list` of each sample of the raw lists' runs (indices into `samples`).
     fn assign(&mut self, raw: &RawClipLists, samples: &mut [Sample]) {
+        let mut lengths = raw.lengths.iter();
         let mut start = 0usize;
-        for (sample, &length) in samples.iter_mut().zip(&raw.lengths) {
+        let in_runs = raw.runs.iter().flat_map(|run| run.clone());
+        for (i, &length) in in_runs.zip(&mut lengths) {
             let end = start + length as usize;
             let list = &raw.indices[start..end];
             start = end;
+            let Some(sample) = samples.get_mut(i) else {
+                continue;
+            };
             // Element by element: the lists are a few entries long, shorter than a call to
             // memcmp (which slice equality uses) costs.
-            if let Some(id) = self.last
-                && let Some(last) = self.lists.get(id)
+            if let Some(last) = self.lists.get(self.last)
                 && last.len() == list.len()
                 && last.iter().zip(list).all(|(a, b)| a == b)
             {
-                sample.clip_list = id;
+                sample.clip_list = self.last;
                 continue;
             }
             let id = match self.known.get(list) {
@@ -253,7 +396,7 @@ impl ClipListBuilder {
                 }
             };
             sample.clip_list = id;
-            self.last = Some(id);
+            self.last = id;
         }
     }
 }

@@ -880,7 +880,7 @@ fn sample_on_pool(
         }
     }
     settle_apices(dnf, (&patches, &at_apex), radius, &mut samples, &mut stats);
-    let clip_lists = clip::assign(dnf, &mut samples);
+    let clip_lists = clip::assign(dnf, &mut samples, &boxes, radius);
     let mut spare_output = Emitted::default();
     spare_output.boxes = boxes;
     spare_output.clear();

@@ -288,7 +288,7 @@ pub struct Emitted {
     boxed: usize,
 }
 
-/// Consecutive samples of one quadric and a box that holds their positions.
+/// Consecutive samples of one quadric and term and a box that holds their positions.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SampleBox {
     /// The first sample.
@@ -297,6 +297,8 @@ pub struct SampleBox {
     pub end: u32,
     /// Their quadric.
     pub quadric: u32,
+    /// Their term.
+    pub term: u32,
     /// The box's lowest corner.
     pub low: DVec3,
     /// The box's highest corner.
@@ -308,29 +310,12 @@ pub struct SampleBox {
 pub const BOX_SAMPLES: usize = 32;
 
 impl Emitted {
-    /// Boxes the samples emitted since the last call, in runs of one quadric of at most
-    /// [`BOX_SAMPLES`]. Called after each fill, each region and before appending, so that
-    /// a box holds one fill's samples (or the few emitted between fills), which lie close
-    /// together.
+    /// Boxes the samples emitted since the last call ([`box_runs`]). Called after each fill,
+    /// each region and before appending, so that a box holds one fill's samples (or the few
+    /// emitted between fills), which lie close together.
     pub fn box_new(&mut self) {
-        let first = self.boxed;
-        for run in self.samples[first..].chunk_by(|a, b| a.quadric == b.quadric) {
-            for piece in run.chunks(BOX_SAMPLES) {
-                let (low, high) = piece
-                    .iter()
-                    .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), s| {
-                        (low.min(s.position), high.max(s.position))
-                    });
-                self.boxes.push(SampleBox {
-                    start: self.boxed as u32,
-                    end: (self.boxed + piece.len()) as u32,
-                    quadric: piece[0].quadric,
-                    low,
-                    high,
-                });
-                self.boxed += piece.len();
-            }
-        }
+        box_runs(&self.samples, self.boxed, &mut self.boxes);
+        self.boxed = self.samples.len();
     }
 
     /// Moves `more` to the end, leaving it empty (with its buffers when they were copied;
@@ -359,6 +344,31 @@ impl Emitted {
         self.samples.clear();
         self.boxes.clear();
         self.boxed = 0;
+    }
+}
+
+/// Appends boxes around `samples[first..]`, in runs of one quadric and term of at most
+/// [`BOX_SAMPLES`].
+pub fn box_runs(samples: &[Sample], first: usize, boxes: &mut Vec<SampleBox>) {
+    let mut start = first;
+    let same_run = |a: &Sample, b: &Sample| a.quadric == b.quadric && a.term == b.term;
+    for run in samples.get(first..).unwrap_or_default().chunk_by(same_run) {
+        for piece in run.chunks(BOX_SAMPLES) {
+            let (low, high) = piece
+                .iter()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), s| {
+                    (low.min(s.position), high.max(s.position))
+                });
+            boxes.push(SampleBox {
+                start: start as u32,
+                end: (start + piece.len()) as u32,
+                quadric: piece[0].quadric,
+                term: piece[0].term,
+                low,
+                high,
+            });
+            start += piece.len();
+        }
     }
 }
 

@@ -59,6 +59,11 @@ fn check_buffer(name: &str, sampling: &Sampling, dnf: &Dnf) {
         "{name}: last offset"
     );
     assert!(lists.offsets.windows(2).all(|w| w[0] <= w[1]));
+    assert_eq!(
+        lists.get(0),
+        Some(&[][..]),
+        "{name}: list 0 is the empty list"
+    );
     let distinct: HashSet<&[u32]> = (0..lists.len() as u32)
         .map(|k| lists.get(k).expect("list"))
         .collect();
@@ -108,6 +113,22 @@ fn cone_slab_and_apex() {
 fn far_and_tiny() {
     let decisive =
         check("far", &common::far_scene(), 0.05, 6) + check("tiny", &common::tiny_scene(), 0.05, 7);
+    assert!(decisive > 100, "only {decisive} decisive checks");
+}
+
+/// A plate drilled with 25 holes is one term of many literals: each span of samples first sorts
+/// the literals out by box, and the lists still hold every hole that reaches into a splat.
+#[test]
+fn many_literals() {
+    let text = "difference() {
+        cube([10, 10, 1], center = true);
+        for (i = [-2:2], j = [-2:2])
+            translate([2 * i, 2 * j, 0]) cylinder(h = 2, r = 0.5 + 0.08 * (i + j + 4), center = true);
+    }";
+    let dnf = common::compile_text("plate.qcsg", text.to_string()).expect("compiles");
+    let sizes: Vec<usize> = dnf.terms.iter().map(|t| t.literals.len()).collect();
+    assert!(sizes.iter().any(|&n| n > 20), "{sizes:?}");
+    let decisive = check("drilled plate", &dnf, 0.02, 8);
     assert!(decisive > 100, "only {decisive} decisive checks");
 }
 
