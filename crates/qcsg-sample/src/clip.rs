@@ -289,20 +289,13 @@ pub(crate) fn assign(
     radius: f64,
 ) -> ClipLists {
     // The boxes while they follow one another from the first sample, then boxes of the rest.
-    let mut boxed = 0;
-    let following = boxes
-        .iter()
-        .take_while(|b| {
-            let follows = b.start as usize == boxed && b.start < b.end;
-            let fits = b.end as usize <= samples.len();
-            boxed = if follows && fits {
-                b.end as usize
-            } else {
-                boxed
-            };
-            follows && fits
-        })
-        .count();
+    let (mut following, mut boxed) = (0, 0);
+    for b in boxes {
+        if b.start as usize != boxed || b.end <= b.start || b.end as usize > samples.len() {
+            break;
+        }
+        (following, boxed) = (following + 1, b.end as usize);
+    }
     let mut rest = Vec::new();
     box_runs(samples, boxed, &mut rest);
     // Batches of whole spans, each with its samples.
