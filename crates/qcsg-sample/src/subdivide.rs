@@ -685,13 +685,16 @@ fn split_in_parallel(
     deferred: &mut Vec<Deferred>,
     (memo, stats): Walk<'_>,
 ) {
-    // The outputs, and whether the low half is done with them.
+    // The outputs, and whether the low half is done with them. Each half boxes its samples to
+    // its end, as appending a half another thread took does: the boxes, which clip lists go by
+    // (`clip`), are then the same on any number of threads.
     let shared = std::sync::Mutex::new((out, deferred, (memo, stats), false));
     let (_, own) = rayon::join(
         || {
             let mut shared = shared.lock().unwrap_or_else(PoisonError::into_inner);
             let (out, deferred, (memo, stats), done) = &mut *shared;
             subdivide(task, low, (out, look_back), deferred, (memo, stats));
+            out.box_new();
             *done = true;
         },
         || {
@@ -703,6 +706,7 @@ fn split_in_parallel(
                 let (out, deferred, (memo, stats), _) = &mut *shared;
                 let start = out.len();
                 subdivide(task, high, (out, start), deferred, (memo, stats));
+                out.box_new();
                 return None;
             }
             let (mut out, mut deferred) = (Emitted::default(), Vec::new());
