@@ -209,7 +209,8 @@ const PAPER_SINGLE_NS: f64 = 7.41;
 /// Samples and median seconds of one-thread runs sampling a lone ball at [`BALL_FRACTION`] of
 /// its diagonal, each into the previous run's output. Its basic regions are filled whole, so
 /// this is the cost of emitting a sample (its point, the check that it lies on the quadric, its
-/// normal, and the 72 bytes written), with the clip lists and the region borders.
+/// normal, and the 72 bytes written), with the region borders; its clip lists are empty and
+/// skipped box by box.
 fn single_quadric() -> (u64, f64) {
     let dnf = common::compile_text("ball.qcsg", "sphere(r = 10);\n".into()).expect("a ball");
     let r = BALL_FRACTION * common::diagonal(&dnf);
@@ -282,7 +283,7 @@ const PROBE_BYTES: usize = 64 << 20;
 
 /// Throughput of two threads streaming through memory (each its own buffer) over one thread
 /// streaming through both, median of 5: 2 where memory keeps up with both cores. The sampler
-/// writes every sample once and reads it a few times (the index, the clip lists), so where this
+/// writes every sample once and reads some again (the index, the clip lists), so where this
 /// stays near 1 its sample-heavy rows cannot speed up by 2.
 fn memory_scaling() -> f64 {
     let words = PROBE_BYTES / 8;
