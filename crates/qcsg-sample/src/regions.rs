@@ -159,10 +159,11 @@ pub struct BasicRegion {
     pub rect: Rect,
     /// An upper bound of the distortion over the rectangle (§3.4).
     pub max_distortion: f64,
-    /// Whether the rectangle straddles the border of the plane's region: the region is then
-    /// only its part where this plane is the best one, and the subdivision leaves the rest,
-    /// which other planes' regions hold, alone ([`BasicRegion::owns_none_of`]).
-    pub border: bool,
+    /// Where the rectangle straddles the border of the plane's region, the test of where the
+    /// plane is the best: the region is then only that part of the rectangle, and the
+    /// subdivision leaves the rest, which other planes' regions hold, alone
+    /// ([`BasicRegion::owns_none_of`]). `None` where the plane is the best throughout.
+    pub border: Option<BestPlane>,
 }
 
 impl BasicRegion {
@@ -182,13 +183,10 @@ impl BasicRegion {
 
     /// How much of `rect` belongs to the region ([`Self::owns_none_of`], [`Self::owns_all_of`]).
     pub fn owns(&self, rect: &Rect) -> Owned {
-        if !self.border {
-            return Owned::All;
-        }
-        match best_plane(&self.heightfield, rect) {
-            Best::Everywhere => Owned::All,
-            Best::Nowhere => Owned::None,
-            Best::Partly => Owned::Part,
+        match self.border.as_ref().map(|best| best.over(rect)) {
+            None | Some(Best::Everywhere) => Owned::All,
+            Some(Best::Nowhere) => Owned::None,
+            Some(Best::Partly) => Owned::Part,
         }
     }
 }
@@ -293,7 +291,7 @@ pub fn basic_regions(
                     sheet,
                     rect,
                     max_distortion,
-                    border,
+                    border: border.then(|| BestPlane::new(heightfield)),
                 }),
         );
     }
@@ -378,49 +376,121 @@ enum Best {
     Partly,
 }
 
-/// Decides [`Best`] exactly up to rounding: with `n ∝ (g_x, g_y, t)` the conditions
-/// `t² ≥ g_x²` and `t² ≥ g_y²` are differences of quadratics that separate into a part in `x`
-/// and a part in `y` (eqs. 15-16), so their ranges over a rectangle are sums of two quadratic
-/// ranges. `Nowhere` needs one condition to fail by more than rounding everywhere.
+/// Decides [`Best`] over `rect` for the plane of `heightfield` ([`BestPlane::over`]).
 fn best_plane(heightfield: &Heightfield, rect: &Rect) -> Best {
-    // Each condition as (a_x, b_x, a_y, b_y, c): a_x x² + 2 b_x x + a_y y² + 2 b_y y + c ≥ 0.
-    let conditions = match heightfield.form {
-        HeightfieldForm::Root {
-            alpha_x: ax,
-            alpha_y: ay,
-            alpha_c: c,
-            beta_x: bx,
-            beta_y: by,
-        } => [
-            // S − g_x², g_x = α_x x + β_x.
-            (ax - ax * ax, bx * (1.0 - ax), ay, by, c - bx * bx),
-            // S − g_y².
-            (ax, bx, ay - ay * ay, by * (1.0 - ay), c - by * by),
-        ],
-        HeightfieldForm::Polynomial {
-            gamma_x, gamma_y, ..
-        } => [
-            // 1 − (2 γ_x x)² and 1 − (2 γ_y y)².
-            (-4.0 * gamma_x * gamma_x, 0.0, 0.0, 0.0, 1.0),
-            (0.0, 0.0, -4.0 * gamma_y * gamma_y, 0.0, 1.0),
-        ],
-        HeightfieldForm::Ruled => return Best::Nowhere,
-    };
-    let mut everywhere = true;
-    for (a_x, b_x, a_y, b_y, c) in conditions {
-        let low = quadratic_min(a_x, b_x, rect.x) + quadratic_min(a_y, b_y, rect.y) + c;
-        let high = quadratic_max(a_x, b_x, rect.x) + quadratic_max(a_y, b_y, rect.y) + c;
-        let magnitude = low.abs().max(high.abs()).max(c.abs());
-        // NaN never drops a rectangle.
-        if high < -1e-12 * magnitude {
-            return Best::Nowhere;
-        }
-        everywhere &= low >= 0.0;
+    BestPlane::new(heightfield).over(rect)
+}
+
+/// Where over a rectangle a sampling plane is the best one, decided exactly up to rounding:
+/// with `n ∝ (g_x, g_y, t)` the conditions `t² ≥ g_x²` and `t² ≥ g_y²` are differences of
+/// quadratics that separate into a part in `x` and a part in `y` (eqs. 15-16), so their ranges
+/// over a rectangle are sums of two quadratic ranges. Built once per region, with the vertices
+/// of its parabolas: the subdivision asks it for every cell and fill row of a border region,
+/// and the divisions that find the vertices had taken most of its time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BestPlane {
+    /// Each condition `a_x x² + 2 b_x x + a_y y² + 2 b_y y + c ≥ 0` as its parabolas in `x` and
+    /// `y` and `c`; `None` for a ruled heightfield, whose plane is the best nowhere.
+    conditions: Option<[(Parabola, Parabola, f64); 2]>,
+}
+
+impl BestPlane {
+    /// The test for the plane of `heightfield`.
+    pub fn new(heightfield: &Heightfield) -> Self {
+        let parabola = |alpha: f64, beta: f64| Parabola {
+            alpha,
+            beta,
+            vertex: -beta / alpha,
+        };
+        let conditions = match heightfield.form {
+            HeightfieldForm::Root {
+                alpha_x: ax,
+                alpha_y: ay,
+                alpha_c: c,
+                beta_x: bx,
+                beta_y: by,
+            } => Some([
+                // S − g_x², g_x = α_x x + β_x.
+                (
+                    parabola(ax - ax * ax, bx * (1.0 - ax)),
+                    parabola(ay, by),
+                    c - bx * bx,
+                ),
+                // S − g_y².
+                (
+                    parabola(ax, bx),
+                    parabola(ay - ay * ay, by * (1.0 - ay)),
+                    c - by * by,
+                ),
+            ]),
+            HeightfieldForm::Polynomial {
+                gamma_x, gamma_y, ..
+            } => Some([
+                // 1 − (2 γ_x x)² and 1 − (2 γ_y y)².
+                (
+                    parabola(-4.0 * gamma_x * gamma_x, 0.0),
+                    parabola(0.0, 0.0),
+                    1.0,
+                ),
+                (
+                    parabola(0.0, 0.0),
+                    parabola(-4.0 * gamma_y * gamma_y, 0.0),
+                    1.0,
+                ),
+            ]),
+            HeightfieldForm::Ruled => None,
+        };
+        Self { conditions }
     }
-    if everywhere {
-        Best::Everywhere
-    } else {
-        Best::Partly
+
+    /// Where over `rect` the plane is the best. `Nowhere` needs one condition to fail by more
+    /// than rounding everywhere.
+    fn over(&self, rect: &Rect) -> Best {
+        let Some(conditions) = &self.conditions else {
+            return Best::Nowhere;
+        };
+        let mut everywhere = true;
+        for (in_x, in_y, c) in conditions {
+            let ((low_x, high_x), (low_y, high_y)) = (in_x.range(rect.x), in_y.range(rect.y));
+            let (low, high) = (low_x + low_y + c, high_x + high_y + c);
+            let magnitude = low.abs().max(high.abs()).max(c.abs());
+            // NaN never drops a rectangle.
+            if high < -1e-12 * magnitude {
+                return Best::Nowhere;
+            }
+            everywhere &= low >= 0.0;
+        }
+        if everywhere {
+            Best::Everywhere
+        } else {
+            Best::Partly
+        }
+    }
+}
+
+/// `α v² + 2β v`, with its vertex `−β / α`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Parabola {
+    alpha: f64,
+    beta: f64,
+    vertex: f64,
+}
+
+impl Parabola {
+    /// Its least and greatest values over `[a, b]`, as [`quadratic_min`] and [`quadratic_max`]
+    /// give them.
+    fn range(&self, (a, b): (f64, f64)) -> (f64, f64) {
+        let f = |v: f64| (self.alpha * v + 2.0 * self.beta) * v;
+        let (at_a, at_b) = (f(a), f(b));
+        let (mut low, mut high) = (at_a.min(at_b), at_a.max(at_b));
+        if a < self.vertex && self.vertex < b {
+            if self.alpha < 0.0 {
+                high = high.max(f(self.vertex));
+            } else if self.alpha > 0.0 {
+                low = low.min(f(self.vertex));
+            }
+        }
+        (low, high)
     }
 }
 
@@ -560,4 +630,27 @@ pub fn region_point(
 ) -> Option<DVec3> {
     let h = heightfield.height(x, y)?;
     Some(frame.heightfield_point(heightfield, x, y, sheet * h))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// A parabola's range, with its vertex found once, is what `quadratic_min` and
+        /// `quadratic_max` give (a zero of either sign counting as equal).
+        #[test]
+        fn parabola_range_is_the_quadratic_range(
+            alpha in prop_oneof![-4.0f64..4.0, Just(0.0), Just(-0.0)],
+            beta in prop_oneof![-4.0f64..4.0, Just(0.0)],
+            (a, width) in (-3.0f64..3.0, 0.0f64..4.0),
+        ) {
+            let range = (a, a + width);
+            let parabola = Parabola { alpha, beta, vertex: -beta / alpha };
+            let (low, high) = parabola.range(range);
+            prop_assert!(low == quadratic_min(alpha, beta, range));
+            prop_assert!(high == quadratic_max(alpha, beta, range));
+        }
+    }
 }

@@ -8,7 +8,7 @@ use common::{Rng, points_on};
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DMat4, DVec3, HeightfieldForm, Quadric, QuadricKind};
 use qcsg_sample::regions::{
-    BasicRegion, Rect, RegionStats, basic_regions, patch_bounds, region_point,
+    BasicRegion, Owned, Rect, RegionStats, basic_regions, patch_bounds, region_point,
 };
 
 fn kinds() -> Vec<(&'static str, Quadric)> {
@@ -125,6 +125,73 @@ fn regions_cover_every_kind_inside_the_box() {
             stats
         );
     }
+}
+
+/// A border region's ownership agrees with its plane point by point: over a rectangle it owns
+/// all of, its plane is the best (the normal's largest component is along the plane's normal) at
+/// every surface point of a grid, and over one it owns none of, at none.
+#[test]
+fn ownership_agrees_with_the_normals() {
+    let bounds = Aabb::new(DVec3::new(-1.6, -1.3, -1.1), DVec3::new(1.4, 1.5, 1.2));
+    let (mut decided, mut points) = (0, 0);
+    for (name, q) in kinds() {
+        let frame = q.frame();
+        let mut regions = Vec::new();
+        let mut stats = RegionStats::default();
+        for hf in frame.heightfields() {
+            basic_regions(&frame, &hf, &bounds, (0, 0), &mut regions, &mut stats);
+        }
+        for region in regions.iter().filter(|r| r.border.is_some()) {
+            let hf = &region.heightfield;
+            let (i, j) = hf.plane_axes;
+            let rect = region.rect;
+            let at = |(a, b): (f64, f64), k: f64| a + (b - a) * k;
+            for (kx, ky) in (0..4).flat_map(|kx| (0..4).map(move |ky| (kx, ky))) {
+                let part = Rect {
+                    x: (
+                        at(rect.x, kx as f64 / 4.0),
+                        at(rect.x, (kx + 1) as f64 / 4.0),
+                    ),
+                    y: (
+                        at(rect.y, ky as f64 / 4.0),
+                        at(rect.y, (ky + 1) as f64 / 4.0),
+                    ),
+                };
+                let owned = region.owns(&part);
+                if owned == Owned::Part {
+                    continue;
+                }
+                decided += 1;
+                for (gx, gy) in (0..=4).flat_map(|gx| (0..=4).map(move |gy| (gx, gy))) {
+                    let (x, y) = (at(part.x, gx as f64 / 4.0), at(part.y, gy as f64 / 4.0));
+                    let Some(h) = hf.height(x, y) else {
+                        continue;
+                    };
+                    let p = frame.heightfield_point(hf, x, y, region.sheet * h);
+                    let Some(n) = q.normal(p) else {
+                        continue;
+                    };
+                    let along = |k: usize| n.dot(frame.axes[k]).abs();
+                    let margin = along(hf.normal_axis) - along(i).max(along(j));
+                    points += 1;
+                    match owned {
+                        Owned::All => assert!(
+                            margin >= -1e-9,
+                            "{name}: {part:?} owned, but another plane is better at ({x}, {y})"
+                        ),
+                        _ => assert!(
+                            margin <= 1e-9,
+                            "{name}: {part:?} not owned, but its plane is best at ({x}, {y})"
+                        ),
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        decided > 100 && points > 1000,
+        "{decided} rectangles, {points} points"
+    );
 }
 
 #[test]
