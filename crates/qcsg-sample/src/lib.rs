@@ -136,7 +136,7 @@ pub struct Sample {
     pub term: u32,
     /// The radius it covers (at most the requested radius; smaller for small regions).
     pub radius: f64,
-    /// Index of its clip list in [`Sampling::clip_lists`].
+    /// Index of its clip list in [`Sampling::clip_lists`] (0: the empty list).
     pub clip_list: u32,
 }
 
