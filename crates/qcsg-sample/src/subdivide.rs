@@ -1745,11 +1745,19 @@ pub fn cover_by<'s>(
     draws: impl Fn(&Sample) -> bool,
 ) -> Option<(u32, f64)> {
     let mut nearest: Option<(u32, f64)> = None;
+    // Farther than `radius − extent` (with a margin for rounding), a sample would need more
+    // than `radius`: most candidates are, and this spares them the square root.
+    let reach = radius - extent;
+    let beyond = reach * reach * (1.0 + 1e-9);
     for (i, sample) in samples {
+        let offset = sample.position - point.position;
+        if reach >= 0.0 && offset.length_squared() > beyond {
+            continue;
+        }
         if !point.faces(sample, extent) {
             continue;
         }
-        let needed = (sample.position - point.position).length() + extent;
+        let needed = offset.length() + extent;
         if needed <= sample.radius {
             if draws(sample) {
                 return Some((i, sample.radius));
