@@ -538,20 +538,24 @@ fn covered_by_recent(
     footprint: f64,
     out: &mut [Sample],
 ) -> bool {
-    let Some(centre) = centre_point(ctx, region, rect) else {
+    let (x, y) = rect.centre();
+    let Some(position) = region_point(ctx.frame, &region.heightfield, region.sheet, x, y) else {
         return false;
     };
-    let recent = (out.len().saturating_sub(RECENT_SAMPLES)..out.len()).rev();
+    let extent = 0.5 * footprint;
+    let recent = out.len().saturating_sub(RECENT_SAMPLES)..out.len();
+    // Where no recent sample is near enough (most rectangles), the centre needs no normal.
+    let near = |s: &Sample| may_cover(s.position - position, extent, ctx.radius);
+    if !out[recent.clone()].iter().any(near) {
+        return false;
+    }
+    let Some(centre) = SurfacePoint::on(ctx.quadric, position) else {
+        return false;
+    };
     // A sample of another term is clipped to that term, and might draw nothing here.
     let own_quadric = |s: &Sample| s.quadric == region.quadric && s.term == region.term;
-    grow_to_cover(
-        out,
-        recent,
-        centre,
-        0.5 * footprint,
-        ctx.radius,
-        own_quadric,
-    )
+    let recent = recent.rev();
+    grow_to_cover(out, recent, centre, extent, ctx.radius, own_quadric)
 }
 
 /// The two halves of a cell across its longer edge, with their corner distances; `None` when
@@ -1732,6 +1736,14 @@ impl SurfacePoint {
     }
 }
 
+/// Whether a sample `offset` from a point may cover the ball of radius `extent` around it
+/// with a radius of at most `radius`: passed by every sample that [`cover_by`] can take, with a
+/// margin for rounding, and without a square root. Most candidates fail it.
+fn may_cover(offset: DVec3, extent: f64, radius: f64) -> bool {
+    let reach = radius - extent;
+    reach >= 0.0 && offset.length_squared() <= reach * reach * (1.0 + 1e-9)
+}
+
 /// Of `samples` that face the same side as every point of the ball of radius `extent` around
 /// `point` ([`SurfacePoint::faces`]), the first whose disc already covers that ball
 /// (`|position − point| + extent ≤ its radius`), else the nearest that would with a radius of
@@ -1745,13 +1757,9 @@ pub fn cover_by<'s>(
     draws: impl Fn(&Sample) -> bool,
 ) -> Option<(u32, f64)> {
     let mut nearest: Option<(u32, f64)> = None;
-    // Farther than `radius − extent` (with a margin for rounding), a sample would need more
-    // than `radius`: most candidates are, and this spares them the square root.
-    let reach = radius - extent;
-    let beyond = reach * reach * (1.0 + 1e-9);
     for (i, sample) in samples {
         let offset = sample.position - point.position;
-        if reach >= 0.0 && offset.length_squared() > beyond {
+        if !may_cover(offset, extent, radius) {
             continue;
         }
         if !point.faces(sample, extent) {
