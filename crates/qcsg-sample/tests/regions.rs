@@ -6,7 +6,7 @@ mod common;
 
 use common::{Rng, points_on};
 use qcsg_csg::Aabb;
-use qcsg_quadric::{DMat4, DVec3, HeightfieldForm, Quadric, QuadricKind};
+use qcsg_quadric::{DMat4, DVec3, HeightfieldForm, PrincipalFrame, Quadric, QuadricKind};
 use qcsg_sample::regions::{
     BasicRegion, Owned, Rect, RegionStats, basic_regions, patch_bounds, region_point,
 };
@@ -57,13 +57,20 @@ fn kinds() -> Vec<(&'static str, Quadric)> {
     out
 }
 
+/// The basic regions of all three sampling planes of `q` inside `bounds`, with its frame and the
+/// decomposition's counters.
+fn regions_of(q: &Quadric, bounds: &Aabb) -> (PrincipalFrame, Vec<BasicRegion>, RegionStats) {
+    let frame = q.frame();
+    let mut regions = Vec::new();
+    let mut stats = RegionStats::default();
+    for hf in frame.heightfields() {
+        basic_regions(&frame, &hf, bounds, (0, 0), &mut regions, &mut stats);
+    }
+    (frame, regions, stats)
+}
+
 /// Whether some region that owns `p` maps to it with distortion at most √3 there.
-fn reached(
-    frame: &qcsg_quadric::PrincipalFrame,
-    regions: &[BasicRegion],
-    p: DVec3,
-    scale: f64,
-) -> bool {
+fn reached(frame: &PrincipalFrame, regions: &[BasicRegion], p: DVec3, scale: f64) -> bool {
     let f = frame.to_frame(p).to_array();
     regions.iter().any(|r| {
         let hf = &r.heightfield;
@@ -101,12 +108,7 @@ fn regions_cover_every_kind_inside_the_box() {
             !matches!(q.kind(), QuadricKind::Empty | QuadricKind::AllSpace),
             "{name}"
         );
-        let frame = q.frame();
-        let mut regions = Vec::new();
-        let mut stats = RegionStats::default();
-        for hf in frame.heightfields() {
-            basic_regions(&frame, &hf, &bounds, (0, 0), &mut regions, &mut stats);
-        }
+        let (frame, regions, stats) = regions_of(&q, &bounds);
         assert!(!regions.is_empty(), "{name}: no regions");
         let points = points_on(&q, &bounds, 400, &mut rng);
         assert!(points.len() >= 100, "{name}: too few test points");
@@ -135,12 +137,7 @@ fn ownership_agrees_with_the_normals() {
     let bounds = Aabb::new(DVec3::new(-1.6, -1.3, -1.1), DVec3::new(1.4, 1.5, 1.2));
     let (mut decided, mut points) = (0, 0);
     for (name, q) in kinds() {
-        let frame = q.frame();
-        let mut regions = Vec::new();
-        let mut stats = RegionStats::default();
-        for hf in frame.heightfields() {
-            basic_regions(&frame, &hf, &bounds, (0, 0), &mut regions, &mut stats);
-        }
+        let (frame, regions, _) = regions_of(&q, &bounds);
         for region in regions.iter().filter(|r| r.border.is_some()) {
             let hf = &region.heightfield;
             let (i, j) = hf.plane_axes;
@@ -226,12 +223,7 @@ fn patch_bounds_hold_the_patch() {
     let bounds = Aabb::new(DVec3::new(-1.6, -1.3, -1.1), DVec3::new(1.4, 1.5, 1.2));
     let mut rng = Rng::new(11);
     for (name, q) in kinds() {
-        let frame = q.frame();
-        let mut regions = Vec::new();
-        let mut stats = RegionStats::default();
-        for hf in frame.heightfields() {
-            basic_regions(&frame, &hf, &bounds, (0, 0), &mut regions, &mut stats);
-        }
+        let (frame, regions, _) = regions_of(&q, &bounds);
         for region in &regions {
             let patch = patch_bounds(&frame, region).expect("a heightfield");
             for _ in 0..20 {
