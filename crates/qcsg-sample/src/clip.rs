@@ -288,6 +288,12 @@ pub(crate) fn assign(
     boxes: &[SampleBox],
     radius: f64,
 ) -> ClipLists {
+    debug_assert!(
+        samples
+            .iter()
+            .all(|s| s.radius <= radius || s.radius.is_nan()),
+        "a sample's radius exceeds the run's, which the boxes are tested with"
+    );
     // The boxes while they follow one another from the first sample, then boxes of the rest.
     let (mut following, mut boxed) = (0, 0);
     for b in boxes {
