@@ -2051,22 +2051,24 @@ const SNAP_STEPS: usize = 2;
 /// the square root and division of the residual: those waited on the divider, busy with the
 /// normal's, and took 4 % of sampling a lone ball.
 fn snap_to_surface(q: &Quadric, mut p: DVec3, settled: f64) -> (DVec3, DVec3) {
-    let (value, gradient) = (q.value(p), q.gradient(p));
+    let (mut value, mut gradient) = (q.value(p), q.gradient(p));
     if value * value <= settled * settled * gradient.length_squared() {
         return (p, gradient);
     }
-    let residual = |p: DVec3| {
-        let g = q.gradient(p);
+    // `|Q| / ‖∇Q‖`, infinite where the gradient vanishes.
+    let residual_of = |value: f64, g: DVec3| {
         let length = g.length();
-        let value = q.value(p);
-        let residual = if length > 0.0 {
+        if length > 0.0 {
             value.abs() / length
         } else {
             f64::INFINITY
-        };
-        (residual, value, g)
+        }
     };
-    let (mut current, mut value, mut gradient) = residual(p);
+    let residual = |p: DVec3| {
+        let (value, g) = (q.value(p), q.gradient(p));
+        (residual_of(value, g), value, g)
+    };
+    let mut current = residual_of(value, gradient);
     for _ in 0..SNAP_STEPS {
         if current <= settled || !current.is_finite() {
             break;
