@@ -364,10 +364,9 @@ impl Default for ClipListBuilder {
 impl ClipListBuilder {
     /// Sets `clip_list` of each sample of the raw lists' runs (indices into `samples`).
     fn assign(&mut self, raw: &RawClipLists, samples: &mut [Sample]) {
-        let mut lengths = raw.lengths.iter();
         let mut start = 0usize;
         let in_runs = raw.runs.iter().flat_map(|run| run.clone());
-        for (i, &length) in in_runs.zip(&mut lengths) {
+        for (i, &length) in in_runs.zip(&raw.lengths) {
             let end = start + length as usize;
             let list = &raw.indices[start..end];
             start = end;
