@@ -249,6 +249,31 @@ fn identical_for_any_thread_count() {
     }
 }
 
+/// The counters too do not depend on the thread count on a scene of hundreds of regions, which
+/// threads take in runs: a walk of the subdivision remembers the points it queried
+/// (`QueryMemo`), and a run's first region once found those of whatever region its thread had
+/// sampled before, one query fewer here and there.
+#[test]
+fn counters_identical_for_any_thread_count() {
+    let path = common::workspace_root().join("tests/stability/far_1e6.qcsg");
+    let dnf = common::compile_file(&path).expect("compiles");
+    let r = 0.01 * diagonal(&dnf);
+    let with = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build();
+        pool.expect("pool")
+            .install(|| sample(&dnf, r).expect("sample"))
+    };
+    let one = with(1);
+    assert!(
+        one.stats.basic_regions > 4 * 64,
+        "{} regions: runs of several threads would not begin inside the scene",
+        one.stats.basic_regions
+    );
+    for threads in [2, 3, 5] {
+        assert_eq!(one.stats, with(threads).stats, "{threads} threads");
+    }
+}
+
 #[test]
 fn invalid_radius_is_an_error() {
     let dnf = common::sphere_scene();
