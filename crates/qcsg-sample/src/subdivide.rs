@@ -1947,12 +1947,37 @@ impl Row {
         cells: Range<u32>,
         out: &mut Vec<Sample>,
     ) {
-        for i in cells {
-            let x = self.x0 + (f64::from(i) + 0.5) * self.dx;
-            emit(ctx, region, x, self.y, self.radius, out);
+        let mut batch = [(DVec3::ZERO, DVec3::ZERO); EMIT_BATCH];
+        let fallback = fallback_normal(ctx, region);
+        let mut start = cells.start;
+        while start < cells.end {
+            let end = cells.end.min(start + EMIT_BATCH as u32);
+            let batch = &mut batch[..(end - start) as usize];
+            // In stages over a batch, so that the square roots and divisions of several
+            // samples, which do not depend on each other, are in flight at once: one sample
+            // after another, each waited on its own chain of them (a lone ball took 51 ms on
+            // one thread, 41 ms in batches of 8, 45 ms in batches of 4).
+            let mut found = 0;
+            for i in start..end {
+                let x = self.x0 + (f64::from(i) + 0.5) * self.dx;
+                if let Some(p) =
+                    region_point(ctx.frame, &region.heightfield, region.sheet, x, self.y)
+                {
+                    batch[found].0 = p;
+                    found += 1;
+                }
+            }
+            let batch = &mut batch[..found];
+            onto_quadric(ctx, batch);
+            let sample = |&point| surface_sample(region, point, fallback, self.radius);
+            out.extend(batch.iter().map(sample));
+            start = end;
         }
     }
 }
+
+/// Samples of a fill row emitted in one batch ([`Row::emit`]).
+const EMIT_BATCH: usize = 8;
 
 /// Emits the samples of cells `cells` of a border region's row, in order, but for those where
 /// another plane is the best throughout, which are that plane's ([`BasicRegion::owns`]). A span
@@ -2018,23 +2043,53 @@ fn emit(
     radius: f64,
     out: &mut Vec<Sample>,
 ) {
-    let Some(position) = region_point(ctx.frame, &region.heightfield, region.sheet, x, y) else {
-        return;
-    };
-    let (position, gradient) = match ctx.snap {
-        Some(settled) => snap_to_surface(ctx.quadric, position, settled),
-        None => (position, ctx.quadric.gradient(position)),
-    };
-    let axis = ctx.frame.axes[region.heightfield.normal_axis];
-    let normal = Quadric::normal_from_gradient(gradient).unwrap_or(axis * region.sheet);
-    out.push(Sample {
+    if let Some(position) = region_point(ctx.frame, &region.heightfield, region.sheet, x, y) {
+        let mut point = [(position, DVec3::ZERO)];
+        onto_quadric(ctx, &mut point);
+        out.push(surface_sample(
+            region,
+            point[0],
+            fallback_normal(ctx, region),
+            radius,
+        ));
+    }
+}
+
+/// Heightfield points (the first of each pair) moved onto the quadric where needed
+/// ([`snap_to_surface`]), each with the gradient there (the second).
+#[inline]
+fn onto_quadric(ctx: &RegionContext<'_>, points: &mut [(DVec3, DVec3)]) {
+    for (position, gradient) in points {
+        (*position, *gradient) = match ctx.snap {
+            Some(settled) => snap_to_surface(ctx.quadric, *position, settled),
+            None => (*position, ctx.quadric.gradient(*position)),
+        };
+    }
+}
+
+/// The normal of samples of `region` where the gradient vanishes: the sampling plane's axis on
+/// the region's sheet.
+fn fallback_normal(ctx: &RegionContext<'_>, region: &BasicRegion) -> DVec3 {
+    ctx.frame.axes[region.heightfield.normal_axis] * region.sheet
+}
+
+/// The sample of `region` at a point of its quadric with the gradient there, its normal the
+/// outward one or else `fallback` ([`fallback_normal`]).
+#[inline]
+fn surface_sample(
+    region: &BasicRegion,
+    (position, gradient): (DVec3, DVec3),
+    fallback: DVec3,
+    radius: f64,
+) -> Sample {
+    Sample {
         position,
-        normal,
+        normal: Quadric::normal_from_gradient(gradient).unwrap_or(fallback),
         quadric: region.quadric,
         term: region.term,
         radius,
         clip_list: 0,
-    });
+    }
 }
 
 /// Most Newton steps that move a sample onto its quadric ([`snap_to_surface`]).
@@ -2050,11 +2105,25 @@ const SNAP_STEPS: usize = 2;
 /// Nearly every heightfield point is settled already; that test comes first, squared, without
 /// the square root and division of the residual: those waited on the divider, busy with the
 /// normal's, and took 4 % of sampling a lone ball.
-fn snap_to_surface(q: &Quadric, mut p: DVec3, settled: f64) -> (DVec3, DVec3) {
-    let (mut value, mut gradient) = (q.value(p), q.gradient(p));
+#[inline]
+fn snap_to_surface(q: &Quadric, p: DVec3, settled: f64) -> (DVec3, DVec3) {
+    let (value, gradient) = (q.value(p), q.gradient(p));
     if value * value <= settled * settled * gradient.length_squared() {
         return (p, gradient);
     }
+    newton_steps(q, p, settled, (value, gradient))
+}
+
+/// The Newton steps of [`snap_to_surface`] from `p`, where `Q` and `∇Q` are `value` and
+/// `gradient`; apart, so that the common case inlines into the loops that emit samples.
+#[cold]
+#[inline(never)]
+fn newton_steps(
+    q: &Quadric,
+    mut p: DVec3,
+    settled: f64,
+    (mut value, mut gradient): (f64, DVec3),
+) -> (DVec3, DVec3) {
     // `|Q| / ‖∇Q‖`, infinite where the gradient vanishes.
     let residual_of = |value: f64, g: DVec3| {
         let length = g.length();
