@@ -350,26 +350,33 @@ impl Emitted {
 /// Appends boxes around `samples[first..]`, in runs of one quadric and term of at most
 /// [`BOX_SAMPLES`].
 pub fn box_runs(samples: &[Sample], first: usize, boxes: &mut Vec<SampleBox>) {
-    let mut start = first;
-    let same_run = |a: &Sample, b: &Sample| a.quadric == b.quadric && a.term == b.term;
-    for run in samples.get(first..).unwrap_or_default().chunk_by(same_run) {
-        for piece in run.chunks(BOX_SAMPLES) {
-            let (low, high) = piece
-                .iter()
-                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), s| {
-                    (low.min(s.position), high.max(s.position))
+    // One pass: after a large fill the samples are no longer in the cache.
+    let mut open: Option<SampleBox> = None;
+    for (index, sample) in (first..).zip(samples.get(first..).unwrap_or_default()) {
+        let p = sample.position;
+        match &mut open {
+            Some(b)
+                if b.quadric == sample.quadric
+                    && b.term == sample.term
+                    && (b.end - b.start) < BOX_SAMPLES as u32 =>
+            {
+                b.end += 1;
+                (b.low, b.high) = (b.low.min(p), b.high.max(p));
+            }
+            _ => {
+                boxes.extend(open.take());
+                open = Some(SampleBox {
+                    start: index as u32,
+                    end: index as u32 + 1,
+                    quadric: sample.quadric,
+                    term: sample.term,
+                    low: p,
+                    high: p,
                 });
-            boxes.push(SampleBox {
-                start: start as u32,
-                end: (start + piece.len()) as u32,
-                quadric: piece[0].quadric,
-                term: piece[0].term,
-                low,
-                high,
-            });
-            start += piece.len();
+            }
         }
     }
+    boxes.extend(open);
 }
 
 impl From<Vec<Sample>> for Emitted {
