@@ -761,10 +761,7 @@ fn sample_on_pool(
                 let mut block_start = 0;
                 for (index, (_, region, _)) in (start..end).zip(&regions[start..end]) {
                     if index % REGION_BLOCK == 0 {
-                        // A block starts afresh: a thread may take it after another block
-                        // than the one before it, so its walks may not find that one's points.
                         block_start = out.len();
-                        memo.clear();
                     }
                     if let Some(ctx) = context(index) {
                         let (region, out) = ((index, region), (&mut out, block_start));

@@ -609,6 +609,10 @@ pub fn sample_region(
     deferred: &mut Vec<Deferred>,
     (memo, stats): Walk<'_>,
 ) {
+    // The walk starts empty before the root's corners too: the memo knows points by their
+    // plane coordinates alone, and the region before may have been another sheet, plane or
+    // quadric, whose value at the same coordinates is that of another point.
+    memo.clear();
     let root = Cell::new(ctx, region, region.rect, (memo, stats));
     subdivide(
         (ctx, index, region),

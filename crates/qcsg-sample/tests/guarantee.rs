@@ -251,8 +251,8 @@ fn identical_for_any_thread_count() {
 
 /// The counters too do not depend on the thread count on a scene of hundreds of regions, which
 /// threads take in runs: a walk of the subdivision remembers the points it queried
-/// (`QueryMemo`), and a run's first region once found those of whatever region its thread had
-/// sampled before, one query fewer here and there.
+/// (`QueryMemo`), and a region's first corners once found those of whatever region its thread
+/// had sampled before, one query fewer here and there.
 #[test]
 fn counters_identical_for_any_thread_count() {
     let path = common::workspace_root().join("tests/stability/far_1e6.qcsg");
