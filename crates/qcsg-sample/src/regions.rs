@@ -397,11 +397,6 @@ pub struct BestPlane {
 impl BestPlane {
     /// The test for the plane of `heightfield`.
     pub fn new(heightfield: &Heightfield) -> Self {
-        let parabola = |alpha: f64, beta: f64| Parabola {
-            alpha,
-            beta,
-            vertex: -beta / alpha,
-        };
         let conditions = match heightfield.form {
             HeightfieldForm::Root {
                 alpha_x: ax,
@@ -412,14 +407,14 @@ impl BestPlane {
             } => Some([
                 // S − g_x², g_x = α_x x + β_x.
                 (
-                    parabola(ax - ax * ax, bx * (1.0 - ax)),
-                    parabola(ay, by),
+                    Parabola::new(ax - ax * ax, bx * (1.0 - ax)),
+                    Parabola::new(ay, by),
                     c - bx * bx,
                 ),
                 // S − g_y².
                 (
-                    parabola(ax, bx),
-                    parabola(ay - ay * ay, by * (1.0 - ay)),
+                    Parabola::new(ax, bx),
+                    Parabola::new(ay - ay * ay, by * (1.0 - ay)),
                     c - by * by,
                 ),
             ]),
@@ -428,13 +423,13 @@ impl BestPlane {
             } => Some([
                 // 1 − (2 γ_x x)² and 1 − (2 γ_y y)².
                 (
-                    parabola(-4.0 * gamma_x * gamma_x, 0.0),
-                    parabola(0.0, 0.0),
+                    Parabola::new(-4.0 * gamma_x * gamma_x, 0.0),
+                    Parabola::new(0.0, 0.0),
                     1.0,
                 ),
                 (
-                    parabola(0.0, 0.0),
-                    parabola(-4.0 * gamma_y * gamma_y, 0.0),
+                    Parabola::new(0.0, 0.0),
+                    Parabola::new(-4.0 * gamma_y * gamma_y, 0.0),
                     1.0,
                 ),
             ]),
@@ -477,8 +472,16 @@ struct Parabola {
 }
 
 impl Parabola {
-    /// Its least and greatest values over `[a, b]`, as [`quadratic_min`] and [`quadratic_max`]
-    /// give them.
+    /// `α v² + 2β v`, its vertex found once.
+    fn new(alpha: f64, beta: f64) -> Self {
+        Self {
+            alpha,
+            beta,
+            vertex: -beta / alpha,
+        }
+    }
+
+    /// Its least and greatest values over `[a, b]`: at the ends, or at the vertex inside.
     fn range(&self, (a, b): (f64, f64)) -> (f64, f64) {
         let f = |v: f64| (self.alpha * v + 2.0 * self.beta) * v;
         let (at_a, at_b) = (f(a), f(b));
@@ -506,7 +509,9 @@ fn radicand_max(heightfield: &Heightfield, rect: &Rect) -> Option<f64> {
     else {
         return None;
     };
-    Some(quadratic_max(alpha_x, beta_x, rect.x) + quadratic_max(alpha_y, beta_y, rect.y) + alpha_c)
+    let (_, in_x) = Parabola::new(alpha_x, beta_x).range(rect.x);
+    let (_, in_y) = Parabola::new(alpha_y, beta_y).range(rect.y);
+    Some(in_x + in_y + alpha_c)
 }
 
 /// A `Root` rectangle over which the radicand is negative somewhere: drop it if there is no
@@ -542,24 +547,6 @@ fn partially_defined(heightfield: &Heightfield, rect: &Rect) -> RectClass {
     }
 }
 
-/// `max (α v² + 2β v)` over `[a, b]`.
-fn quadratic_max(alpha: f64, beta: f64, (a, b): (f64, f64)) -> f64 {
-    let f = |v: f64| (alpha * v + 2.0 * beta) * v;
-    let mut best = f(a).max(f(b));
-    if alpha < 0.0 {
-        let vertex = -beta / alpha;
-        if a < vertex && vertex < b {
-            best = best.max(f(vertex));
-        }
-    }
-    best
-}
-
-/// `min (α v² + 2β v)` over `[a, b]`.
-fn quadratic_min(alpha: f64, beta: f64, range: (f64, f64)) -> f64 {
-    -quadratic_max(-alpha, -beta, range)
-}
-
 /// A world box holding the surface over a basic region's rectangle (its patch), slightly
 /// widened for rounding; `None` where the heightfield has no form to bound.
 pub fn patch_bounds(frame: &PrincipalFrame, region: &BasicRegion) -> Option<Aabb> {
@@ -572,13 +559,11 @@ pub fn patch_bounds(frame: &PrincipalFrame, region: &BasicRegion) -> Option<Aabb
             beta_x,
             beta_y,
         } => {
-            let low =
-                quadratic_min(alpha_x, beta_x, rect.x) + quadratic_min(alpha_y, beta_y, rect.y);
-            let high =
-                quadratic_max(alpha_x, beta_x, rect.x) + quadratic_max(alpha_y, beta_y, rect.y);
+            let (low_x, high_x) = Parabola::new(alpha_x, beta_x).range(rect.x);
+            let (low_y, high_y) = Parabola::new(alpha_y, beta_y).range(rect.y);
             let (low, high) = (
-                (low + alpha_c).max(0.0).sqrt(),
-                (high + alpha_c).max(0.0).sqrt(),
+                (low_x + low_y + alpha_c).max(0.0).sqrt(),
+                (high_x + high_y + alpha_c).max(0.0).sqrt(),
             );
             if region.sheet > 0.0 {
                 (low, high)
@@ -590,10 +575,11 @@ pub fn patch_bounds(frame: &PrincipalFrame, region: &BasicRegion) -> Option<Aabb
             gamma_x,
             gamma_y,
             gamma_c,
-        } => (
-            quadratic_min(gamma_x, 0.0, rect.x) + quadratic_min(gamma_y, 0.0, rect.y) + gamma_c,
-            quadratic_max(gamma_x, 0.0, rect.x) + quadratic_max(gamma_y, 0.0, rect.y) + gamma_c,
-        ),
+        } => {
+            let (low_x, high_x) = Parabola::new(gamma_x, 0.0).range(rect.x);
+            let (low_y, high_y) = Parabola::new(gamma_y, 0.0).range(rect.y);
+            (low_x + low_y + gamma_c, high_x + high_y + gamma_c)
+        }
         HeightfieldForm::Ruled => return None,
     };
     let mut bounds = Aabb::EMPTY;
@@ -638,19 +624,28 @@ mod tests {
     use proptest::prelude::*;
 
     proptest! {
-        /// A parabola's range, with its vertex found once, is what `quadratic_min` and
-        /// `quadratic_max` give (a zero of either sign counting as equal).
+        /// A parabola's range over an interval holds its value at every point of a fine grid
+        /// (up to rounding), and both ends of it are values at an end or at the vertex inside.
         #[test]
-        fn parabola_range_is_the_quadratic_range(
+        fn parabola_range_is_the_least_and_greatest_value(
             alpha in prop_oneof![-4.0f64..4.0, Just(0.0), Just(-0.0)],
             beta in prop_oneof![-4.0f64..4.0, Just(0.0)],
             (a, width) in (-3.0f64..3.0, 0.0f64..4.0),
         ) {
-            let range = (a, a + width);
-            let parabola = Parabola { alpha, beta, vertex: -beta / alpha };
-            let (low, high) = parabola.range(range);
-            prop_assert!(low == quadratic_min(alpha, beta, range));
-            prop_assert!(high == quadratic_max(alpha, beta, range));
+            let (b, vertex) = (a + width, -beta / alpha);
+            let f = |v: f64| (alpha * v + 2.0 * beta) * v;
+            let (low, high) = Parabola::new(alpha, beta).range((a, b));
+            let mut extremes = vec![f(a), f(b)];
+            if a < vertex && vertex < b {
+                extremes.push(f(vertex));
+            }
+            prop_assert!(extremes.contains(&low) && extremes.contains(&high));
+            let reach = a.abs().max(b.abs());
+            let slack = 1e-12 * (1.0 + alpha.abs() * reach * reach + 2.0 * beta.abs() * reach);
+            for k in 0..=64 {
+                let value = f(a + width * f64::from(k) / 64.0);
+                prop_assert!(low - slack <= value && value <= high + slack, "{value} outside {low}..{high}");
+            }
         }
     }
 }
