@@ -43,6 +43,11 @@ impl Default for QueryMemo {
 }
 
 impl QueryMemo {
+    /// Bytes of its table.
+    pub fn heap_bytes(&self) -> usize {
+        self.slots.len() * size_of::<Slot>()
+    }
+
     /// Forgets every point: the next walk, possibly of another region, starts empty.
     pub fn clear(&mut self) {
         self.walk = self.walk.wrapping_add(1);
