@@ -22,6 +22,10 @@ use qcsg_csg::Dnf;
 use qcsg_quadric::{DMat4, DVec3, Quadric};
 use qcsg_sample::{SampleStats, Sampling, resample, sample};
 
+/// The allocator `qcsg` runs with.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// The paper's Table 2 rows: quadrics, then per splat size (samples, distance queries, clip
 /// indices, sampling ms on one 4.8 GHz core).
 type PaperRow = (usize, [PaperCell; 3]);
@@ -773,7 +777,8 @@ fn report(
          shared machine touches both alike, and their ratio (the speed-up) is from one \
          measurement. The pools are built as `qcsg` builds its own \
          (`qcsg_sample::threads::pool_builder`): a pool of as many threads as cores keeps each \
-         thread to a core of its own. Each run writes into the previous run's output \
+         thread to a core of its own, and memory comes from the allocator `qcsg` runs with \
+         (mimalloc). Each run writes into the previous run's output \
          (`qcsg_sample::resample`, as a preview that samples again on every edit), but for the \
          column *new memory*, where each run allocates its output anew (`sample`, as one \
          `qcsg sample` command does) and the operating system maps each of its pages at the \
