@@ -1927,6 +1927,7 @@ fn fill(
     let clipped = !owned && !region.owns_all_of(rect);
     // What was emitted before the fill gets boxes of its own.
     out.box_new();
+    let mut batch = [(DVec3::ZERO, DVec3::ZERO); EMIT_BATCH];
     for iy in 0..ny as u32 {
         let y = rect.y.0 + (f64::from(iy) + 0.5) * dy;
         let row = Row {
@@ -1937,9 +1938,9 @@ fn fill(
             radius,
         };
         if clipped {
-            fill_span(ctx, region, &row, 0..nx as u32, out);
+            fill_span(ctx, region, (&row, &mut batch), 0..nx as u32, out);
         } else {
-            row.emit(ctx, region, 0..nx as u32, out);
+            row.emit(ctx, region, (0..nx as u32, &mut batch), out);
         }
     }
     out.box_new();
@@ -1966,15 +1967,16 @@ impl Row {
         }
     }
 
-    /// Emits the samples of cells `cells`, in order.
+    /// Emits the samples of cells `cells`, in order, through `batch` (made once per fill: a
+    /// row holds a few samples where the fills are small, and making it took 1 % of the
+    /// instructions of sampling three balls at 0.15 % of the diagonal).
     fn emit(
         &self,
         ctx: &RegionContext<'_>,
         region: &BasicRegion,
-        cells: Range<u32>,
+        (cells, batch): (Range<u32>, &mut Batch),
         out: &mut Vec<Sample>,
     ) {
-        let mut batch = [(DVec3::ZERO, DVec3::ZERO); EMIT_BATCH];
         let fallback = fallback_normal(ctx, region);
         let mut start = cells.start;
         while start < cells.end {
@@ -2006,6 +2008,9 @@ impl Row {
 /// Samples of a fill row emitted in one batch ([`Row::emit`]).
 const EMIT_BATCH: usize = 8;
 
+/// Heightfield points, then surface points with their gradients, of one batch.
+type Batch = [(DVec3, DVec3); EMIT_BATCH];
+
 /// Emits the samples of cells `cells` of a border region's row, in order, but for those where
 /// another plane is the best throughout, which are that plane's ([`BasicRegion::owns`]). A span
 /// of cells is decided whole where the plane is the best everywhere or nowhere over it, and
@@ -2016,7 +2021,7 @@ const EMIT_BATCH: usize = 8;
 fn fill_span(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
-    row: &Row,
+    (row, batch): (&Row, &mut Batch),
     cells: Range<u32>,
     out: &mut Vec<Sample>,
 ) {
@@ -2024,10 +2029,10 @@ fn fill_span(
         Owned::None => {}
         Owned::Part if cells.len() > 1 => {
             let middle = cells.start + (cells.end - cells.start) / 2;
-            fill_span(ctx, region, row, cells.start..middle, out);
-            fill_span(ctx, region, row, middle..cells.end, out);
+            fill_span(ctx, region, (row, batch), cells.start..middle, out);
+            fill_span(ctx, region, (row, batch), middle..cells.end, out);
         }
-        Owned::All | Owned::Part => row.emit(ctx, region, cells, out),
+        Owned::All | Owned::Part => row.emit(ctx, region, (cells, batch), out),
     }
 }
 
