@@ -1554,11 +1554,14 @@ impl IndexShard {
     }
 }
 
-/// The shard of `count` that holds cube `key` ([`bucket_key`]): by the sum of its coordinates,
-/// so that neighbouring cubes alternate between shards.
+/// The shard of `count` (a power of two) that holds cube `key` ([`bucket_key`]): by the sum
+/// of its coordinates, so that neighbouring cubes alternate between shards. A mask, not a
+/// remainder: with a division for each cube a look-up tries (up to eight),
+/// [`SampleIndex::cover`] took 7.6 % of sampling three balls at 0.15 % of the diagonal
+/// instead of 7.0 %.
 fn shard(key: u128, count: usize) -> usize {
     let [x, y, z] = [96, 64, 32].map(|bits| (key >> bits) as u32);
-    x.wrapping_add(y).wrapping_add(z) as usize % count
+    x.wrapping_add(y).wrapping_add(z) as usize & (count - 1)
 }
 
 impl<'a> SampleIndex<'a> {
@@ -1633,9 +1636,9 @@ impl<'a> SampleIndex<'a> {
                 })
             })
             .collect();
-        // Grouped by cube in shards, one per thread: grouping them all on one thread took
-        // longer than reading them on two.
-        let count = rayon::current_num_threads().max(1);
+        // Grouped by cube in shards, one per thread (or a few more, a power of two for
+        // [`shard`]): grouping them all on one thread took longer than reading them on two.
+        let count = rayon::current_num_threads().max(1).next_power_of_two();
         index.shards = (0..count)
             .into_par_iter()
             .map(|shard_index| IndexShard::new(&hits, (shard_index, count)))
