@@ -361,7 +361,7 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedReg
     }
     let shapes = Shapes::new(dnf);
     // Each literal's patch, its regions with a box around each one's part, and counters.
-    type Decomposed = (Patch, Vec<(BasicRegion, Aabb)>, RegionStats);
+    type Decomposed = (Patch, Vec<Vec<(BasicRegion, Aabb)>>, RegionStats);
     let decomposed: Vec<Option<Decomposed>> = literals
         .par_iter()
         .map(|&(term, literal, bounds)| {
@@ -371,32 +371,42 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedReg
                 return None;
             }
             let frame = entry.quadric.frame();
+            // The three sampling planes each on its own: a scene of a few quadrics has too few
+            // literals to share out (three balls at 1 % of the diagonal on two threads: this
+            // step took 0.21-0.26 ms instead of 0.27-0.37 ms, of about 2 ms).
+            let planes: Vec<_> = (frame.heightfields().into_par_iter())
+                .map(|heightfield| {
+                    let (mut found, mut counters) = (Vec::new(), RegionStats::default());
+                    let key = (literal, term);
+                    let reach = basic_regions(
+                        &frame,
+                        &heightfield,
+                        &bounds,
+                        key,
+                        &mut found,
+                        &mut counters,
+                    );
+                    let found: Vec<(BasicRegion, Aabb)> = (found.into_iter())
+                        .map(|region| {
+                            let bounds = patch_bounds(&frame, &region);
+                            (region, bounds.unwrap_or(Aabb::EVERYTHING))
+                        })
+                        .collect();
+                    (found, counters, reach)
+                })
+                .collect();
             let mut found = Vec::new();
             let mut counters = RegionStats::default();
             let mut reach = 0.0f64;
-            for heightfield in frame.heightfields() {
-                let key = (literal, term);
-                let given_up = basic_regions(
-                    &frame,
-                    &heightfield,
-                    &bounds,
-                    key,
-                    &mut found,
-                    &mut counters,
-                );
+            for (regions, more, given_up) in planes {
+                found.push(regions);
+                counters.examined += more.examined;
+                counters.unresolved += more.unresolved;
                 reach = reach.max(given_up);
             }
             // Eq. 22 for the part of the quadric its regions hold.
-            let found: Vec<(BasicRegion, Aabb)> = found
-                .into_iter()
-                .map(|region| {
-                    let bounds = patch_bounds(&frame, &region).unwrap_or(Aabb::EVERYTHING);
-                    (region, bounds)
-                })
-                .collect();
-            let bounds = found
-                .iter()
-                .fold(Aabb::EMPTY, |all, (_, bounds)| all.union(bounds));
+            let bounds =
+                (found.iter().flatten()).fold(Aabb::EMPTY, |all, (_, bounds)| all.union(bounds));
             let distance = CsgDistance::with_shapes(dnf, &shapes, (literal, term), &bounds)?;
             let patch = Patch {
                 frame,
@@ -413,7 +423,8 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedReg
     let mut patches = Vec::new();
     let mut regions = Vec::new();
     for (patch, found, counters) in decomposed.into_iter().flatten() {
-        regions.extend(found.into_iter().map(|(r, b)| (patches.len(), r, b)));
+        let found = found.into_iter().flatten();
+        regions.extend(found.map(|(r, b)| (patches.len(), r, b)));
         patches.push(patch);
         stats.regions.examined += counters.examined;
         stats.regions.unresolved += counters.unresolved;
