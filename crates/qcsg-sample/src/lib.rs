@@ -338,8 +338,8 @@ fn term_box(dnf: &Dnf, term: usize) -> Option<Aabb> {
 }
 
 /// Every basic region of every literal of every term, in a fixed order (term, literal, plane,
-/// sheet, rectangle), with the patch each belongs to. Literals are decomposed in parallel: a
-/// scene of many parts has thousands of them.
+/// sheet, rectangle), with the patch each belongs to. Literals are decomposed in parallel (a
+/// scene of many parts has thousands of them), and so are each literal's sampling planes.
 fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedRegion>) {
     let mut literals = Vec::new();
     for (term_index, term) in dnf.terms.iter().enumerate() {
@@ -360,7 +360,8 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedReg
         );
     }
     let shapes = Shapes::new(dnf);
-    // Each literal's patch, its regions with a box around each one's part, and counters.
+    // Each literal's patch, its regions (by sampling plane) with a box around each one's part,
+    // and counters.
     type Decomposed = (Patch, Vec<Vec<(BasicRegion, Aabb)>>, RegionStats);
     let decomposed: Vec<Option<Decomposed>> = literals
         .par_iter()
