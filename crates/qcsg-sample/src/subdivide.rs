@@ -188,7 +188,7 @@ pub struct RegionContext<'a> {
     /// Parts of a rectangle no larger than this on the surface are specks, below the length
     /// tolerance of the scene ([`probe_given_up`]).
     pub speck: f64,
-    /// Buffers for the halves other threads take ([`split_in_parallel`]), emptied and handed
+    /// Buffers for the halves other threads take (`split_in_parallel`), emptied and handed
     /// back once their contents are appended.
     pub spare_halves: &'a Mutex<Vec<HalfBuffers>>,
 }
