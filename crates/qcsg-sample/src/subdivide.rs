@@ -194,9 +194,9 @@ pub struct RegionContext<'a> {
 }
 
 /// What the half of a large cell that another thread took writes to: its samples, its deferred
-/// rectangles and its memo. Kept from half to half and from run to run ([`crate::resample`]):
-/// new ones were filled in fresh memory, and their page faults (three balls at 0.15 % of the
-/// diagonal on two threads: 680 a run against 230 on one) were a tenth of the run.
+/// rectangles and its memo. Kept from half to half and from run to run ([`crate::resample`]),
+/// as the runs' buffers are, so that a half writes to memory that is mapped already instead of
+/// growing new buffers page by page.
 pub type HalfBuffers = (Emitted, Vec<Deferred>, QueryMemo);
 
 /// A rectangle with its corner distances `[x0y0, x1y0, x0y1, x1y1]` and the heightfield's
@@ -511,11 +511,12 @@ fn at_centre(
 }
 
 /// Whether the discs of radii `radii` around the corners of a rectangle `w × h` (in [`corner`]
-/// order) cover it: each quadrant (the quarter at corner `k`) lies in some corner's disc, corner `j`'s
-/// holding all of it when it reaches the quadrant's farthest vertex from `j`. This takes in the
-/// rules "one disc reaches the opposite corner" and "every disc reaches the centre", and also
-/// settles a rectangle where the discs at one end reach past the middle: on the examples at 1 %
-/// of the diagonal, 4 % fewer queries and 1 % fewer samples (larger rectangles filled).
+/// order) cover it: each quadrant (the quarter at corner `k`) lies in some corner's disc,
+/// corner `j`'s holding all of it when it reaches the quadrant's farthest vertex from `j`. This
+/// takes in the rules "one disc reaches the opposite corner" and "every disc reaches the
+/// centre", and also settles a rectangle where the discs at one end reach past the middle: on
+/// the examples at 1 % of the diagonal, 4 % fewer queries and 1 % fewer samples (larger
+/// rectangles filled).
 fn discs_cover((w, h): (f64, f64), radii: [f64; 4]) -> bool {
     let reaches = |j: usize, k: usize| {
         let dx = if (j ^ k) & 1 == 0 { 0.5 * w } else { w };
@@ -1973,8 +1974,8 @@ impl Row {
     }
 
     /// Emits the samples of cells `cells`, in order, through `batch` (made once per fill: a
-    /// row holds a few samples where the fills are small, and making it took 1 % of the
-    /// instructions of sampling three balls at 0.15 % of the diagonal).
+    /// row holds a few samples where the fills are small, and making it for each row took up
+    /// to 1 % of the instructions of sampling three balls at 0.15 % of the diagonal).
     fn emit(
         &self,
         ctx: &RegionContext<'_>,
