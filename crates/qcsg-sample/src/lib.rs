@@ -618,8 +618,8 @@ impl FirstPassRuns {
 /// Keeps an appended run's buffers for the next runs, unless they have no memory: the first
 /// run appended hands its buffers to the output and gets the output's empty ones back. Kept,
 /// those became one more buffer on every [`resample`], which a run then grew in new memory
-/// (three balls at 0.15 % of the diagonal on two threads: 2.4 MB and 600 page faults more a
-/// run, and held until the sampling was dropped).
+/// (three balls at 0.15 % of the diagonal on two threads: 2.4 MB and about 450 page faults
+/// more a run, and held until the sampling was dropped).
 fn keep_spare(spare: &mut Vec<FirstPass>, run: FirstPass) {
     if run.0.samples.capacity() > 0 {
         spare.push(run);

@@ -285,8 +285,8 @@ fn invalid_radius_is_an_error() {
 /// Resampling keeps the threads' buffers for the next run (`Sampling::spare_bytes`), and
 /// they do not add up from run to run: a run appended first hands its buffers to the output
 /// and got back the output's empty ones, which had become one more buffer on every run (on two
-/// threads the next run grew it anew: 2.4 MB and 600 page faults more a run on three balls at
-/// 0.15 % of the diagonal).
+/// threads the next run grew it anew: 2.4 MB and about 450 page faults more a run on three
+/// balls at 0.15 % of the diagonal).
 #[test]
 fn resampling_keeps_a_bounded_set_of_buffers() {
     let dnf = common::cube_minus_cylinder();
