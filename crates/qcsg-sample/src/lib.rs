@@ -118,9 +118,9 @@ use crate::in_order::{InOrder, lock};
 use crate::memo::QueryMemo;
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
-    Deferred, Emitted, GivenUp, HalfBuffers, Probed, REGION_BLOCK, RegionContext, SampleBox,
-    SampleIndex, SubdivisionStats, given_up_share, grow_radius, probe_given_up, refine_deferred,
-    sample_region, settle_given_up, settle_parts,
+    Deferred, Emitted, GivenUp, HalfBuffers, Probed, REGION_BLOCK, RegionContext, SampleIndex,
+    SubdivisionStats, given_up_share, grow_radius, probe_given_up, refine_deferred, sample_region,
+    settle_given_up, settle_parts,
 };
 
 /// One sample on the CSG surface.
@@ -242,16 +242,12 @@ impl Sampling {
     /// threads' buffers, emptied. Their number is that of the buffers a run needs at once, so
     /// they do not add up over runs.
     pub fn spare_bytes(&self) -> usize {
-        let bytes = |out: &Emitted, deferred: usize| {
-            out.samples.capacity() * size_of::<Sample>()
-                + out.boxes.capacity() * size_of::<SampleBox>()
-                + deferred * size_of::<Deferred>()
+        let bytes = |out: &Emitted, deferred: &Vec<Deferred>| {
+            out.heap_bytes() + deferred.capacity() * size_of::<Deferred>()
         };
         let spare = &self.spare;
-        let runs = (spare.runs.iter().chain([&spare.output]))
-            .map(|(out, deferred, _)| bytes(out, deferred.capacity()));
-        let halves = (spare.halves.iter())
-            .map(|(out, deferred, memo)| bytes(out, deferred.capacity()) + memo.heap_bytes());
+        let runs = (spare.runs.iter().chain([&spare.output])).map(|(out, d, _)| bytes(out, d));
+        let halves = (spare.halves.iter()).map(|(out, d, memo)| bytes(out, d) + memo.heap_bytes());
         runs.chain(halves).sum()
     }
 
@@ -401,8 +397,7 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedReg
             let mut reach = 0.0f64;
             for (regions, more, given_up) in planes {
                 found.push(regions);
-                counters.examined += more.examined;
-                counters.unresolved += more.unresolved;
+                counters.add(&more);
                 reach = reach.max(given_up);
             }
             // Eq. 22 for the part of the quadric its regions hold.
@@ -427,8 +422,7 @@ fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedReg
         let found = found.into_iter().flatten();
         regions.extend(found.map(|(r, b)| (patches.len(), r, b)));
         patches.push(patch);
-        stats.regions.examined += counters.examined;
-        stats.regions.unresolved += counters.unresolved;
+        stats.regions.add(&counters);
     }
     (patches, regions)
 }

@@ -211,6 +211,14 @@ pub struct RegionStats {
     pub unresolved: u64,
 }
 
+impl RegionStats {
+    /// Adds another set of counters.
+    pub fn add(&mut self, other: &Self) {
+        self.examined += other.examined;
+        self.unresolved += other.unresolved;
+    }
+}
+
 enum RectClass {
     /// A basic region, with its maximum distortion and whether it straddles the border.
     Keep(f64, bool),

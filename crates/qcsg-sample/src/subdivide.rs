@@ -349,6 +349,12 @@ impl Emitted {
         more.clear();
     }
 
+    /// Bytes of its buffers.
+    pub fn heap_bytes(&self) -> usize {
+        self.samples.capacity() * size_of::<Sample>()
+            + self.boxes.capacity() * size_of::<SampleBox>()
+    }
+
     /// Empties it, keeping its memory.
     pub fn clear(&mut self) {
         self.samples.clear();
