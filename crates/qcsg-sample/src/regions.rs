@@ -268,11 +268,12 @@ pub fn basic_regions(
     let mut kept = Vec::new();
     let mut budget = MAX_REGION_RECTANGLES;
     for quadrant in quadrants(domain) {
-        let mut stack = vec![(quadrant, 0u32)];
-        while let Some((rect, depth)) = stack.pop() {
+        let bounds = heightfield.distortion_bounds(quadrant.x, quadrant.y);
+        let mut stack = vec![((quadrant, bounds), 0u32)];
+        while let Some(((rect, bounds), depth)) = stack.pop() {
             stats.examined += 1;
             budget = budget.saturating_sub(1);
-            match classify_rect(heightfield, &rect) {
+            match classify_rect(heightfield, (&rect, bounds)) {
                 RectClass::Keep(max_distortion, border) => {
                     kept.push((rect, max_distortion, border))
                 }
@@ -282,7 +283,7 @@ pub fn basic_regions(
                     given_up_reach = given_up_reach.max(reach_from_centre(heightfield, &rect));
                 }
                 RectClass::Split => {
-                    let (low, high) = split_for_distortion(heightfield, &rect);
+                    let [low, high] = split_for_distortion(heightfield, &rect);
                     stack.push((high, depth + 1));
                     stack.push((low, depth + 1));
                 }
@@ -322,25 +323,29 @@ fn reach_from_centre(heightfield: &Heightfield, rect: &Rect) -> f64 {
 /// a cylinder seen from a plane holding its axis depends on one coordinate only; halving the
 /// other (the longer edge of a tall domain) would not bring the rectangle closer to a decision.
 /// Of the two cuts, the one whose halves have the smaller largest spread of distortion wins;
-/// the longer edge breaks ties and decides where the bounds are undefined.
-pub fn split_for_distortion(heightfield: &Heightfield, rect: &Rect) -> (Rect, Rect) {
-    let spread = |r: &Rect| {
-        heightfield
-            .distortion_bounds(r.x, r.y)
-            .map_or(f64::INFINITY, |(low, high)| high - low)
-    };
-    let score = |along_x: bool| {
+/// the longer edge breaks ties and decides where the bounds are undefined. Each half comes with
+/// its bounds ([`Heightfield::distortion_bounds`]), which the callers need next.
+pub fn split_for_distortion(heightfield: &Heightfield, rect: &Rect) -> [Bounded; 2] {
+    let cut = |along_x: bool| {
         let (low, high) = rect.split(along_x);
-        spread(&low).max(spread(&high))
+        [low, high].map(|half| (half, heightfield.distortion_bounds(half.x, half.y)))
     };
-    let (by_x, by_y) = (score(true), score(false));
-    let along_x = if by_x.is_finite() && by_y.is_finite() && by_x != by_y {
-        by_x < by_y
+    let score = |halves: &[Bounded; 2]| {
+        let spread = |(_, bounds): &Bounded| bounds.map_or(f64::INFINITY, |(low, high)| high - low);
+        spread(&halves[0]).max(spread(&halves[1]))
+    };
+    let (by_x, by_y) = (cut(true), cut(false));
+    let (score_x, score_y) = (score(&by_x), score(&by_y));
+    let along_x = if score_x.is_finite() && score_y.is_finite() && score_x != score_y {
+        score_x < score_y
     } else {
         rect.width() >= rect.height()
     };
-    rect.split(along_x)
+    if along_x { by_x } else { by_y }
 }
+
+/// A rectangle with its distortion bounds ([`Heightfield::distortion_bounds`]).
+pub type Bounded = (Rect, Option<(f64, f64)>);
 
 /// The domain cut at the plane's axes (the paper describes one quadrant; the rest is symmetry).
 fn quadrants(domain: Rect) -> Vec<Rect> {
@@ -360,11 +365,15 @@ fn quadrants(domain: Rect) -> Vec<Rect> {
     out
 }
 
-fn classify_rect(heightfield: &Heightfield, rect: &Rect) -> RectClass {
+/// What to do with a rectangle of distortion bounds `bounds`.
+fn classify_rect(
+    heightfield: &Heightfield,
+    (rect, bounds): (&Rect, Option<(f64, f64)>),
+) -> RectClass {
     if rect.width() <= 0.0 || rect.height() <= 0.0 {
         return RectClass::Drop;
     }
-    match heightfield.distortion_bounds(rect.x, rect.y) {
+    match bounds {
         Some((low, _)) if low > SQRT3 => RectClass::Drop,
         Some((_, high)) => match best_plane(heightfield, rect) {
             Best::Nowhere => RectClass::Drop,

@@ -1908,28 +1908,44 @@ fn fill(
     distortion: f64,
     out: &mut Emitted,
 ) -> bool {
+    fill_bounded(ctx, region, (rect, owned), (distortion, None), out)
+}
+
+/// [`fill`], where the rectangle's distortion bounds
+/// ([`qcsg_quadric::Heightfield::distortion_bounds`]) may be known already (`bounds`): its
+/// halves' come with them ([`split_for_distortion`]). Each half's bounds were computed three
+/// times, and a rectangle too narrow to split still weighed both cuts: the bounds took 8 % of
+/// the instructions of sampling a cube dimpled by 18 balls at 0.15 % of the diagonal, 4 % now.
+fn fill_bounded(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    (rect, owned): (&Rect, bool),
+    (distortion, bounds): (f64, Option<Option<(f64, f64)>>),
+    out: &mut Emitted,
+) -> bool {
     let spacing = std::f64::consts::SQRT_2 * ctx.radius / distortion;
     let Some((nx, ny)) = grid_shape(rect, 2.0 * ctx.radius / distortion) else {
         return false;
     };
-    if let Some((low, high)) = region.heightfield.distortion_bounds(rect.x, rect.y)
+    // A cut spans at most the longer side: where that is too short to split, how the
+    // distortion varies does not matter.
+    let across_at_most = rect.width().max(rect.height());
+    if across_at_most >= FILL_SPLIT_CELLS * spacing
+        && let Some((low, high)) =
+            bounds.unwrap_or_else(|| region.heightfield.distortion_bounds(rect.x, rect.y))
         && high > FILL_SPREAD * low
     {
-        let (first, second) = split_for_distortion(&region.heightfield, rect);
-        let across = if first.width() < rect.width() {
+        let [first, second] = split_for_distortion(&region.heightfield, rect);
+        let across = if first.0.width() < rect.width() {
             rect.width()
         } else {
             rect.height()
         };
         if across >= FILL_SPLIT_CELLS * spacing {
-            for half in [first, second] {
-                fill(
-                    ctx,
-                    region,
-                    (&half, owned),
-                    rect_distortion(region, &half),
-                    out,
-                );
+            for (half, bounds) in [first, second] {
+                let distortion = bounded_distortion(region, bounds.map(|(_, high)| high));
+                let half = (&half, owned);
+                fill_bounded(ctx, region, half, (distortion, Some(bounds)), out);
             }
             return true;
         }
