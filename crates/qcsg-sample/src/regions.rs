@@ -330,18 +330,71 @@ pub fn split_for_distortion(heightfield: &Heightfield, rect: &Rect) -> [Bounded;
         let (low, high) = rect.split(along_x);
         [low, high].map(|half| (half, heightfield.distortion_bounds(half.x, half.y)))
     };
-    let score = |halves: &[Bounded; 2]| {
-        let spread = |(_, bounds): &Bounded| bounds.map_or(f64::INFINITY, |(low, high)| high - low);
-        spread(&halves[0]).max(spread(&halves[1]))
-    };
     let (by_x, by_y) = (cut(true), cut(false));
-    let (score_x, score_y) = (score(&by_x), score(&by_y));
-    let along_x = if score_x.is_finite() && score_y.is_finite() && score_x != score_y {
+    if cut_along_x(
+        rect,
+        [&by_x, &by_y].map(|halves| halves.map(|(_, bounds)| bounds)),
+    ) {
+        by_x
+    } else {
+        by_y
+    }
+}
+
+/// [`split_for_distortion`] of a rectangle inside one quadrant of its plane, from the squared
+/// slopes at its corners (`slopes`, [`Heightfield::slope_squared`] in the order `x0y0, x1y0,
+/// x0y1, x1y1`, NaN where undefined): there a rectangle's bounds are those of its corners
+/// ([`corner_bounds`]), so both cuts take four new slopes instead of sixteen. Each half comes
+/// with its corners' slopes.
+pub fn split_for_distortion_at_corners(
+    heightfield: &Heightfield,
+    rect: &Rect,
+    slopes: [f64; 4],
+) -> [(Rect, [f64; 4]); 2] {
+    let slope = |x: f64, y: f64| heightfield.slope_squared(x, y).unwrap_or(f64::NAN);
+    let (mx, my) = rect.centre();
+    let [a, b, c, d] = slopes;
+    let ((x_low, x_high), (y_low, y_high)) = (rect.split(true), rect.split(false));
+    let (bottom, top) = (slope(mx, rect.y.0), slope(mx, rect.y.1));
+    let (left, right) = (slope(rect.x.0, my), slope(rect.x.1, my));
+    let by_x = [(x_low, [a, bottom, c, top]), (x_high, [bottom, b, top, d])];
+    let by_y = [(y_low, [a, b, left, right]), (y_high, [left, right, c, d])];
+    let bounds = |halves: &[(Rect, [f64; 4]); 2]| halves.map(|(_, s)| corner_bounds(s));
+    if cut_along_x(rect, [bounds(&by_x), bounds(&by_y)]) {
+        by_x
+    } else {
+        by_y
+    }
+}
+
+/// [`Heightfield::distortion_bounds`] of a rectangle inside one quadrant from its corners'
+/// squared slopes (NaN where undefined), rounded as it rounds them.
+pub fn corner_bounds(slopes: [f64; 4]) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for slope in slopes {
+        if slope.is_nan() {
+            return None;
+        }
+        lo = lo.min(slope);
+        hi = hi.max(slope);
+    }
+    Some(((1.0 + lo).sqrt(), (1.0 + hi).sqrt()))
+}
+
+/// Whether [`split_for_distortion`] cuts across `x`, from the bounds of the halves of the cut
+/// across `x` and of the cut across `y`.
+fn cut_along_x(rect: &Rect, [by_x, by_y]: [[Option<(f64, f64)>; 2]; 2]) -> bool {
+    let score = |halves: [Option<(f64, f64)>; 2]| {
+        let spread =
+            |bounds: Option<(f64, f64)>| bounds.map_or(f64::INFINITY, |(low, high)| high - low);
+        spread(halves[0]).max(spread(halves[1]))
+    };
+    let (score_x, score_y) = (score(by_x), score(by_y));
+    if score_x.is_finite() && score_y.is_finite() && score_x != score_y {
         score_x < score_y
     } else {
         rect.width() >= rect.height()
-    };
-    if along_x { by_x } else { by_y }
+    }
 }
 
 /// A rectangle with its distortion bounds ([`Heightfield::distortion_bounds`]).
