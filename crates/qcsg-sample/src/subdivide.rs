@@ -431,8 +431,8 @@ enum Verdict {
     Small,
     /// Small and unproven.
     Unproven { footprint: f64 },
-    /// To be split.
-    Split,
+    /// To be split; its footprint is larger than `r`.
+    Split { footprint: f64 },
 }
 
 /// Classifies one cell, emitting its samples when it is on the surface; `out[first..]` are the
@@ -477,7 +477,7 @@ fn classify(
                 return verdict;
             }
         }
-        return Verdict::Split;
+        return Verdict::Split { footprint };
     }
     if let Some(k) = cell.d.iter().position(|&d| d < 0.0) {
         if covered_by_recent(ctx, region, &rect, footprint, &mut out[first..]) {
@@ -689,8 +689,8 @@ fn subdivide(
         match classify(ctx, region, &cell, (out, look_back), (memo, stats)) {
             Verdict::Discarded | Verdict::Filled | Verdict::Small => {}
             Verdict::Unproven { .. } => deferred.push(defer(cell)),
-            Verdict::Split => match split(ctx, region, &cell, (memo, stats)) {
-                Some(halves) if cell_footprint(region, &cell) >= TASK_FOOTPRINT * ctx.radius => {
+            Verdict::Split { footprint } => match split(ctx, region, &cell, (memo, stats)) {
+                Some(halves) if footprint >= TASK_FOOTPRINT * ctx.radius => {
                     // The halves charge the budget themselves.
                     meter.finish(held, queries);
                     let task = (ctx, index, region);
@@ -817,7 +817,7 @@ pub fn refine_deferred(
             match classify(ctx, region, &cell, (out, first_sample), (memo, stats)) {
                 Verdict::Discarded | Verdict::Filled | Verdict::Small => continue,
                 Verdict::Unproven { footprint } => footprint,
-                Verdict::Split => f64::INFINITY,
+                Verdict::Split { .. } => f64::INFINITY,
             }
         };
         let extent = 0.5 * footprint;
