@@ -802,6 +802,9 @@ pub fn refine_deferred(
         (samples, stats.distance_queries - queries_before)
     };
     let root_footprint = cell_footprint(region, &deferred.cell);
+    // The index's samples within `r` of the deferred rectangle's centre ([`SampleIndex::near`]),
+    // with that centre, once it is looked up.
+    let mut near_root: Option<(DVec3, Vec<u32>)> = None;
     while let Some((mut cell, classified)) = stack.pop() {
         let (samples, queries) = done(out, stats);
         if !meter.tick(samples, queries) {
@@ -828,9 +831,43 @@ pub fn refine_deferred(
                 stats.unresolved_covered += 1;
                 continue;
             }
-            if let Some(cover) = index.cover((region.quadric, region.term), point, extent) {
+            if classified {
+                let mut near = Vec::new();
+                index.near(region.quadric, point.position, &mut near);
+                near_root = Some((point.position, near));
+            }
+            // A sample that covers the ball of radius `extent` around a point lies within
+            // `r − extent` of it: within `r` of the root's centre, and on its list, where the
+            // point lies within `extent` of that centre.
+            let listed = |p: DVec3, extent: f64| {
+                let (centre, near) = near_root.as_ref()?;
+                ((p - *centre).length() <= extent).then_some(near.as_slice())
+            };
+            let cover = match listed(point.position, extent) {
+                Some(near) => index.cover_among(near.iter().copied(), region.term, point, extent),
+                None => index.cover((region.quadric, region.term), point, extent),
+            };
+            if let Some(cover) = cover {
                 grown.push(cover);
                 stats.unresolved_covered += 1;
+                continue;
+            }
+            // Where samples cover both halves but none the whole, the split and its halves
+            // need no query (three balls at 0.15 % of the diagonal: 9 % fewer queries, 5 %
+            // fewer instructions; a failed try cost about a query while each try looked its
+            // halves up in the index's cubes, before the list near the root's centre).
+            let both_halves = (cell.rect.diagonal() > cutoff)
+                .then(|| cover_halves(ctx, region, &cell, (out, first_sample), (index, &listed)))
+                .flatten();
+            if let Some(covers) = both_halves {
+                for (own, i, needed) in covers {
+                    if own {
+                        grow_radius(out, i, needed);
+                    } else {
+                        grown.push((i, needed));
+                    }
+                }
+                stats.unresolved_covered += 2;
                 continue;
             }
         }
@@ -894,6 +931,48 @@ pub fn refine_deferred(
     }
     let (samples, queries) = done(out, stats);
     meter.finish(samples, queries);
+}
+
+/// Covers of both halves of an unproven cell ([`Rect::split_longest`]) by samples, without a
+/// distance query: by the refinement's own samples `out[first..]` (`true`) or by the index's
+/// samples that `listed` holds for a half's centre and extent (none where it holds none); each
+/// with the sample's index and the radius it needs. `None` unless both are covered. Where a
+/// sample covers each half but none the whole, this saves the split's queries and those of
+/// its halves.
+fn cover_halves<'n>(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    cell: &Cell,
+    (out, first): (&[Sample], usize),
+    (index, listed): (&SampleIndex<'_>, &impl Fn(DVec3, f64) -> Option<&'n [u32]>),
+) -> Option<[(bool, u32, f64); 2]> {
+    let (low, high, _) = cell.rect.split_longest();
+    // The cell's distortion bound holds over its halves.
+    let distortion = cell_distortion(region, cell);
+    let own = || (first..out.len()).map(|i| (i as u32, &out[i]));
+    let cover = |half: &Rect| {
+        let extent = 0.5 * distortion * half.diagonal();
+        let (x, y) = half.centre();
+        let position = region_point(ctx.frame, &region.heightfield, region.sheet, x, y)?;
+        let near = listed(position, extent).unwrap_or_default();
+        // Where no sample is near enough (most halves), the centre needs no normal.
+        let candidates = own()
+            .map(|(_, s)| s)
+            .chain(near.iter().map(|&i| index.sample(i)));
+        if !candidates
+            .into_iter()
+            .any(|s| may_cover(s.position - position, extent, ctx.radius))
+        {
+            return None;
+        }
+        let point = SurfacePoint::on(ctx.quadric, position)?;
+        if let Some((i, needed)) = cover_by(own(), point, extent, ctx.radius, |_| true) {
+            return Some((true, i, needed));
+        }
+        let (i, needed) = index.cover_among(near.iter().copied(), region.term, point, extent)?;
+        Some((false, i, needed))
+    };
+    Some([cover(&low)?, cover(&high)?])
 }
 
 /// Settles the given-up rectangles `given_up[from..]` against the samples `out[first..]` of the
@@ -1705,37 +1784,79 @@ impl<'a> SampleIndex<'a> {
         extent: f64,
     ) -> Option<(u32, f64)> {
         // Only a sample within `r − extent` of the point can cover the ball (no radius exceeds
-        // `r`), and it lies in a cube that the ball of that radius around the point touches:
-        // with cubes of side `2r`, at most two along each axis, and one along an axis more
-        // often the larger `extent` is.
-        let reach = self.radius - extent;
+        // `r`).
+        let mut cubes: [&[u32]; 8] = [&[]; 8];
+        let mut found = 0;
+        self.cubes_near(quadric, point.position, self.radius - extent, |members| {
+            if let Some(slot) = cubes.get_mut(found) {
+                *slot = members;
+                found += 1;
+            }
+        });
+        let candidates = cubes[..found].iter().flat_map(|members| members.iter());
+        self.cover_among(candidates.copied(), term, point, extent)
+    }
+
+    /// The samples of `quadric` (of any term) within `r` of `position`, into `out`, in a fixed
+    /// order. A sample that covers the ball of radius `e` around a point within `e` of
+    /// `position` is among them: a refinement gathers them once around the centre of its
+    /// deferred rectangle, and its parts whose centres lie that near scan this short list
+    /// instead of the index's cubes ([`Self::cover_among`]).
+    pub fn near(&self, quadric: u32, position: DVec3, out: &mut Vec<u32>) {
+        out.clear();
+        let limit = self.radius * self.radius * (1.0 + 1e-9);
+        self.cubes_near(quadric, position, self.radius, |members| {
+            let near = |&&i: &&u32| {
+                (self.samples[i as usize].position - position).length_squared() <= limit
+            };
+            out.extend(members.iter().filter(near));
+        });
+    }
+
+    /// The samples of the cubes that the ball of radius `reach ≤ r` around `position` touches,
+    /// cube by cube: with cubes of side `2r`, at most two along each axis, and one more often
+    /// the smaller `reach` is.
+    fn cubes_near<'s>(
+        &'s self,
+        quadric: u32,
+        position: DVec3,
+        reach: f64,
+        mut each: impl FnMut(&'s [u32]),
+    ) {
         if reach.is_nan() || reach < 0.0 || self.shards.is_empty() {
-            return None;
+            return;
         }
         let reach = DVec3::splat(reach);
-        let (low, high) = (
-            self.key(point.position - reach),
-            self.key(point.position + reach),
-        );
+        let (low, high) = (self.key(position - reach), self.key(position + reach));
         let count = self.shards.len();
-        let mut cubes: [&[u32]; 27] = [&[]; 27];
-        let mut found = 0;
         for z in low[2]..=high[2] {
             for y in low[1]..=high[1] {
                 for x in low[0]..=high[0] {
                     let key = bucket_key([x, y, z], quadric);
-                    let members = self.shards.get(shard(key, count));
-                    if let (Some(members), Some(slot)) =
-                        (members.and_then(|s| s.get(key)), cubes.get_mut(found))
+                    if let Some(members) =
+                        self.shards.get(shard(key, count)).and_then(|s| s.get(key))
                     {
-                        *slot = members;
-                        found += 1;
+                        each(members);
                     }
                 }
             }
         }
-        let candidates = cubes[..found].iter().flat_map(|members| members.iter());
-        let samples = candidates.map(|&i| (i, &self.samples[i as usize]));
+    }
+
+    /// Sample number `i`.
+    fn sample(&self, i: u32) -> &'a Sample {
+        &self.samples[i as usize]
+    }
+
+    /// [`Self::cover`] over the samples `candidates` (of the quadric), in their order.
+    pub fn cover_among(
+        &self,
+        candidates: impl Iterator<Item = u32>,
+        term: u32,
+        point: SurfacePoint,
+        extent: f64,
+    ) -> Option<(u32, f64)> {
+        let samples = candidates.map(|i| (i, &self.samples[i as usize]));
         cover_by(samples, point, extent, self.radius, |s| {
             s.term == term || inside_term(self.dnf, s, term, point.position, extent)
         })
