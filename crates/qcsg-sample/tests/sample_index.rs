@@ -2,6 +2,7 @@
 //! sample of the quadric, on the same side, that covers a ball around a query point with a
 //! radius of at most `r`. Checked at radii small enough against the spread of the query points
 //! that the index has to coarsen its map of wanted cubes, and with samples far from any query.
+//! So does a search of the samples near a deferred rectangle's centre for a point near it.
 //! The side rule itself ([`SurfacePoint::faces`]) is checked against the normals of random
 //! quadrics around random surface points.
 
@@ -57,8 +58,26 @@ fn check(r: f64, queries: usize, seed: u64, boxed: bool) {
     let keys: Vec<(u32, DVec3)> = centres.iter().map(|c| (0, c.position)).collect();
     let boxes = if boxed { &samples.boxes[..] } else { &[] };
     let index = SampleIndex::new(&dnf, (&samples, boxes), &keys, r);
-    let mut covered = 0;
+    let (mut covered, mut near) = (0, Vec::new());
     for c in &centres {
+        // A part of a deferred rectangle whose centre lies within its extent of the rectangle's
+        // is answered from the samples near the rectangle's centre alone.
+        let extent = rng.range(0.0, 0.5) * r;
+        let part = on_sphere(c.position + rng.direction() * rng.range(0.0, extent));
+        if (part.position - c.position).length() <= extent {
+            index.near(0, c.position, &mut near);
+            let brute = samples.iter().any(|s| {
+                s.same_side(part.normal) && (s.position - part.position).length() + extent <= r
+            });
+            let found = index.cover_among(near.iter().copied(), 0, part, extent);
+            assert_eq!(
+                found.is_some(),
+                brute,
+                "r = {r}: the list near {:?} misses a sample covering {:?}",
+                c.position,
+                part.position
+            );
+        }
         // Every query of the second pass lies within `r / 2` of its key point.
         let extent = rng.range(0.0, 0.5) * r;
         let brute = samples
