@@ -1588,8 +1588,8 @@ impl WantedCubes {
 const MAX_BOX_CUBES: i64 = 4096;
 
 /// A box is first tested on a map of cubes `2^COARSER_BY` times as large a side
-/// ([`WantedCubes::coarser_with_neighbours`]), where the boxes far from every deferred rectangle (most of
-/// them) take a test or two.
+/// ([`WantedCubes::coarser_with_neighbours`]), where the boxes far from every deferred
+/// rectangle (most of them) take a test or two.
 const COARSER_BY: u32 = 3;
 
 /// A fine cube of one quadric as one hashable number. Coordinates wrap at 2³²: cubes that far
@@ -1784,8 +1784,8 @@ impl<'a> SampleIndex<'a> {
         extent: f64,
     ) -> Option<(u32, f64)> {
         // Only a sample within `r − extent` of the point can cover the ball (no radius exceeds
-        // `r`).
-        let mut cubes: [&[u32]; 8] = [&[]; 8];
+        // `r`): at most eight cubes, but for rounding at their faces.
+        let mut cubes: [&[u32]; 27] = [&[]; 27];
         let mut found = 0;
         self.cubes_near(quadric, point.position, self.radius - extent, |members| {
             if let Some(slot) = cubes.get_mut(found) {
