@@ -1806,9 +1806,7 @@ impl<'a> SampleIndex<'a> {
         out.clear();
         let limit = self.radius * self.radius * (1.0 + 1e-9);
         self.cubes_near(quadric, position, self.radius, |members| {
-            let near = |&&i: &&u32| {
-                (self.samples[i as usize].position - position).length_squared() <= limit
-            };
+            let near = |&&i: &&u32| (self.sample(i).position - position).length_squared() <= limit;
             out.extend(members.iter().filter(near));
         });
     }
@@ -1856,7 +1854,7 @@ impl<'a> SampleIndex<'a> {
         point: SurfacePoint,
         extent: f64,
     ) -> Option<(u32, f64)> {
-        let samples = candidates.map(|i| (i, &self.samples[i as usize]));
+        let samples = candidates.map(|i| (i, self.sample(i)));
         cover_by(samples, point, extent, self.radius, |s| {
             s.term == term || inside_term(self.dnf, s, term, point.position, extent)
         })
@@ -1989,9 +1987,7 @@ fn cell_distortion(region: &BasicRegion, cell: &Cell) -> f64 {
     if !in_one_quadrant(&cell.rect) {
         return rect_distortion(region, &cell.rect);
     }
-    let highest =
-        (cell.slope.iter()).try_fold(0.0f64, |high, &s| (!s.is_nan()).then(|| high.max(s)));
-    bounded_distortion(region, highest.map(|s| (1.0 + s).sqrt()))
+    bounded_distortion(region, corner_bounds(cell.slope).map(|(_, high)| high))
 }
 
 /// Whether a rectangle lies in one quadrant of its plane (no axis runs through it), where the
