@@ -785,7 +785,7 @@ fn split_in_parallel(
 /// emitted, or a first-pass sample from `index`); that sample's radius grows to reach the
 /// whole rectangle (at once for its own samples, through `grown` for the first pass's), so a
 /// splat of that radius covers it. Otherwise it is split and classified again (a part's
-/// centre is asked, [`at_centre`], only where no sample covers the part),
+/// centre is asked, `at_centre`, only where no sample covers the part),
 /// down to [`SMALL_REGION_FRACTION`] of the footprint (or until `MAX_UNPROVEN_PER_DEFERRED`
 /// rectangles stayed unproven), where it goes to `given_up`: one by one up to `share` of them
 /// ([`given_up_share`]), the rest as the whole deferred rectangle; it counts as unresolved when
