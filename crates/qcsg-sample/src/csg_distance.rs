@@ -974,6 +974,53 @@ impl NearDistance<'_> {
                 .sum::<usize>()
     }
 
+    /// Whether eq. 22 is nowhere negative in `patch` (a box inside the one given to
+    /// [`CsgDistance::near`]), so that no point of the sampled quadric there is proven on the
+    /// surface and sampling it would emit nothing: a literal of term `a` fails on all of
+    /// `patch` (its own distance is positive), or another term's box holds `patch` and each of
+    /// the literals it looks at holds on all of it (its distance is at most zero, and eq. 22
+    /// at least zero). `quadric_box::classify` decides over `patch` grown by more than the
+    /// length tolerance of "Shared planes", so that no literal it decides is on the plane of a
+    /// point there. `false` where it cannot tell.
+    pub fn nowhere_negative(&self, patch: &Aabb) -> bool {
+        let Some(sheet) = self.sheet else {
+            return false;
+        };
+        let views = &self.base.sheets[sheet];
+        if views.own_empty {
+            return true;
+        }
+        let rounding = 16.0 * f64::EPSILON * patch.min.abs().max(patch.max.abs()).max_element();
+        let grown = patch.expanded(4.0 * self.base.tolerance + rounding);
+        if !grown.is_bounded() {
+            return false;
+        }
+        // The sign at the centre first: a literal that fails all over fails there, and most
+        // literals of most regions do not; `classify` costs a few hundred instructions.
+        let centre = grown.centre();
+        let fails = |literal: &Literal| {
+            literal.quadric.value(centre) > 0.0
+                && quadric_box::classify(&literal.quadric, &grown) == BoxClass::Outside
+        };
+        let own = &views.own;
+        let own_fails = match &self.own {
+            Some(near) => (near.indices.iter()).any(|&i| fails(&own.literals[i as usize])),
+            None => own.literals.iter().any(fails),
+        };
+        own_fails
+            || self.terms.iter().enumerate().any(|(k, &i)| {
+                let view = &views.others[i as usize];
+                view.bounds.contains_box(&grown)
+                    && match self.list(k) {
+                        Some(near) => {
+                            let listed = near.indices.iter().map(|&j| &view.literals[j as usize]);
+                            all_hold(listed, &grown)
+                        }
+                        None => all_hold(view.literals.iter(), &grown),
+                    }
+            })
+    }
+
     /// Eq. 22 at `p`, for `p` inside the box given to [`CsgDistance::near`].
     pub fn distance(&self, p: DVec3) -> f64 {
         let Some(sheet) = self.sheet else {
@@ -985,6 +1032,16 @@ impl NearDistance<'_> {
         self.base
             .distance_over(p, sheet, self.own.as_ref(), others, self.far)
     }
+}
+
+/// Whether each of `literals` that another term's distance looks at (not those term `a`
+/// holds too, [`TermView::max_over`]) holds on all of `bounds`: the signs at the centre first,
+/// which most terms fail at once.
+fn all_hold<'a>(literals: impl Iterator<Item = &'a Literal> + Clone, bounds: &Aabb) -> bool {
+    let centre = bounds.centre();
+    let mut looked_at = literals.filter(|literal| !literal.in_own_term);
+    looked_at.clone().all(|l| l.quadric.value(centre) < 0.0)
+        && looked_at.all(|l| quadric_box::classify(&l.quadric, bounds) == BoxClass::Inside)
 }
 
 /// Most abutting unions per other term (see "Abutting terms"); a guard against grids of many

@@ -43,6 +43,11 @@
 //!   literals (a face of a plate drilled with thousands of holes) is tiled until each tile
 //!   looks at few (`tiles`). Setup, memory and a query cost what the nearby parts cost, not
 //!   what the whole scene does;
+//! - a basic region whose patch lies outside its term (a literal of the term fails on all of
+//!   its box) or inside another term (every literal of it holds on all of the box) is left out
+//!   before any query ([`csg_distance::NearDistance::nowhere_negative`]): eq. 22 is negative
+//!   nowhere there, so the region would emit nothing (a quarter of the regions of a cage of
+//!   balls and rods, where their ends sink into each other, and a fifth of its queries);
 //! - faces shared by parts (coincident planes of different quadrics: boxes sharing a face, a
 //!   difference flush with a face, a cylinder's cap on a box face) are resolved per sheet in
 //!   eq. 22 ([`csg_distance`], "Shared planes"), so the shared face is sampled where it is part
@@ -721,14 +726,15 @@ fn sample_on_pool(
                 .near(&patch.bounds, near_margin(&patch.bounds, radius))
         })
         .collect();
+    // A region where eq. 22 is nowhere negative would emit nothing: it gets none, and is left
+    // out.
     let near: Vec<Option<NearDistance<'_>>> = regions
         .par_iter()
         .map(|(patch, _, bounds)| {
-            Some(
-                wholes
-                    .get(*patch)?
-                    .narrow(bounds, near_margin(bounds, radius)),
-            )
+            let near = wholes
+                .get(*patch)?
+                .narrow(bounds, near_margin(bounds, radius));
+            (!near.nowhere_negative(bounds)).then_some(near)
         })
         .collect();
     drop(wholes);
@@ -745,7 +751,7 @@ fn sample_on_pool(
     } else {
         (regions, near)
     };
-    stats.basic_regions = regions.len() as u64;
+    stats.basic_regions = near.iter().flatten().count() as u64;
     progress(Progress::Regions(stats.basic_regions));
     // Heightfield points this close to their quadric are not refined (the guarantee asks for
     // 1e-9 of the diagonal; Newton steps are for cancellation far above this).
@@ -812,8 +818,8 @@ fn sample_on_pool(
                         let (region, out) = ((index, region), (&mut out, block_start));
                         let walk = (&mut memo, &mut counters);
                         sample_region(&ctx, region, out, &mut deferred, walk);
+                        progress(Progress::RegionDone);
                     }
-                    progress(Progress::RegionDone);
                 }
                 first_pass.finish(run, (out, deferred, counters));
             }
