@@ -990,27 +990,21 @@ impl NearDistance<'_> {
         if views.own_empty {
             return true;
         }
-        let rounding = 16.0 * f64::EPSILON * patch.min.abs().max(patch.max.abs()).max_element();
-        let grown = patch.expanded(4.0 * self.base.tolerance + rounding);
-        if !grown.is_bounded() {
+        let Some(grown) = self.grown(patch) else {
             return false;
-        }
-        // The sign at the centre first: a literal that fails all over fails there, and most
-        // literals of most regions do not; `classify` costs a few hundred instructions.
-        let centre = grown.centre();
-        let fails = |literal: &Literal| {
-            literal.quadric.value(centre) > 0.0
-                && quadric_box::classify(&literal.quadric, &grown) == BoxClass::Outside
         };
         let own = &views.own;
         let own_fails = match &self.own {
-            Some(near) => (near.indices.iter()).any(|&i| fails(&own.literals[i as usize])),
-            None => own.literals.iter().any(fails),
+            Some(near) => any_fails(
+                near.indices.iter().map(|&i| &own.literals[i as usize]),
+                &grown,
+            ),
+            None => any_fails(own.literals.iter(), &grown),
         };
         own_fails
             || self.terms.iter().enumerate().any(|(k, &i)| {
                 let view = &views.others[i as usize];
-                view.bounds.contains_box(&grown)
+                (view.extent.contains_box(&grown) && view.bounds.contains_box(&grown))
                     && match self.list(k) {
                         Some(near) => {
                             let listed = near.indices.iter().map(|&j| &view.literals[j as usize]);
@@ -1019,6 +1013,51 @@ impl NearDistance<'_> {
                         None => all_hold(view.literals.iter(), &grown),
                     }
             })
+    }
+
+    /// Whether every point of the sampled quadric in `patch` (a box inside the one given to
+    /// [`CsgDistance::near`]) is on the surface: each literal of term `a` that eq. 22 looks at
+    /// holds on all of `patch`, which the DNF's region holds, and every other term it keeps
+    /// misses `patch` (its box does, or one of its literals fails on all of it); the terms it
+    /// left out are farther. Decided as [`Self::nowhere_negative`] does.
+    pub fn everywhere_on_surface(&self, patch: &Aabb) -> bool {
+        let Some(sheet) = self.sheet else {
+            return false;
+        };
+        let views = &self.base.sheets[sheet];
+        let Some(grown) = self.grown(patch).filter(|_| !views.own_empty) else {
+            return false;
+        };
+        let own = &views.own;
+        let own_holds = own.bounds.contains_box(&grown)
+            && match &self.own {
+                Some(near) => all_hold(
+                    near.indices.iter().map(|&i| &own.literals[i as usize]),
+                    &grown,
+                ),
+                None => all_hold(own.literals.iter(), &grown),
+            };
+        own_holds
+            && self.terms.iter().enumerate().all(|(k, &i)| {
+                let view = &views.others[i as usize];
+                !view.extent.intersects(&grown)
+                    || match self.list(k) {
+                        Some(near) => {
+                            let listed = near.indices.iter().map(|&j| &view.literals[j as usize]);
+                            any_fails(listed, &grown)
+                        }
+                        None => any_fails(view.literals.iter(), &grown),
+                    }
+            })
+    }
+
+    /// `patch` grown by more than the length tolerance of "Shared planes" and rounding, so that
+    /// no literal `quadric_box::classify` decides over it is on the plane of a point of `patch`;
+    /// `None` for an unbounded box.
+    fn grown(&self, patch: &Aabb) -> Option<Aabb> {
+        let rounding = 16.0 * f64::EPSILON * patch.min.abs().max(patch.max.abs()).max_element();
+        let grown = patch.expanded(4.0 * self.base.tolerance + rounding);
+        grown.is_bounded().then_some(grown)
     }
 
     /// Eq. 22 at `p`, for `p` inside the box given to [`CsgDistance::near`].
@@ -1034,14 +1073,21 @@ impl NearDistance<'_> {
     }
 }
 
-/// Whether each of `literals` that another term's distance looks at (not those term `a`
-/// holds too, [`TermView::max_over`]) holds on all of `bounds`: the signs at the centre first,
-/// which most terms fail at once.
+/// Whether each of `literals` that a term's distance looks at (not those of another term that
+/// term `a` holds too, [`TermView::max_over`]) holds on all of `bounds`: the signs at the
+/// centre first, which most terms fail at once (`classify` costs a few hundred instructions).
 fn all_hold<'a>(literals: impl Iterator<Item = &'a Literal> + Clone, bounds: &Aabb) -> bool {
     let centre = bounds.centre();
     let mut looked_at = literals.filter(|literal| !literal.in_own_term);
     looked_at.clone().all(|l| l.quadric.value(centre) < 0.0)
         && looked_at.all(|l| quadric_box::classify(&l.quadric, bounds) == BoxClass::Inside)
+}
+
+/// Whether one of `literals` fails on all of `bounds` (it fails at the centre first).
+fn any_fails<'a>(literals: impl Iterator<Item = &'a Literal>, bounds: &Aabb) -> bool {
+    let centre = bounds.centre();
+    (literals.filter(|l| l.quadric.value(centre) > 0.0))
+        .any(|l| quadric_box::classify(&l.quadric, bounds) == BoxClass::Outside)
 }
 
 /// Most abutting unions per other term (see "Abutting terms"); a guard against grids of many

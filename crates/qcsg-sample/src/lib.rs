@@ -47,7 +47,11 @@
 //!   its box) or inside another term (every literal of it holds on all of the box) is left out
 //!   before any query ([`csg_distance::NearDistance::nowhere_negative`]): eq. 22 is negative
 //!   nowhere there, so the region would emit nothing (a quarter of the regions of a cage of
-//!   balls and rods, where their ends sink into each other, and a fifth of its queries);
+//!   balls and rods, where their ends sink into each other, and a fifth of its queries). One
+//!   whose patch is all on the surface (inside every literal of its term, and its box missed
+//!   by every other term, [`csg_distance::NearDistance::everywhere_on_surface`]) is sampled
+//!   without a query, its corners taken as deep inside (on a cube pitted by 28 balls at 1 %
+//!   of the diagonal, 37 % fewer queries);
 //! - faces shared by parts (coincident planes of different quadrics: boxes sharing a face, a
 //!   difference flush with a face, a cylinder's cap on a box face) are resolved per sheet in
 //!   eq. 22 ([`csg_distance`], "Shared planes"), so the shared face is sampled where it is part
@@ -752,6 +756,13 @@ fn sample_on_pool(
         (regions, near)
     };
     stats.basic_regions = near.iter().flatten().count() as u64;
+    // Regions all of whose patch is on the surface: their corners need no query.
+    let on_surface: Vec<bool> = (regions.par_iter().zip(&near))
+        .map(|((_, _, bounds), near)| {
+            near.as_ref()
+                .is_some_and(|n| n.everywhere_on_surface(bounds))
+        })
+        .collect();
     progress(Progress::Regions(stats.basic_regions));
     // Heightfield points this close to their quadric are not refined (the guarantee asks for
     // 1e-9 of the diagonal; Newton steps are for cancellation far above this).
@@ -766,6 +777,7 @@ fn sample_on_pool(
             frame: &patch.frame,
             quadric: &entry.quadric,
             distance: near.get(index)?.as_ref()?,
+            on_surface: on_surface[index],
             radius,
             snap: (patch.kind != QuadricKind::Cone).then_some(settled),
             speck,

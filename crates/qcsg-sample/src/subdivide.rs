@@ -181,6 +181,11 @@ pub struct RegionContext<'a> {
     pub quadric: &'a Quadric,
     /// Eq. 22 for this quadric and term, near the region.
     pub distance: &'a NearDistance<'a>,
+    /// Every point of the region's patch is on the surface
+    /// ([`NearDistance::everywhere_on_surface`]): eq. 22 is taken as `−∞` wherever the
+    /// heightfield is defined, without a query, and the region is filled as its distortion
+    /// allows.
+    pub on_surface: bool,
     /// The world-space sample radius `r`.
     pub radius: f64,
     /// The run's limits, charged as the work goes.
@@ -256,7 +261,8 @@ impl Cell {
 type Walk<'a> = (&'a mut QueryMemo, &'a mut SubdivisionStats);
 
 /// Eq. 22 ([`query`]) and the squared slope at a corner or centre (NaN where there is none),
-/// from the walk's memo where it has them.
+/// from the walk's memo where it has them; eq. 22 is `−∞` without a query in a region all on
+/// the surface ([`RegionContext::on_surface`]).
 fn plane_values(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
@@ -264,6 +270,10 @@ fn plane_values(
     y: f64,
     (memo, stats): Walk<'_>,
 ) -> (f64, f64) {
+    if ctx.on_surface {
+        let slope = region.heightfield.slope_squared(x, y);
+        return slope.map_or((f64::NAN, f64::NAN), |slope| (f64::NEG_INFINITY, slope));
+    }
     memo.get_or(x, y, || {
         let slope = region.heightfield.slope_squared(x, y).unwrap_or(f64::NAN);
         (query(ctx, region, x, y, stats), slope)
