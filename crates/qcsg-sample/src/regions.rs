@@ -12,7 +12,7 @@
 //! `δ ≤ √3`) analytically by lines and the axis-aligned conics of eqs. 15-16, and cuts it into
 //! triangles, rectangles, elliptic and hyperbolic triangles. Here the same region is found by a
 //! refinement into axis-aligned rectangles (the paper's second basic kind), deciding the two
-//! conditions of eqs. 15-16 exactly over a rectangle (`best_plane`: each is a sum of a
+//! conditions of eqs. 15-16 exactly over a rectangle ([`BestPlane`]: each is a sum of a
 //! quadratic in `x` and one in `y`) together with the rectangle distortion bound of §3.4:
 //! - a rectangle where the plane is nowhere the best (one condition fails throughout), or whose
 //!   minimum distortion exceeds `√3`, is dropped; so is one with no surface over it
@@ -267,13 +267,23 @@ pub fn basic_regions(
     let mut given_up_reach = 0.0f64;
     let mut kept = Vec::new();
     let mut budget = MAX_REGION_RECTANGLES;
+    let best = BestPlane::new(heightfield);
+    // Each rectangle lies in one quadrant, where its corners' squared slopes bound its
+    // distortion ([`corner_bounds`]): a split takes four new ones.
+    let slope = |x: f64, y: f64| heightfield.slope_squared(x, y).unwrap_or(f64::NAN);
     for quadrant in quadrants(domain) {
-        let bounds = heightfield.distortion_bounds(quadrant.x, quadrant.y);
-        let mut stack = vec![((quadrant, bounds), 0u32)];
-        while let Some(((rect, bounds), depth)) = stack.pop() {
+        let (x, y) = (quadrant.x, quadrant.y);
+        let slopes = [
+            slope(x.0, y.0),
+            slope(x.1, y.0),
+            slope(x.0, y.1),
+            slope(x.1, y.1),
+        ];
+        let mut stack = vec![((quadrant, slopes), 0u32)];
+        while let Some(((rect, slopes), depth)) = stack.pop() {
             stats.examined += 1;
             budget = budget.saturating_sub(1);
-            match classify_rect(heightfield, (&rect, bounds)) {
+            match classify_rect(heightfield, &best, (&rect, corner_bounds(slopes))) {
                 RectClass::Keep(max_distortion, border) => {
                     kept.push((rect, max_distortion, border))
                 }
@@ -283,7 +293,7 @@ pub fn basic_regions(
                     given_up_reach = given_up_reach.max(reach_from_centre(heightfield, &rect));
                 }
                 RectClass::Split => {
-                    let [low, high] = split_for_distortion(heightfield, &rect);
+                    let [low, high] = split_for_distortion_at_corners(heightfield, &rect, slopes);
                     stack.push((high, depth + 1));
                     stack.push((low, depth + 1));
                 }
@@ -421,6 +431,7 @@ fn quadrants(domain: Rect) -> Vec<Rect> {
 /// What to do with a rectangle of distortion bounds `bounds`.
 fn classify_rect(
     heightfield: &Heightfield,
+    best: &BestPlane,
     (rect, bounds): (&Rect, Option<(f64, f64)>),
 ) -> RectClass {
     if rect.width() <= 0.0 || rect.height() <= 0.0 {
@@ -428,7 +439,7 @@ fn classify_rect(
     }
     match bounds {
         Some((low, _)) if low > SQRT3 => RectClass::Drop,
-        Some((_, high)) => match best_plane(heightfield, rect) {
+        Some((_, high)) => match best.over(rect) {
             Best::Nowhere => RectClass::Drop,
             Best::Everywhere => RectClass::Keep(high, false),
             Best::Partly if high <= KEEP_DISTORTION => RectClass::Keep(high, true),
@@ -444,11 +455,6 @@ enum Best {
     Everywhere,
     Nowhere,
     Partly,
-}
-
-/// Decides [`Best`] over `rect` for the plane of `heightfield` ([`BestPlane::over`]).
-fn best_plane(heightfield: &Heightfield, rect: &Rect) -> Best {
-    BestPlane::new(heightfield).over(rect)
 }
 
 /// Where over a rectangle a sampling plane is the best one, decided exactly up to rounding:
