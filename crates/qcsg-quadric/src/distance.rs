@@ -25,6 +25,9 @@ impl Quadric {
     #[inline]
     pub fn conservative_distance(&self, p: DVec3) -> f64 {
         let x = p - self.origin();
+        if let Some(d) = self.aligned_distance(x) {
+            return d;
+        }
         let ax = self.apply_a(x);
         let l = self.linear();
         let half_gradient = ax + l;
@@ -45,6 +48,55 @@ impl Quadric {
         // Absorb the rounding of t itself and of p − origin.
         let t = (t * (1.0 - 8.0 * EPS) - 2.0 * EPS * x.abs().max_element()).max(0.0);
         t.copysign(value)
+    }
+}
+
+impl Quadric {
+    /// [`Self::conservative_distance`] at `x = p − origin` of a sphere, a circular cylinder or
+    /// a slab about its origin and along the axes (`A` diagonal with its non-zero entries all
+    /// `a`, `l = 0`, exactly, as `sphere`, `cylinder` and `cube` make them, and their
+    /// translates and uniform scalings keep them): with `y` the part of `x` along the axes of
+    /// those entries, `±(‖y‖ − R)`, `R = √(−j / a)`, the bound of eq. 12 there, without the
+    /// general bound's two square roots and division. Its rounding (of `x`, `‖y‖` and `R`,
+    /// each a few `u` of `‖y‖` or `R`) is taken off. `None` for any other quadric, and where
+    /// the squares could leave the range where that bound holds.
+    #[inline]
+    fn aligned_distance(&self, x: DVec3) -> Option<f64> {
+        let [a, b, c, d, e, f, g, h, i, j] = self.coefficients();
+        if [d, e, f, g, h, i].iter().any(|&k| k != 0.0) {
+            return None;
+        }
+        // A sphere first, the commonest.
+        let (k, y) = if a == b && b == c {
+            (a, x)
+        } else {
+            let k = if a != 0.0 {
+                a
+            } else if b != 0.0 {
+                b
+            } else {
+                c
+            };
+            if [a, b, c].iter().any(|&v| v != 0.0 && v != k) {
+                return None;
+            }
+            let along = |v: f64, coordinate: f64| if v != 0.0 { coordinate } else { 0.0 };
+            (k, DVec3::new(along(a, x.x), along(b, x.y), along(c, x.z)))
+        };
+        if k == 0.0 {
+            return None;
+        }
+        let (radius_squared, length_squared) = (-j / k, y.length_squared());
+        let in_range = |v: f64| v < 1e250;
+        if !(radius_squared > 1e-250 && in_range(radius_squared) && in_range(length_squared)) {
+            return None;
+        }
+        let (length, radius) = (length_squared.sqrt(), radius_squared.sqrt());
+        let outward = length - radius;
+        let magnitude = outward.abs() - 8.0 * EPS * (length + radius);
+        // Positive where `Q > 0`: outside the solid (`a > 0`), inside its complement.
+        let signed = if k > 0.0 { outward } else { -outward };
+        Some(magnitude.max(0.0).copysign(signed))
     }
 }
 

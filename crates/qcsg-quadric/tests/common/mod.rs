@@ -104,6 +104,20 @@ pub fn catalogue() -> Vec<Case> {
             K::EllipticCylinder,
             0.7,
         ),
+        // Along an axis, as `cylinder` and `cube` make them: the conservative distance takes
+        // a shorter way there.
+        c(
+            "axis_cylinder",
+            Quadric::cylinder(o, DVec3::Z, 0.7),
+            K::EllipticCylinder,
+            0.7,
+        ),
+        c(
+            "axis_slab",
+            Quadric::slab(o, DVec3::X, 0.3),
+            K::ParallelPlanes,
+            0.3,
+        ),
         c(
             "elliptic_cylinder",
             Quadric::elliptic_cylinder(o, 1, (0.5, 2.0)),
