@@ -1004,6 +1004,8 @@ impl NearDistance<'_> {
         own_fails
             || self.terms.iter().enumerate().any(|(k, &i)| {
                 let view = &views.others[i as usize];
+                // A term holding all of the box has a box holding it (`extent`), and its
+                // distance is positive outside the DNF's region (`bounds`).
                 (view.extent.contains_box(&grown) && view.bounds.contains_box(&grown))
                     && match self.list(k) {
                         Some(near) => {
