@@ -524,9 +524,8 @@ impl BestPlane {
         for (in_x, in_y, c) in conditions {
             let ((low_x, high_x), (low_y, high_y)) = (in_x.range(rect.x), in_y.range(rect.y));
             let (low, high) = (low_x + low_y + c, high_x + high_y + c);
-            let magnitude = low.abs().max(high.abs()).max(c.abs());
-            // NaN never drops a rectangle.
-            if high < -1e-12 * magnitude {
+            // NaN never drops a rectangle; the rounding scale matters only below zero.
+            if high < 0.0 && high < -1e-12 * low.abs().max(high.abs()).max(c.abs()) {
                 return Best::Nowhere;
             }
             everywhere &= low >= 0.0;
