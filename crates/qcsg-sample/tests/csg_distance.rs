@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Rng, brute_on_surface, diagonal, points_on};
+use common::{Rng, brute_on_surface, diagonal, points_on, programs_in};
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, QuadricKind};
 use qcsg_sample::csg_distance::CsgDistance;
@@ -471,14 +471,7 @@ fn box_distance_is_exact() {
 /// it. Both claims must be made often enough to matter.
 #[test]
 fn patch_claims_hold() {
-    let root = common::workspace_root();
-    let mut files: Vec<_> = ["tests/stability", "examples"]
-        .iter()
-        .flat_map(|dir| std::fs::read_dir(root.join(dir)).expect("scene folder"))
-        .map(|entry| entry.expect("scene file").path())
-        .filter(|path| path.extension().is_some_and(|e| e == "qcsg"))
-        .collect();
-    files.sort();
+    let files = [programs_in("tests/stability"), programs_in("examples")].concat();
     let mut rng = Rng::new(60);
     let (mut off_claims, mut on_claims, mut checked) = (0, 0, 0);
     for path in &files {
