@@ -49,9 +49,7 @@ impl Quadric {
         let t = (t * (1.0 - 8.0 * EPS) - 2.0 * EPS * x.abs().max_element()).max(0.0);
         t.copysign(value)
     }
-}
 
-impl Quadric {
     /// [`Self::conservative_distance`] at `x = p − origin` of a sphere, a circular cylinder or
     /// a slab about its origin and along the axes (`A` diagonal with its non-zero entries all
     /// `a`, `l = 0`, exactly, as `sphere`, `cylinder` and `cube` make them, and their

@@ -145,6 +145,7 @@
 //!   "One side of a slab"): the side that leaves no area is dropped
 //!   (`tests/stability/tangent_rounded_tray_tilted.qcsg` at 1 % gave up 17,359 rectangles).
 
+use either::Either;
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, BoxIndex, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind, Tolerances};
@@ -295,6 +296,17 @@ impl TermView {
             })
             .collect();
         (indices.len() < self.literals.len()).then_some(NearLiterals { indices, margin })
+    }
+
+    /// The literals a distance with `near` looks at: those it lists, or all.
+    fn looked_at<'a>(
+        &'a self,
+        near: Option<&'a NearLiterals>,
+    ) -> impl Iterator<Item = &'a Literal> + Clone + 'a {
+        match near {
+            Some(near) => Either::Left(near.indices.iter().map(|&i| &self.literals[i as usize])),
+            None => Either::Right(self.literals.iter()),
+        }
     }
 
     /// `max_j d(Q_j, p)` together with the region box: positive outside the term, negative
@@ -993,27 +1005,13 @@ impl NearDistance<'_> {
         let Some(grown) = self.grown(patch) else {
             return false;
         };
-        let own = &views.own;
-        let own_fails = match &self.own {
-            Some(near) => any_fails(
-                near.indices.iter().map(|&i| &own.literals[i as usize]),
-                &grown,
-            ),
-            None => any_fails(own.literals.iter(), &grown),
-        };
-        own_fails
+        any_fails(views.own.looked_at(self.own.as_ref()), &grown)
             || self.terms.iter().enumerate().any(|(k, &i)| {
                 let view = &views.others[i as usize];
                 // A term holding all of the box has a box holding it (`extent`), and its
                 // distance is positive outside the DNF's region (`bounds`).
                 (view.extent.contains_box(&grown) && view.bounds.contains_box(&grown))
-                    && match self.list(k) {
-                        Some(near) => {
-                            let listed = near.indices.iter().map(|&j| &view.literals[j as usize]);
-                            all_hold(listed, &grown)
-                        }
-                        None => all_hold(view.literals.iter(), &grown),
-                    }
+                    && all_hold(view.looked_at(self.list(k)), &grown)
             })
     }
 
@@ -1031,25 +1029,10 @@ impl NearDistance<'_> {
             return false;
         };
         let own = &views.own;
-        let own_holds = own.bounds.contains_box(&grown)
-            && match &self.own {
-                Some(near) => all_hold(
-                    near.indices.iter().map(|&i| &own.literals[i as usize]),
-                    &grown,
-                ),
-                None => all_hold(own.literals.iter(), &grown),
-            };
-        own_holds
+        (own.bounds.contains_box(&grown) && all_hold(own.looked_at(self.own.as_ref()), &grown))
             && self.terms.iter().enumerate().all(|(k, &i)| {
                 let view = &views.others[i as usize];
-                !view.extent.intersects(&grown)
-                    || match self.list(k) {
-                        Some(near) => {
-                            let listed = near.indices.iter().map(|&j| &view.literals[j as usize]);
-                            any_fails(listed, &grown)
-                        }
-                        None => any_fails(view.literals.iter(), &grown),
-                    }
+                !view.extent.intersects(&grown) || any_fails(view.looked_at(self.list(k)), &grown)
             })
     }
 
