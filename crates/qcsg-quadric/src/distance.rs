@@ -4,7 +4,7 @@
 //! `Q(x₀) ± 2t ‖A x₀ − b‖ + t² λ_max/min`; the first root of the bound that can reach zero is a
 //! radius around `x₀` free of surface.
 
-use glam::DVec3;
+use glam::{BVec3, DVec3};
 
 use crate::quadric::{EPS, Quadric};
 
@@ -50,51 +50,72 @@ impl Quadric {
         t.copysign(value)
     }
 
-    /// [`Self::conservative_distance`] at `x = p − origin` of a sphere, a circular cylinder or
-    /// a slab about its origin and along the axes (`A` diagonal with its non-zero entries all
-    /// `a`, `l = 0`, exactly, as `sphere`, `cylinder` and `cube` make them, and their
-    /// translates and uniform scalings keep them): with `y` the part of `x` along the axes of
-    /// those entries, `±(‖y‖ − R)`, `R = √(−j / a)`, the bound of eq. 12 there, without the
-    /// general bound's two square roots and division. Its rounding (of `x`, `‖y‖` and `R`,
-    /// each a few `u` of `‖y‖` or `R`) is taken off. `None` for any other quadric, and where
-    /// the squares could leave the range where that bound holds.
+    /// [`Self::conservative_distance`] at `x = p − origin` of a quadric with an
+    /// [`AlignedForm`]: with `y` the part of `x` along its axes, `±(‖y‖ − R)`, the bound of
+    /// eq. 12 there, without the general bound's two square roots and division. Its rounding
+    /// (of `x`, `‖y‖` and `R`, each a few `u` of `‖y‖` or `R`) is taken off. `None` for any other
+    /// quadric, and where `‖y‖²` could leave the range where that bound holds.
     #[inline]
     fn aligned_distance(&self, x: DVec3) -> Option<f64> {
-        let [a, b, c, d, e, f, g, h, i, j] = self.coefficients();
+        let form = self.aligned?;
+        let length_squared = DVec3::select(form.axes, x, DVec3::ZERO).length_squared();
+        (length_squared < 1e250).then(|| {
+            let (length, radius) = (length_squared.sqrt(), form.radius);
+            let outward = length - radius;
+            let magnitude = outward.abs() - 8.0 * EPS * (length + radius);
+            // Positive where `Q > 0`: outside the solid, inside its complement.
+            let signed = if form.solid { outward } else { -outward };
+            magnitude.max(0.0).copysign(signed)
+        })
+    }
+}
+
+/// A sphere, a circular cylinder or a slab about its origin and along the axes: `A` diagonal
+/// with its non-zero entries all `k`, and `l = 0`, exactly, as `sphere`, `cylinder` and `cube`
+/// make them (translations and uniform scalings keep the form). Found once per quadric, so that
+/// each conservative distance to one takes a square root instead of three, and no division
+/// (cached by [`Quadric`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct AlignedForm {
+    /// The axes along which `A` is non-zero.
+    axes: BVec3,
+    /// `R = √(−j / k)`.
+    radius: f64,
+    /// `k > 0`: the solid is where `‖y‖ ≤ R` (else its complement).
+    solid: bool,
+}
+
+impl AlignedForm {
+    /// The form of the quadric with `coefficients`; `None` for any other quadric, and where
+    /// `R²` lies outside `[1e-250, 1e250)`, where the squares of the short way could under- or
+    /// overflow.
+    pub(crate) fn of(coefficients: &[f64; 10]) -> Option<Self> {
+        let [a, b, c, d, e, f, g, h, i, j] = *coefficients;
         if [d, e, f, g, h, i].iter().any(|&k| k != 0.0) {
             return None;
         }
-        // A sphere first, the commonest.
-        let (k, y) = if a == b && b == c {
-            (a, x)
-        } else {
-            let k = if a != 0.0 {
-                a
-            } else if b != 0.0 {
-                b
-            } else {
-                c
-            };
-            if [a, b, c].iter().any(|&v| v != 0.0 && v != k) {
-                return None;
-            }
-            let along = |v: f64, coordinate: f64| if v != 0.0 { coordinate } else { 0.0 };
-            (k, DVec3::new(along(a, x.x), along(b, x.y), along(c, x.z)))
-        };
-        if k == 0.0 {
+        let k = [a, b, c].into_iter().find(|&v| v != 0.0)?;
+        if [a, b, c].iter().any(|&v| v != 0.0 && v != k) {
             return None;
         }
-        let (radius_squared, length_squared) = (-j / k, y.length_squared());
-        let in_range = |v: f64| v < 1e250;
-        if !(radius_squared > 1e-250 && in_range(radius_squared) && in_range(length_squared)) {
+        let radius_squared = -j / k;
+        if !(1e-250..1e250).contains(&radius_squared) {
             return None;
         }
-        let (length, radius) = (length_squared.sqrt(), radius_squared.sqrt());
-        let outward = length - radius;
-        let magnitude = outward.abs() - 8.0 * EPS * (length + radius);
-        // Positive where `Q > 0`: outside the solid (`a > 0`), inside its complement.
-        let signed = if k > 0.0 { outward } else { -outward };
-        Some(magnitude.max(0.0).copysign(signed))
+        Some(Self {
+            axes: BVec3::new(a != 0.0, b != 0.0, c != 0.0),
+            radius: radius_squared.sqrt(),
+            solid: k > 0.0,
+        })
+    }
+
+    /// The form of the negated quadric: the same surface, the solid swapped (`−j / −k` is
+    /// `j / k` exactly).
+    pub(crate) fn negated(self) -> Self {
+        Self {
+            solid: !self.solid,
+            ..self
+        }
     }
 }
 

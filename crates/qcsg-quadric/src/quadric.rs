@@ -11,6 +11,7 @@
 
 use glam::{DMat3, DMat4, DVec3, DVec4};
 
+use crate::distance::AlignedForm;
 use crate::eigen::{Sym3, SymmetricEigen, power_of_two_reciprocal, symmetric_eigen};
 
 /// Unit roundoff of f64.
@@ -19,7 +20,8 @@ pub(crate) const EPS: f64 = f64::EPSILON * 0.5;
 /// A quadric surface `q(p − origin) = 0` bounding the solid `q(p − origin) ≤ 0`.
 ///
 /// Besides the coefficients, a quadric caches rigorous bounds on the extreme eigenvalues of
-/// its matrix `A` (used by the conservative distance, eqs. 10-11).
+/// its matrix `A` (used by the conservative distance, eqs. 10-11), and its aligned form where it
+/// has one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Quadric {
     origin: DVec3,
@@ -32,6 +34,9 @@ pub struct Quadric {
     abs_sum_a: f64,
     /// `Σ |l_k|`.
     abs_sum_l: f64,
+    /// A sphere, circular cylinder or slab along the axes about the origin
+    /// ([`AlignedForm`]), for the conservative distance's short way.
+    pub(crate) aligned: Option<AlignedForm>,
 }
 
 impl Quadric {
@@ -74,8 +79,9 @@ impl Quadric {
             eigen_upper: 0.0,
             abs_sum_a: 0.0,
             abs_sum_l: 0.0,
+            aligned: None,
         };
-        q.update_abs_sums();
+        q.update_derived();
         let eigen = q.eigen();
         // Jacobi's absolute eigenvalue error is a few ulps of ‖A‖; widen by a safe margin.
         let margin = 32.0 * EPS * q.matrix_norm();
@@ -84,10 +90,12 @@ impl Quadric {
         q
     }
 
-    fn update_abs_sums(&mut self) {
+    /// The sums and the aligned form, from the coefficients.
+    fn update_derived(&mut self) {
         let k = self.coefficients.map(f64::abs);
         self.abs_sum_a = k[0] + k[1] + k[2] + 2.0 * (k[3] + k[4] + k[5]);
         self.abs_sum_l = k[6] + k[7] + k[8];
+        self.aligned = AlignedForm::of(&self.coefficients);
     }
 
     /// A bound on the magnitude of the terms of `Q` at the local vector `x`:
@@ -235,6 +243,7 @@ impl Quadric {
             coefficients: self.coefficients.map(|c| -c),
             eigen_lower: -self.eigen_upper,
             eigen_upper: -self.eigen_lower,
+            aligned: self.aligned.map(AlignedForm::negated),
             ..*self
         }
     }
@@ -280,7 +289,7 @@ impl Quadric {
             coefficients,
             ..*self
         };
-        moved.update_abs_sums();
+        moved.update_derived();
         moved
     }
 

@@ -47,6 +47,22 @@ fn lower_bound_on_every_kind() {
     assert!(total >= 2000, "{total}");
 }
 
+/// The complement and a re-expansion about another origin keep their own cached forms (the
+/// short way for axis-aligned shapes among them) consistent with their coefficients.
+#[test]
+fn lower_bound_on_complements_and_moved_origins() {
+    let mut rng = Rng::new(0x5eed_0003);
+    let mut total = 0;
+    for case in catalogue() {
+        let complement = case.quadric.negated();
+        total += check_lower_bound(case.name, &complement, case.size, &mut rng, 40);
+        let shift = rng.direction() * case.size * 0.25;
+        let moved = case.quadric.with_origin(case.quadric.origin() + shift);
+        total += check_lower_bound(case.name, &moved, case.size, &mut rng, 40);
+    }
+    assert!(total >= 1500, "{total}");
+}
+
 #[test]
 fn lower_bound_on_transformed_kinds() {
     let mut rng = Rng::new(0x5eed_0002);
