@@ -12,7 +12,7 @@
 //! with no literal left is not read at all; its samples keep list 0, the empty list. Most spans
 //! lie inside faces, away from every other literal. A term of many literals (a plate drilled
 //! with many holes) first leaves out those whose surface misses a box around a thousand of its
-//! samples grown by `r`, then again per span.
+//! samples grown by `r`; the rest are tested per span as above.
 //!
 //! Identical lists are stored once: [`ClipLists`] is one indirection buffer, and each sample
 //! holds the index of its list. Lists after the empty one are numbered in order of first use in
@@ -100,7 +100,7 @@ impl RawClipLists {
         radius: f64,
     ) {
         let mut anchors: Vec<Option<(DVec3, f64)>> = vec![None; dnf.quadrics.len()];
-        let (mut near, mut nearer, mut close) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut near, mut close) = (Vec::new(), Vec::new());
         for run in spans.chunk_by(|a, b| a.term == b.term) {
             let Some(term) = dnf.terms.get(run[0].term as usize) else {
                 continue;
@@ -111,10 +111,13 @@ impl RawClipLists {
                     |(low, high), span| (low.min(span.low), high.max(span.high)),
                 );
                 literals_near(dnf, (low, high, radius), &term.literals, &mut near);
+                // Per span, the distance test alone: a box test of each literal for each span
+                // took a sixth of the instructions of sampling a cube dimpled by 18 balls and
+                // half of those of a plate drilled with 144 holes, and changed no list of the
+                // examples and stability scenes.
                 for span in group {
-                    literals_near(dnf, (span.low, span.high, radius), &near, &mut nearer);
                     close.clear();
-                    for &literal in &nearer {
+                    for &literal in &near {
                         let (Some(entry), Some(anchor)) = (
                             dnf.quadrics.get(literal as usize),
                             anchors.get_mut(literal as usize),
