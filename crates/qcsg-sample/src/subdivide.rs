@@ -2299,13 +2299,23 @@ fn emit(
 
 /// Heightfield points (the first of each pair) moved onto the quadric where needed
 /// ([`snap_to_surface`]), each with the gradient there (the second).
+///
+/// Each point is written only where it moves: assigning the pair for every point took a
+/// dozen moves through the stack per sample, 5 % of the instructions of sampling a lone ball.
 #[inline]
 fn onto_quadric(ctx: &RegionContext<'_>, points: &mut [(DVec3, DVec3)]) {
-    for (position, gradient) in points {
-        (*position, *gradient) = match ctx.snap {
-            Some(settled) => snap_to_surface(ctx.quadric, *position, settled),
-            None => (*position, ctx.quadric.gradient(*position)),
-        };
+    let q = ctx.quadric;
+    match ctx.snap {
+        Some(settled) => {
+            for (position, gradient) in points {
+                *gradient = snap_to_surface(q, position, settled);
+            }
+        }
+        None => {
+            for (position, gradient) in points {
+                *gradient = q.gradient(*position);
+            }
+        }
     }
 }
 
@@ -2337,23 +2347,25 @@ fn surface_sample(
 /// Most Newton steps that move a sample onto its quadric ([`snap_to_surface`]).
 const SNAP_STEPS: usize = 2;
 
-/// `p` moved onto the quadric by Newton steps along the gradient, each kept only while it lowers
+/// `position` moved onto the quadric by Newton steps along the gradient, each kept only while it lowers
 /// `|Q| / ‖∇Q‖` (at most [`SNAP_STEPS`], none once it is at most `settled`). The heightfield point
 /// can be off by more than the required `1e-9` of the scene where its square root cancels (a slab
 /// of half-width `1e-6`); the move is of that size, far below any sample radius. Cones are left
 /// alone: next to the apex, where the gradient vanishes, a step can cross the bounding literal at
-/// the tip. Returns the point with the gradient there.
+/// the tip. Returns the gradient at the point it leaves.
 ///
 /// Nearly every heightfield point is settled already; that test comes first, squared, without
 /// the square root and division of the residual: those waited on the divider, busy with the
 /// normal's, and took 4 % of sampling a lone ball.
 #[inline]
-fn snap_to_surface(q: &Quadric, p: DVec3, settled: f64) -> (DVec3, DVec3) {
-    let (value, gradient) = (q.value(p), q.gradient(p));
+fn snap_to_surface(q: &Quadric, position: &mut DVec3, settled: f64) -> DVec3 {
+    let (value, gradient) = (q.value(*position), q.gradient(*position));
     if value * value <= settled * settled * gradient.length_squared() {
-        return (p, gradient);
+        return gradient;
     }
-    newton_steps(q, p, settled, (value, gradient))
+    let (moved, gradient) = newton_steps(q, *position, settled, (value, gradient));
+    *position = moved;
+    gradient
 }
 
 /// The Newton steps of [`snap_to_surface`] from `p`, where `Q` and `∇Q` are `value` and
