@@ -379,33 +379,34 @@ impl Emitted {
 /// Appends boxes around `samples[first..]`, in runs of one quadric and term of at most
 /// [`BOX_SAMPLES`].
 pub fn box_runs(samples: &[Sample], first: usize, boxes: &mut Vec<SampleBox>) {
-    // One pass: after a large fill the samples are no longer in the cache.
-    let mut open: Option<SampleBox> = None;
-    for (index, sample) in (first..).zip(samples.get(first..).unwrap_or_default()) {
-        let p = sample.position;
-        match &mut open {
-            Some(b)
-                if b.quadric == sample.quadric
-                    && b.term == sample.term
-                    && (b.end - b.start) < BOX_SAMPLES as u32 =>
-            {
-                b.end += 1;
-                (b.low, b.high) = (b.low.min(p), b.high.max(p));
-            }
-            _ => {
-                boxes.extend(open.take());
-                open = Some(SampleBox {
-                    start: index as u32,
-                    end: index as u32 + 1,
-                    quadric: sample.quadric,
-                    term: sample.term,
-                    low: p,
-                    high: p,
-                });
-            }
+    // One pass: after a large fill the samples are no longer in the cache. A run at a time, in
+    // a loop of its own: with the open box in an `Option` matched for every sample, this took a
+    // tenth of the instructions of sampling a lone ball.
+    let rest = samples.get(first..).unwrap_or_default();
+    let mut start = 0;
+    while let Some(head) = rest.get(start) {
+        let (quadric, term) = (head.quadric, head.term);
+        let limit = rest.len().min(start + BOX_SAMPLES);
+        let (mut low, mut high) = (head.position, head.position);
+        let mut end = start + 1;
+        while let Some(sample) = rest
+            .get(end)
+            .filter(|s| s.quadric == quadric && s.term == term)
+            && end < limit
+        {
+            (low, high) = (low.min(sample.position), high.max(sample.position));
+            end += 1;
         }
+        boxes.push(SampleBox {
+            start: (first + start) as u32,
+            end: (first + end) as u32,
+            quadric,
+            term,
+            low,
+            high,
+        });
+        start = end;
     }
-    boxes.extend(open);
 }
 
 impl From<Vec<Sample>> for Emitted {
