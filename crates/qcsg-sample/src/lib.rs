@@ -7,11 +7,12 @@
 //! decomposed into basic regions of low distortion inside the term's box ([`regions`]); each basic
 //! region is subdivided adaptively, driven by the quadric-relative CSG distance of eq. 22
 //! ([`csg_distance`]) at its corners and the distortion bounds of §3.4 ([`subdivide`]). Regions
-//! are sampled in parallel with rayon, large rectangles split between threads ([`subdivide`],
-//! "Threads"), then the small rectangles the first pass left unproven ([`subdivide`], "Two
-//! passes"); the output is the concatenation in region order, then in deferred order, so it is
-//! byte-identical for any thread count. [`threads::pool_builder`] builds a pool whose threads
-//! keep to a core each, which a virtual machine's scheduler otherwise stacks on one core.
+//! are sampled in parallel with rayon, in runs of blocks sized by their estimated work
+//! ([`blocks`]), large rectangles split between threads ([`subdivide`], "Threads"), then the
+//! small rectangles the first pass left unproven ([`subdivide`], "Two passes"); the output is
+//! the concatenation in region order, then in deferred order, so it is byte-identical for any
+//! thread count. [`threads::pool_builder`] builds a pool whose threads keep to a core each,
+//! which a virtual machine's scheduler otherwise stacks on one core.
 //!
 //! Decisions where the paper leaves room, each documented and tested in its module:
 //! - basic regions are axis-aligned rectangles found by an exact refinement of eqs. 15-16 with
@@ -103,6 +104,7 @@
 //! requires a region for unbounded scenes.
 
 pub mod apex;
+pub mod blocks;
 pub mod budget;
 pub mod clip;
 pub mod csg_distance;
@@ -127,9 +129,9 @@ use crate::in_order::{InOrder, lock};
 use crate::memo::QueryMemo;
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
 use crate::subdivide::{
-    Deferred, Emitted, GivenUp, HalfBuffers, Probed, REGION_BLOCK, RegionContext, SampleIndex,
-    SubdivisionStats, given_up_share, grow_radius, probe_given_up, refine_deferred, sample_region,
-    settle_given_up, settle_parts,
+    Deferred, Emitted, GivenUp, HalfBuffers, Probed, RegionContext, SampleIndex, SubdivisionStats,
+    given_up_share, grow_radius, probe_given_up, refine_deferred, sample_region, settle_given_up,
+    settle_parts,
 };
 
 /// One sample on the CSG surface.
@@ -785,16 +787,19 @@ fn sample_on_pool(
             spare_halves: &spare_halves,
         })
     };
-    // First pass: every region on its own. Threads take runs of consecutive regions in order
-    // (`fold_runs`, rounded to whole blocks of `REGION_BLOCK`), and each run's output is
-    // appended to the whole as soon as its predecessors' are ([`FirstPassRuns`]): the output is
-    // the same for any thread count, one thread copies nothing, and on more the copying
-    // overlaps the sampling.
-    let (_, longest) = fold_runs(regions.len());
-    let run_length = longest
-        .clamp(1, regions.len().max(1))
-        .next_multiple_of(REGION_BLOCK);
-    let runs = regions.len().div_ceil(run_length);
+    // First pass: every region on its own. Threads take runs of whole blocks in order
+    // ([`blocks`], sized by the regions' estimated work), and each run's output is appended to
+    // the whole as soon as its predecessors' are ([`FirstPassRuns`]): the output is the same for
+    // any thread count, one thread copies nothing, and on more the copying overlaps the
+    // sampling.
+    let costs: Vec<f64> = (regions.iter().zip(&near))
+        .map(|((_, region, _), near)| {
+            near.as_ref()
+                .map_or(0.0, |_| blocks::region_cost(region, radius))
+        })
+        .collect();
+    let blocks = blocks::blocks(&costs);
+    let runs = blocks::runs(&blocks, &costs, rayon::current_num_threads());
     let first_pass = FirstPassRuns {
         runs: InOrder::new(FirstPass::default()),
         spare: Mutex::default(),
@@ -815,22 +820,20 @@ fn sample_on_pool(
             let mut memo = QueryMemo::default();
             loop {
                 let run = next_run.fetch_add(1, Ordering::Relaxed);
-                if run >= runs {
+                let Some(run_blocks) = runs.get(run) else {
                     break;
-                }
+                };
                 let (mut out, mut deferred, mut counters) = first_pass.buffer();
-                let start = run * run_length;
-                let end = (start + run_length).min(regions.len());
-                let mut block_start = 0;
-                for (index, (_, region, _)) in (start..end).zip(&regions[start..end]) {
-                    if index % REGION_BLOCK == 0 {
-                        block_start = out.len();
-                    }
-                    if let Some(ctx) = context(index) {
-                        let (region, out) = ((index, region), (&mut out, block_start));
-                        let walk = (&mut memo, &mut counters);
-                        sample_region(&ctx, region, out, &mut deferred, walk);
-                        progress(Progress::RegionDone);
+                for block in &blocks[run_blocks.clone()] {
+                    let block_start = out.len();
+                    for index in block.clone() {
+                        if let Some(ctx) = context(index) {
+                            let region = (index, &regions[index].1);
+                            let walk = (&mut memo, &mut counters);
+                            let out = (&mut out, block_start);
+                            sample_region(&ctx, region, out, &mut deferred, walk);
+                            progress(Progress::RegionDone);
+                        }
                     }
                 }
                 first_pass.finish(run, (out, deferred, counters));

@@ -33,7 +33,7 @@
 //! last samples of the same quadric and term is near enough to cover a small rectangle with a
 //! radius of at most `r`, no new sample is made and that sample's radius grows to reach it: along
 //! a feature curve one sample often covers several small rectangles. The look-back reaches into
-//! the earlier regions of the region's block ([`REGION_BLOCK`] consecutive regions): around a
+//! the earlier regions of the region's block (consecutive regions, [`crate::blocks`]): around a
 //! cone's apex the region decomposition leaves thousands of tiny regions, one ring per level of
 //! refinement, and each had taken a sample of its own (`raw_quadrics` at 1 % took 16,308 samples,
 //! 5,322 with the look-back).
@@ -552,11 +552,6 @@ fn discs_cover((w, h): (f64, f64), radii: [f64; 4]) -> bool {
 /// Samples [`covered_by_recent`] looks back over.
 const RECENT_SAMPLES: usize = 16;
 
-/// Consecutive basic regions whose first-pass samples may cover each other's small rectangles
-/// ([`sample_region`]). The first pass's runs are whole blocks, so the samples a region can see
-/// do not depend on the thread count.
-pub const REGION_BLOCK: usize = 64;
-
 /// The surface point over the centre of `rect`, with the quadric's normal there; `None` where
 /// there is no surface or the normal is undefined (a cone's apex).
 fn centre_point(
@@ -636,7 +631,7 @@ fn split(
 /// First pass over basic region number `index`, appending its samples to `out` in a
 /// deterministic (depth-first) order. Rectangles of footprint at most `r` that it cannot prove
 /// go to `deferred`, for [`refine_deferred`]. Both may hold earlier regions' output already;
-/// `out[block_start..]` (the samples of the region's block so far, [`REGION_BLOCK`]) may cover
+/// `out[block_start..]` (the samples of the region's block so far, [`crate::blocks`]) may cover
 /// its small rectangles.
 pub fn sample_region(
     ctx: &RegionContext<'_>,
