@@ -1060,47 +1060,20 @@ impl NearDistance<'_> {
 
 /// Whether each of `literals` that a term's distance looks at (not those of another term that
 /// term `a` holds too, [`TermView::max_over`]) holds on all of `bounds`: the signs at the
-/// centre first, which most terms fail at once, then the distance at the centre ([`side_of`]),
-/// then `classify` (a few hundred instructions).
+/// centre first, which most terms fail at once (`classify` costs up to a few hundred
+/// instructions).
 fn all_hold<'a>(literals: impl Iterator<Item = &'a Literal> + Clone, bounds: &Aabb) -> bool {
     let centre = bounds.centre();
     let mut looked_at = literals.filter(|literal| !literal.in_own_term);
     looked_at.clone().all(|l| l.quadric.value(centre) < 0.0)
-        && looked_at.all(|l| match side_of(&l.quadric, bounds) {
-            Some(class) => class == BoxClass::Inside,
-            None => quadric_box::classify(&l.quadric, bounds) == BoxClass::Inside,
-        })
+        && looked_at.all(|l| quadric_box::classify(&l.quadric, bounds) == BoxClass::Inside)
 }
 
-/// Whether one of `literals` fails on all of `bounds` (it fails at the centre first), as
-/// [`all_hold`] decides.
+/// Whether one of `literals` fails on all of `bounds` (it fails at the centre first).
 fn any_fails<'a>(literals: impl Iterator<Item = &'a Literal>, bounds: &Aabb) -> bool {
     let centre = bounds.centre();
-    (literals.filter(|l| l.quadric.value(centre) > 0.0)).any(|l| {
-        match side_of(&l.quadric, bounds) {
-            Some(class) => class == BoxClass::Outside,
-            None => quadric_box::classify(&l.quadric, bounds) == BoxClass::Outside,
-        }
-    })
-}
-
-/// `Inside` or `Outside` when the quadric's conservative distance at the centre of `bounds`
-/// exceeds the distance to its farthest corner (grown by the rounding of both), so that its
-/// surface misses the box; `None` when that does not decide. A few dozen instructions, against
-/// the few hundred of `quadric_box::classify`, which it spares on most boxes away from the
-/// surface (and decides some that the intervals of `classify` leave open).
-fn side_of(quadric: &Quadric, bounds: &Aabb) -> Option<BoxClass> {
-    let centre = bounds.centre();
-    let reach = (bounds.max - bounds.min).length() * (0.5 + 1e-12)
-        + 8.0 * f64::EPSILON * centre.abs().max_element();
-    let distance = quadric.conservative_distance(centre);
-    if distance > reach {
-        Some(BoxClass::Outside)
-    } else if distance < -reach {
-        Some(BoxClass::Inside)
-    } else {
-        None
-    }
+    (literals.filter(|l| l.quadric.value(centre) > 0.0))
+        .any(|l| quadric_box::classify(&l.quadric, bounds) == BoxClass::Outside)
 }
 
 /// Most abutting unions per other term (see "Abutting terms"); a guard against grids of many
