@@ -282,14 +282,24 @@ fn quadratic_range(a: f64, g: f64, (lo, hi): (f64, f64)) -> (f64, f64) {
         }
         (a * x + 2.0 * g) * x
     };
-    let mut min = f(lo).min(f(hi));
-    let mut max = f(lo).max(f(hi));
+    // Each end once. No value is NaN (finite coefficients; infinite ends are taken above), so
+    // plain comparisons stand for `f64::min` and `max`, which test for NaN.
+    let (at_lo, at_hi) = (f(lo), f(hi));
+    let (mut min, mut max) = if at_lo <= at_hi {
+        (at_lo, at_hi)
+    } else {
+        (at_hi, at_lo)
+    };
     if a != 0.0 {
         let vertex = -g / a;
         if vertex > lo && vertex < hi {
             let v = f(vertex);
-            min = min.min(v);
-            max = max.max(v);
+            if v < min {
+                min = v;
+            }
+            if v > max {
+                max = v;
+            }
         }
     }
     (min, max)
