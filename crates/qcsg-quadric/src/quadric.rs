@@ -221,7 +221,12 @@ impl Quadric {
     /// has the gradient already); `None` where it vanishes or is not finite.
     #[inline]
     pub fn normal_from_gradient(g: DVec3) -> Option<DVec3> {
-        let length_squared = g.length_squared();
+        Self::normal_from_gradient_squared(g, g.length_squared())
+    }
+
+    /// [`Self::normal_from_gradient`] for a caller that has `g.length_squared()` already.
+    #[inline]
+    pub fn normal_from_gradient_squared(g: DVec3, length_squared: f64) -> Option<DVec3> {
         if (f64::MIN_POSITIVE..=f64::MAX).contains(&length_squared) {
             // One division and three products: the sampler computes millions of normals in
             // batches, where the divider's throughput bounds it (a lone ball 5 % faster than

@@ -2203,8 +2203,8 @@ impl Row {
                 }
             }
             let batch = &mut batch[..found];
-            onto_quadric(ctx, batch);
-            let sample = |&point| surface_sample(region, point, fallback, self.radius);
+            onto_quadric(ctx, batch, fallback);
+            let sample = |&point| surface_sample(region, point, self.radius);
             out.extend(batch.iter().map(sample));
             start = end;
         }
@@ -2283,33 +2283,34 @@ fn emit(
 ) {
     if let Some(position) = region_point(ctx.frame, &region.heightfield, region.sheet, x, y) {
         let mut point = [(position, DVec3::ZERO)];
-        onto_quadric(ctx, &mut point);
-        out.push(surface_sample(
-            region,
-            point[0],
-            fallback_normal(ctx, region),
-            radius,
-        ));
+        onto_quadric(ctx, &mut point, fallback_normal(ctx, region));
+        out.push(surface_sample(region, point[0], radius));
     }
 }
 
 /// Heightfield points (the first of each pair) moved onto the quadric where needed
-/// ([`snap_to_surface`]), each with the gradient there (the second).
+/// ([`snap_to_surface`]), each with the quadric's outward normal there (the second), or
+/// `fallback` where the gradient vanishes ([`fallback_normal`]).
 ///
 /// Each point is written only where it moves: assigning the pair for every point took a
 /// dozen moves through the stack per sample, 5 % of the instructions of sampling a lone ball.
+/// The normal takes the gradient's squared length from the snap's test.
 #[inline]
-fn onto_quadric(ctx: &RegionContext<'_>, points: &mut [(DVec3, DVec3)]) {
+fn onto_quadric(ctx: &RegionContext<'_>, points: &mut [(DVec3, DVec3)], fallback: DVec3) {
     let q = ctx.quadric;
+    let unit = |(gradient, length_squared)| {
+        Quadric::normal_from_gradient_squared(gradient, length_squared).unwrap_or(fallback)
+    };
     match ctx.snap {
         Some(settled) => {
-            for (position, gradient) in points {
-                *gradient = snap_to_surface(q, position, settled);
+            for (position, normal) in points {
+                *normal = unit(snap_to_surface(q, position, settled));
             }
         }
         None => {
-            for (position, gradient) in points {
-                *gradient = q.gradient(*position);
+            for (position, normal) in points {
+                let gradient = q.gradient(*position);
+                *normal = unit((gradient, gradient.length_squared()));
             }
         }
     }
@@ -2321,18 +2322,12 @@ fn fallback_normal(ctx: &RegionContext<'_>, region: &BasicRegion) -> DVec3 {
     ctx.frame.axes[region.heightfield.normal_axis] * region.sheet
 }
 
-/// The sample of `region` at a point of its quadric with the gradient there, its normal the
-/// outward one or else `fallback` ([`fallback_normal`]).
+/// The sample of `region` at a point of its quadric with its normal there.
 #[inline]
-fn surface_sample(
-    region: &BasicRegion,
-    (position, gradient): (DVec3, DVec3),
-    fallback: DVec3,
-    radius: f64,
-) -> Sample {
+fn surface_sample(region: &BasicRegion, (position, normal): (DVec3, DVec3), radius: f64) -> Sample {
     Sample {
         position,
-        normal: Quadric::normal_from_gradient(gradient).unwrap_or(fallback),
+        normal,
         quadric: region.quadric,
         term: region.term,
         radius,
@@ -2348,20 +2343,21 @@ const SNAP_STEPS: usize = 2;
 /// can be off by more than the required `1e-9` of the scene where its square root cancels (a slab
 /// of half-width `1e-6`); the move is of that size, far below any sample radius. Cones are left
 /// alone: next to the apex, where the gradient vanishes, a step can cross the bounding literal at
-/// the tip. Returns the gradient at the point it leaves.
+/// the tip. Returns the gradient at the point it leaves, with its squared length.
 ///
 /// Nearly every heightfield point is settled already; that test comes first, squared, without
 /// the square root and division of the residual: those waited on the divider, busy with the
 /// normal's, and took 4 % of sampling a lone ball.
 #[inline]
-fn snap_to_surface(q: &Quadric, position: &mut DVec3, settled: f64) -> DVec3 {
+fn snap_to_surface(q: &Quadric, position: &mut DVec3, settled: f64) -> (DVec3, f64) {
     let (value, gradient) = (q.value(*position), q.gradient(*position));
-    if value * value <= settled * settled * gradient.length_squared() {
-        return gradient;
+    let length_squared = gradient.length_squared();
+    if value * value <= settled * settled * length_squared {
+        return (gradient, length_squared);
     }
     let (moved, gradient) = newton_steps(q, *position, settled, (value, gradient));
     *position = moved;
-    gradient
+    (gradient, gradient.length_squared())
 }
 
 /// The Newton steps of [`snap_to_surface`] from `p`, where `Q` and `∇Q` are `value` and
