@@ -2338,12 +2338,12 @@ fn surface_sample(region: &BasicRegion, (position, normal): (DVec3, DVec3), radi
 /// Most Newton steps that move a sample onto its quadric ([`snap_to_surface`]).
 const SNAP_STEPS: usize = 2;
 
-/// `position` moved onto the quadric by Newton steps along the gradient, each kept only while it lowers
-/// `|Q| / ‖∇Q‖` (at most [`SNAP_STEPS`], none once it is at most `settled`). The heightfield point
-/// can be off by more than the required `1e-9` of the scene where its square root cancels (a slab
-/// of half-width `1e-6`); the move is of that size, far below any sample radius. Cones are left
-/// alone: next to the apex, where the gradient vanishes, a step can cross the bounding literal at
-/// the tip. Returns the gradient at the point it leaves, with its squared length.
+/// `position` moved onto the quadric by Newton steps along the gradient, each kept only while it
+/// lowers `|Q| / ‖∇Q‖` (at most [`SNAP_STEPS`], none once it is at most `settled`). The heightfield
+/// point can be off by more than the required `1e-9` of the scene where its square root cancels (a
+/// slab of half-width `1e-6`); the move is of that size, far below any sample radius. Cones are
+/// left alone: next to the apex, where the gradient vanishes, a step can cross the bounding literal
+/// at the tip. Returns the gradient at the point it leaves, with its squared length.
 ///
 /// Nearly every heightfield point is settled already; that test comes first, squared, without
 /// the square root and division of the residual: those waited on the divider, busy with the
