@@ -108,6 +108,7 @@ pub mod blocks;
 pub mod budget;
 pub mod clip;
 pub mod csg_distance;
+mod fill_grid;
 mod in_order;
 mod memo;
 pub mod regions;

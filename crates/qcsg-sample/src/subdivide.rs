@@ -97,6 +97,7 @@ use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind};
 use crate::Sample;
 use crate::budget::{Budget, Meter};
 use crate::csg_distance::NearDistance;
+use crate::fill_grid::{FillGrid, FillRow};
 use crate::in_order::lock;
 use crate::memo::QueryMemo;
 use crate::regions::{
@@ -131,9 +132,6 @@ const FILL_SPREAD: f64 = 1.1;
 
 /// Cells a rectangle must span across its split for [`fill`] to split it.
 const FILL_SPLIT_CELLS: f64 = 4.0;
-
-/// Largest grid side used to fill one classified rectangle; bigger ones are split first.
-const MAX_FILL_SIDE: f64 = 1024.0;
 
 /// Counters of the subdivision.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -2068,9 +2066,11 @@ fn query(
     }
 }
 
-/// Covers a rectangle known to be on the CSG surface with a grid of samples at cell centres:
-/// each cell's half-diagonal maps to at most `r`. Returns `false` (nothing emitted) when the
-/// grid would be too large, so that the caller splits first.
+/// Covers a rectangle known to be on the CSG surface with rows of samples, a square grid or
+/// staggered ([`FillGrid`]), so that every point of it lies within `r / δ` of a sample on the
+/// sampling plane (`δ` the largest distortion over it), hence within `r` on the surface.
+/// Returns `false` (nothing emitted) when the grid would be too large, so that the caller
+/// splits first.
 ///
 /// The spacing follows the largest distortion over the rectangle; where the distortion varies
 /// by more than [`FILL_SPREAD`] and the rectangle is at least [`FILL_SPLIT_CELLS`] cells across
@@ -2093,7 +2093,7 @@ fn fill(
     out: &mut Emitted,
 ) -> bool {
     let spacing = std::f64::consts::SQRT_2 * ctx.radius / distortion;
-    let Some((nx, ny)) = grid_shape(rect, 2.0 * ctx.radius / distortion) else {
+    let Some(grid) = FillGrid::over(rect.width(), rect.height(), ctx.radius / distortion) else {
         return false;
     };
     // A cut spans at most the longer side: where that is too short to split, how the
@@ -2128,48 +2128,64 @@ fn fill(
             return true;
         }
     }
-    let (dx, dy) = (rect.width() / nx, rect.height() / ny);
-    let radius = (0.5 * distortion * dx.hypot(dy)).min(ctx.radius);
+    let radius = (distortion * grid.reach).min(ctx.radius);
     let clipped = !owned && !region.owns_all_of(rect);
     // What was emitted before the fill gets boxes of its own.
     out.box_new();
     let mut batch = [(DVec3::ZERO, DVec3::ZERO); EMIT_BATCH];
-    for iy in 0..ny as u32 {
-        let y = rect.y.0 + (f64::from(iy) + 0.5) * dy;
+    // A shifted row ends on the rectangle's side: not past it by rounding (a few steps down
+    // suffice but where `x` is far larger than the width, and there the side is inside the
+    // heightfield's domain anyway, as a filled rectangle has a bounded distortion).
+    let mut dx = grid.spacing;
+    for _ in 0..4 {
+        if !grid.staggered || rect.x.0 + f64::from(grid.columns) * dx <= rect.x.1 {
+            break;
+        }
+        dx = dx.next_down();
+    }
+    for k in 0..grid.rows {
+        let FillRow { y, offset, samples } = grid.row(k);
         let row = Row {
-            x0: rect.x.0,
+            rect,
             dx,
-            y,
-            dy,
+            offset,
+            y: rect.y.0 + y,
+            half_height: grid.half_height,
             radius,
         };
         if clipped {
-            fill_span(ctx, region, (&row, &mut batch), 0..nx as u32, out);
+            fill_span(ctx, region, (&row, &mut batch), 0..samples, out);
         } else {
-            row.emit(ctx, region, (0..nx as u32, &mut batch), out);
+            row.emit(ctx, region, (0..samples, &mut batch), out);
         }
     }
     out.box_new();
     true
 }
 
-/// One row of a fill grid: cell `i` spans `x0 + i·dx` to `x0 + (i + 1)·dx` along `x` and
-/// `dy` around `y` along `y`, with its sample over its centre, of radius `radius`.
-struct Row {
-    x0: f64,
+/// One row of a fill ([`FillGrid`]) over `rect`: sample `i` lies at `x = rect.x.0 + (i +
+/// offset)·dx` and `y`, of radius `radius`; every point of `rect` lies within `dx / 2` along `x`
+/// and `half_height` along `y` of its nearest sample.
+struct Row<'a> {
+    rect: &'a Rect,
     dx: f64,
+    offset: f64,
     y: f64,
-    dy: f64,
+    half_height: f64,
     radius: f64,
 }
 
-impl Row {
-    /// The rectangle of cells `cells`.
+impl Row<'_> {
+    /// The part of the fill's rectangle whose points may have one of samples `cells` nearest.
     fn span(&self, cells: &Range<u32>) -> Rect {
-        let x = |i: u32| self.x0 + f64::from(i) * self.dx;
+        let x = |i: f64| self.rect.x.0 + (i + self.offset) * self.dx;
+        let (low, high) = (f64::from(cells.start) - 0.5, f64::from(cells.end) - 0.5);
         Rect {
-            x: (x(cells.start), x(cells.end)),
-            y: (self.y - 0.5 * self.dy, self.y + 0.5 * self.dy),
+            x: (x(low).max(self.rect.x.0), x(high).min(self.rect.x.1)),
+            y: (
+                (self.y - self.half_height).max(self.rect.y.0),
+                (self.y + self.half_height).min(self.rect.y.1),
+            ),
         }
     }
 
@@ -2194,7 +2210,7 @@ impl Row {
             // one thread, 41 ms in batches of 8, 45 ms in batches of 4).
             let mut found = 0;
             for i in start..end {
-                let x = self.x0 + (f64::from(i) + 0.5) * self.dx;
+                let x = self.rect.x.0 + (f64::from(i) + self.offset) * self.dx;
                 if let Some(p) =
                     region_point(ctx.frame, &region.heightfield, region.sheet, x, self.y)
                 {
@@ -2240,36 +2256,6 @@ fn fill_span(
         }
         Owned::All | Owned::Part => row.emit(ctx, region, (cells, batch), out),
     }
-}
-
-/// The grid `nx × ny` with the fewest cells whose cells' diagonals are shorter than `diagonal`:
-/// a square grid wastes up to half its rows to rounding, while narrowing one side lets the
-/// other grow (`dx² + dy² < diagonal²`). `None` when the grid would exceed [`MAX_FILL_SIDE`].
-fn grid_shape(rect: &Rect, diagonal: f64) -> Option<(f64, f64)> {
-    let (w, h) = (rect.width(), rect.height());
-    let square = (w.max(h) * std::f64::consts::SQRT_2 / diagonal)
-        .ceil()
-        .max(1.0);
-    if square.is_nan() || square > MAX_FILL_SIDE {
-        return None;
-    }
-    let mut best: Option<(f64, f64)> = None;
-    // Columns from the fewest possible to those of the square grid; rows follow.
-    let first = (w / diagonal).floor().max(0.0) + 1.0;
-    let last = (w * std::f64::consts::SQRT_2 / diagonal).ceil().max(first);
-    let mut nx = first;
-    while nx <= last {
-        let dx = w / nx;
-        let dy = (diagonal * diagonal - dx * dx).sqrt();
-        if dy > 0.0 {
-            let ny = (h / dy).ceil().max(1.0);
-            if ny <= MAX_FILL_SIDE && best.is_none_or(|(bx, by)| nx * ny < bx * by) {
-                best = Some((nx, ny));
-            }
-        }
-        nx += 1.0;
-    }
-    best
 }
 
 /// Emits the sample over `(x, y)` with the quadric's outward normal there.
