@@ -228,15 +228,8 @@ fn ceil_count(x: f64) -> f64 {
 
 /// `x.floor()` as [`ceil_count`] takes its ceiling.
 fn floor_count(x: f64) -> f64 {
-    if x.is_nan() || x > MAX_FILL_SIDE {
-        return x;
-    }
-    let truncated = x as i64 as f64;
-    if truncated > x {
-        truncated - 1.0
-    } else {
-        truncated
-    }
+    let up = ceil_count(x);
+    if up > x { up - 1.0 } else { up }
 }
 
 #[cfg(test)]
