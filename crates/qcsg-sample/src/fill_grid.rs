@@ -34,7 +34,7 @@ pub(crate) struct FillGrid {
     /// Distance between neighbours in a row.
     pub spacing: f64,
     /// Row `k` lies at `y = (k + row_shift) · row_gap`.
-    pub row_gap: f64,
+    row_gap: f64,
     row_shift: f64,
     /// Every point of the rectangle lies within `reach` of a sample, at most `ρ`.
     pub reach: f64,
