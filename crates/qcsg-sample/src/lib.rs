@@ -110,6 +110,7 @@ pub mod clip;
 pub mod csg_distance;
 mod fill_grid;
 mod in_order;
+mod lanes;
 mod memo;
 pub mod regions;
 pub mod subdivide;

@@ -99,6 +99,7 @@ use crate::budget::{Budget, Meter};
 use crate::csg_distance::NearDistance;
 use crate::fill_grid::{FillGrid, FillRow};
 use crate::in_order::lock;
+use crate::lanes::{HeightfieldLine, SurfaceTest};
 use crate::memo::QueryMemo;
 use crate::regions::{
     BasicRegion, Owned, Rect, corner_bounds, region_point, split_for_distortion,
@@ -2132,7 +2133,6 @@ fn fill(
     let clipped = !owned && !region.owns_all_of(rect);
     // What was emitted before the fill gets boxes of its own.
     out.box_new();
-    let mut batch = [(DVec3::ZERO, DVec3::ZERO); EMIT_BATCH];
     // A shifted row ends on the rectangle's side: not past it by rounding (a few steps down
     // suffice but where `x` is far larger than the width, and there the side is inside the
     // heightfield's domain anyway, as a filled rectangle has a bounded distortion).
@@ -2154,9 +2154,9 @@ fn fill(
             radius,
         };
         if clipped {
-            fill_span(ctx, region, (&row, &mut batch), 0..samples, out);
+            fill_span(ctx, region, &row, 0..samples, out);
         } else {
-            row.emit(ctx, region, (0..samples, &mut batch), out);
+            row.emit(ctx, region, 0..samples, out);
         }
     }
     out.box_new();
@@ -2189,49 +2189,60 @@ impl Row<'_> {
         }
     }
 
-    /// Emits the samples of cells `cells`, in order, through `batch` (made once per fill: a
-    /// row holds a few samples where the fills are small, and making it for each row took up
-    /// to 1 % of the instructions of sampling three balls at 0.15 % of the diagonal).
+    /// Emits the samples of cells `cells`, in order, up to eight at a time ([`crate::lanes`];
+    /// fewer where fewer are left, as unused lanes cost as much as used ones).
     fn emit(
         &self,
         ctx: &RegionContext<'_>,
         region: &BasicRegion,
-        (cells, batch): (Range<u32>, &mut Batch),
+        cells: Range<u32>,
         out: &mut Vec<Sample>,
     ) {
-        let fallback = fallback_normal(ctx, region);
+        let Some(line) = HeightfieldLine::new(ctx.frame, &region.heightfield, region.sheet, self.y)
+        else {
+            return;
+        };
+        let lanes = (&line, &SurfaceTest::new(ctx.quadric, ctx.snap));
         let mut start = cells.start;
         while start < cells.end {
-            let end = cells.end.min(start + EMIT_BATCH as u32);
-            let batch = &mut batch[..(end - start) as usize];
-            // In stages over a batch, so that the square roots and divisions of several
-            // samples, which do not depend on each other, are in flight at once: one sample
-            // after another, each waited on its own chain of them (a lone ball took 51 ms on
-            // one thread, 41 ms in batches of 8, 45 ms in batches of 4).
-            let mut found = 0;
-            for i in start..end {
-                let x = self.rect.x.0 + (f64::from(i) + self.offset) * self.dx;
-                if let Some(p) =
-                    region_point(ctx.frame, &region.heightfield, region.sheet, x, self.y)
-                {
-                    batch[found].0 = p;
-                    found += 1;
-                }
-            }
-            let batch = &mut batch[..found];
-            onto_quadric(ctx, batch, fallback);
-            let sample = |&point| surface_sample(region, point, self.radius);
-            out.extend(batch.iter().map(sample));
-            start = end;
+            start = match cells.end - start {
+                8.. => self.emit_lanes::<8>(ctx, region, lanes, start, out),
+                4.. => self.emit_lanes::<4>(ctx, region, lanes, start, out),
+                2.. => self.emit_lanes::<2>(ctx, region, lanes, start, out),
+                _ => self.emit_lanes::<1>(ctx, region, lanes, start, out),
+            };
         }
     }
+
+    /// Emits the samples of cells `start..start + N`; returns the next cell.
+    #[inline]
+    fn emit_lanes<const N: usize>(
+        &self,
+        ctx: &RegionContext<'_>,
+        region: &BasicRegion,
+        (line, test): (&HeightfieldLine, &SurfaceTest),
+        start: u32,
+        out: &mut Vec<Sample>,
+    ) -> u32 {
+        let x = std::array::from_fn(|l| {
+            self.rect.x.0 + (f64::from(start + l as u32) + self.offset) * self.dx
+        });
+        let (points, found) = line.points::<N>(&x);
+        let (normals, done) = test.normals(&points);
+        for l in (0..N).filter(|&l| found[l]) {
+            let point = if done[l] {
+                (points.at(l), normals.at(l))
+            } else {
+                // Rare: a Newton step, or a gradient too small or large to square.
+                let mut point = (points.at(l), DVec3::ZERO);
+                onto_quadric(ctx, &mut point, fallback_normal(ctx, region));
+                point
+            };
+            out.push(surface_sample(region, point, self.radius));
+        }
+        start + N as u32
+    }
 }
-
-/// Samples of a fill row emitted in one batch ([`Row::emit`]).
-const EMIT_BATCH: usize = 8;
-
-/// Heightfield points, then surface points with their gradients, of one batch.
-type Batch = [(DVec3, DVec3); EMIT_BATCH];
 
 /// Emits the samples of cells `cells` of a border region's row, in order, but for those where
 /// another plane is the best throughout, which are that plane's ([`BasicRegion::owns`]). A span
@@ -2243,7 +2254,7 @@ type Batch = [(DVec3, DVec3); EMIT_BATCH];
 fn fill_span(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
-    (row, batch): (&Row, &mut Batch),
+    row: &Row,
     cells: Range<u32>,
     out: &mut Vec<Sample>,
 ) {
@@ -2251,10 +2262,10 @@ fn fill_span(
         Owned::None => {}
         Owned::Part if cells.len() > 1 => {
             let middle = cells.start + (cells.end - cells.start) / 2;
-            fill_span(ctx, region, (row, batch), cells.start..middle, out);
-            fill_span(ctx, region, (row, batch), middle..cells.end, out);
+            fill_span(ctx, region, row, cells.start..middle, out);
+            fill_span(ctx, region, row, middle..cells.end, out);
         }
-        Owned::All | Owned::Part => row.emit(ctx, region, (cells, batch), out),
+        Owned::All | Owned::Part => row.emit(ctx, region, cells, out),
     }
 }
 
@@ -2268,38 +2279,31 @@ fn emit(
     out: &mut Vec<Sample>,
 ) {
     if let Some(position) = region_point(ctx.frame, &region.heightfield, region.sheet, x, y) {
-        let mut point = [(position, DVec3::ZERO)];
+        let mut point = (position, DVec3::ZERO);
         onto_quadric(ctx, &mut point, fallback_normal(ctx, region));
-        out.push(surface_sample(region, point[0], radius));
+        out.push(surface_sample(region, point, radius));
     }
 }
 
-/// Heightfield points (the first of each pair) moved onto the quadric where needed
-/// ([`snap_to_surface`]), each with the quadric's outward normal there (the second), or
-/// `fallback` where the gradient vanishes ([`fallback_normal`]).
+/// A heightfield point (the first of the pair) moved onto the quadric where needed
+/// ([`snap_to_surface`]), with the quadric's outward normal there (the second), or `fallback`
+/// where the gradient vanishes ([`fallback_normal`]). The fills compute the same in lanes
+/// ([`crate::lanes`]) and come here for the points that need more.
 ///
-/// Each point is written only where it moves: assigning the pair for every point took a
-/// dozen moves through the stack per sample, 5 % of the instructions of sampling a lone ball.
-/// The normal takes the gradient's squared length from the snap's test.
+/// The point is written only where it moves: assigning the pair for every point took a dozen
+/// moves through the stack per sample, 5 % of the instructions of sampling a lone ball. The
+/// normal takes the gradient's squared length from the snap's test.
 #[inline]
-fn onto_quadric(ctx: &RegionContext<'_>, points: &mut [(DVec3, DVec3)], fallback: DVec3) {
+fn onto_quadric(ctx: &RegionContext<'_>, (position, normal): &mut (DVec3, DVec3), fallback: DVec3) {
     let q = ctx.quadric;
-    let unit = |(gradient, length_squared)| {
-        Quadric::normal_from_gradient_squared(gradient, length_squared).unwrap_or(fallback)
-    };
-    match ctx.snap {
-        Some(settled) => {
-            for (position, normal) in points {
-                *normal = unit(snap_to_surface(q, position, settled));
-            }
-        }
+    let (gradient, length_squared) = match ctx.snap {
+        Some(settled) => snap_to_surface(q, position, settled),
         None => {
-            for (position, normal) in points {
-                let gradient = q.gradient(*position);
-                *normal = unit((gradient, gradient.length_squared()));
-            }
+            let gradient = q.gradient(*position);
+            (gradient, gradient.length_squared())
         }
-    }
+    };
+    *normal = Quadric::normal_from_gradient_squared(gradient, length_squared).unwrap_or(fallback);
 }
 
 /// The normal of samples of `region` where the gradient vanishes: the sampling plane's axis on
