@@ -547,6 +547,9 @@ struct Row {
     one: f64,
     /// The same on two threads.
     two: f64,
+    /// The fastest of those runs on one and on two threads: the least disturbed by other work
+    /// on the machine.
+    fastest: (f64, f64),
     /// Median seconds on one thread, each run in memory allocated anew.
     fresh: f64,
     /// Wall and CPU seconds spent in the 2-thread runs (cores actually obtained = CPU / wall).
@@ -608,14 +611,14 @@ const TURN: usize = 3;
 
 /// Medians of runs of `first` and `second`, [`TURN`] of one then as many of the other (at least
 /// two turns each, more while under `budget` each), so that a change in the machine's load
-/// while they run touches both alike, with the total seconds of each. Within a turn the runs
+/// while they run touches both alike, with the total and the fastest seconds of each. Within a turn the runs
 /// follow each other as repeated runs do (a thread pool that has just worked does not sleep);
 /// the first run of a turn wakes its pool, a third of the runs, above the median when slower.
 fn median_pair(
     budget: Duration,
     mut first: impl FnMut(),
     mut second: impl FnMut(),
-) -> ((f64, f64), (f64, f64)) {
+) -> ((f64, f64, f64), (f64, f64, f64)) {
     let (mut a, mut b) = (Vec::new(), Vec::new());
     let started = Instant::now();
     let turn = |f: &mut dyn FnMut(), times: &mut Vec<f64>| {
@@ -629,8 +632,10 @@ fn median_pair(
         turn(&mut first, &mut a);
         turn(&mut second, &mut b);
     }
+    let fastest = |times: &[f64]| times.iter().copied().fold(f64::INFINITY, f64::min);
     let (sum_a, sum_b) = (a.iter().sum(), b.iter().sum());
-    ((median(a), sum_a), (median(b), sum_b))
+    let (fastest_a, fastest_b) = (fastest(&a), fastest(&b));
+    ((median(a), sum_a, fastest_a), (median(b), sum_b, fastest_b))
 }
 
 fn measure(dnf: &Dnf, r: f64) -> Row {
@@ -655,7 +660,7 @@ fn measure(dnf: &Dnf, r: f64) -> Row {
         *previous = pool.install(|| resample(black_box(dnf), r, earlier).expect("sample"));
     };
     let cpu_start = cpu_seconds();
-    let ((one, one_total), (two, two_wall)) = median_pair(
+    let ((one, one_total, fastest_one), (two, two_wall, fastest_two)) = median_pair(
         budget,
         || again(&one_pool, &mut previous),
         || again(&two_pool, &mut on_two),
@@ -669,6 +674,7 @@ fn measure(dnf: &Dnf, r: f64) -> Row {
         stats,
         one,
         two,
+        fastest: (fastest_one, fastest_two),
         fresh,
         two_wall,
         two_cpu,
@@ -949,6 +955,8 @@ fn report(
     );
     let total_one: f64 = rows.iter().map(|r| r.one).sum();
     let total_two: f64 = rows.iter().map(|r| r.two).sum();
+    let fastest_one: f64 = rows.iter().map(|r| r.fastest.0).sum();
+    let fastest_two: f64 = rows.iter().map(|r| r.fastest.1).sum();
     let alone: f64 = rows.iter().map(|r| r.copies.0).sum();
     let together: f64 = rows.iter().map(|r| r.copies.1).sum();
     let ceiling = 2.0 * alone / together;
@@ -957,7 +965,9 @@ fn report(
         "\nOver all rows: {:.1} ms on 1 thread, {:.1} ms on 2 threads, speed-up {:.2}×. \
          During the 2-thread runs this process kept **{cores}** cores busy on average (its \
          CPU time over their wall time; it counts rayon's brief spinning while a thread waits \
-         for work), and the speed-up cannot exceed that.\n\n\
+         for work), and the speed-up cannot exceed that. The fastest run of each row, the one \
+         other work on this shared machine disturbed least, took {:.1} ms on 1 thread and \
+         {:.1} ms on 2 threads over all rows: a speed-up of {:.2}×.\n\n\
          Two copies of the one-thread run at once, one on each core with memory of its own \
          (*two copies*: they share nothing but the machine), took {:.1} ms a run over all \
          rows against {:.1} ms for one alone: on this machine two threads can gain at most \
@@ -991,6 +1001,9 @@ fn report(
         total_one * 1e3,
         total_two * 1e3,
         total_one / total_two,
+        fastest_one * 1e3,
+        fastest_two * 1e3,
+        fastest_one / fastest_two,
         together * 1e3,
         alone * 1e3,
         total_one / total_two,
