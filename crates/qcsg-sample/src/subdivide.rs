@@ -340,6 +340,31 @@ impl Emitted {
         self.boxed = self.samples.len();
     }
 
+    /// [`Self::box_new`] for the samples of one fill, all of one quadric and term: runs of
+    /// [`BOX_SAMPLES`] without comparing each sample's.
+    fn box_fill(&mut self) {
+        let rest = self.samples.get(self.boxed..).unwrap_or_default();
+        let (head, mut start) = (rest.first().map(|s| (s.quadric, s.term)), self.boxed);
+        debug_assert!(rest.iter().all(|s| Some((s.quadric, s.term)) == head));
+        for run in rest.chunks(BOX_SAMPLES) {
+            let Some((quadric, term)) = head else { break };
+            let first = run[0].position;
+            let (low, high) = run.iter().fold((first, first), |(low, high), s| {
+                (low.min(s.position), high.max(s.position))
+            });
+            self.boxes.push(SampleBox {
+                start: start as u32,
+                end: (start + run.len()) as u32,
+                quadric,
+                term,
+                low,
+                high,
+            });
+            start += run.len();
+        }
+        self.boxed = self.samples.len();
+    }
+
     /// Moves `more` to the end, leaving it empty (with its buffers when they were copied;
     /// into an empty `self` they are taken over instead).
     pub fn append(&mut self, more: &mut Emitted) {
@@ -2159,7 +2184,7 @@ fn fill(
             row.emit(ctx, region, 0..samples, out);
         }
     }
-    out.box_new();
+    out.box_fill();
     true
 }
 
@@ -2392,6 +2417,34 @@ fn newton_steps(
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// A fill's samples get the boxes [`Emitted::box_new`] would give them.
+    #[test]
+    fn a_fill_is_boxed_as_box_new_boxes_it() {
+        let sample = |i: u32| Sample {
+            position: DVec3::new(f64::from(i).sin(), f64::from(i * 7 % 13), -f64::from(i)),
+            normal: DVec3::Z,
+            quadric: 3,
+            term: 1,
+            radius: 0.1,
+            clip_list: 0,
+        };
+        for count in [0, 1, 31, 32, 33, 100] {
+            let mut before = Emitted::default();
+            before.samples.push(Sample {
+                quadric: 0,
+                ..sample(999)
+            });
+            before.box_new();
+            let (mut by_new, mut by_fill) = (before.clone(), before);
+            by_new.samples.extend((0..count).map(sample));
+            by_fill.samples.extend((0..count).map(sample));
+            by_new.box_new();
+            by_fill.box_fill();
+            assert_eq!(by_fill.boxes, by_new.boxes, "{count} samples");
+            assert_eq!(by_fill.boxed, by_new.boxed);
+        }
+    }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(4096))]
