@@ -611,9 +611,10 @@ const TURN: usize = 3;
 
 /// Medians of runs of `first` and `second`, [`TURN`] of one then as many of the other (at least
 /// two turns each, more while under `budget` each), so that a change in the machine's load
-/// while they run touches both alike, with the total and the fastest seconds of each. Within a turn the runs
-/// follow each other as repeated runs do (a thread pool that has just worked does not sleep);
-/// the first run of a turn wakes its pool, a third of the runs, above the median when slower.
+/// while they run touches both alike, with the total and the fastest seconds of each. Within a
+/// turn the runs follow each other as repeated runs do (a thread pool that has just worked does
+/// not sleep); the first run of a turn wakes its pool, a third of the runs, above the median
+/// when slower.
 fn median_pair(
     budget: Duration,
     mut first: impl FnMut(),

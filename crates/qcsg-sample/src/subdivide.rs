@@ -344,10 +344,12 @@ impl Emitted {
     /// [`BOX_SAMPLES`] without comparing each sample's.
     fn box_fill(&mut self) {
         let rest = self.samples.get(self.boxed..).unwrap_or_default();
-        let (head, mut start) = (rest.first().map(|s| (s.quadric, s.term)), self.boxed);
-        debug_assert!(rest.iter().all(|s| Some((s.quadric, s.term)) == head));
+        let Some(&Sample { quadric, term, .. }) = rest.first() else {
+            return;
+        };
+        debug_assert!(rest.iter().all(|s| (s.quadric, s.term) == (quadric, term)));
+        let mut start = self.boxed;
         for run in rest.chunks(BOX_SAMPLES) {
-            let Some((quadric, term)) = head else { break };
             let first = run[0].position;
             let (low, high) = run.iter().fold((first, first), |(low, high), s| {
                 (low.min(s.position), high.max(s.position))
