@@ -47,6 +47,13 @@ impl DelayedProgress {
         }
     }
 
+    /// `n` more units to do, found on the way.
+    pub fn add_length(&self, n: u64) {
+        if let Some(bar) = &self.bar {
+            bar.inc_length(n);
+        }
+    }
+
     /// `n` more units are done.
     pub fn inc(&self, n: u64) {
         let Some(bar) = &self.bar else {

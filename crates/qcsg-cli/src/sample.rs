@@ -153,7 +153,8 @@ pub fn run(args: SampleArgs) -> u8 {
         pool.install(|| {
             sample_with_limits(&dnf, radius, limits, &|event| match event {
                 Progress::Regions(total) => bar.set_length(total),
-                Progress::RegionDone => bar.inc(1),
+                Progress::Refining(more) => bar.add_length(more),
+                Progress::RegionDone | Progress::RectangleRefined => bar.inc(1),
             })
         })
     };

@@ -565,6 +565,11 @@ pub enum Progress {
     Regions(u64),
     /// One more basic region is done.
     RegionDone,
+    /// The first pass is done: this many rectangles it left unproven are refined now, against
+    /// its samples (the second pass).
+    Refining(u64),
+    /// One more of those rectangles is refined.
+    RectangleRefined,
 }
 
 /// The fewest and the most consecutive items of `count` that one thread folds into one output.
@@ -844,6 +849,7 @@ fn sample_on_pool(
     let ((first, mut deferred, counters), spare_runs) = first_pass.into_output();
     stats.subdivision.add(&counters);
     crossed(&budget)?;
+    progress(Progress::Refining(deferred.len() as u64));
     // Second pass: the rectangles the first left unproven, against all first-pass samples.
     let centres: Vec<(u32, DVec3)> = deferred
         .par_iter()
@@ -875,6 +881,7 @@ fn sample_on_pool(
                     let walk = (&mut memo, &mut counters);
                     refine_deferred(&ctx, region, d, index, outputs, share, walk);
                 }
+                progress(Progress::RectangleRefined);
                 (out, given_up, grown, (memo, counters))
             },
         )
