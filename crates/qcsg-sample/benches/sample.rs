@@ -4,7 +4,8 @@
 //! `docs/sampler-benchmarks.md` laid out like the paper's Table 2 with its figures beside ours.
 //! A second table samples grids of 64 to 4,096 separate parts, and plates drilled with as many
 //! holes: time and memory per part. A lone ball sampled finely sets the cost of emitting a
-//! sample beside the paper's Table 1 row for a single quadric.
+//! sample beside the paper's Table 1 row for a single quadric, and the one-thread runs' progress
+//! splits each row's time between the two passes.
 //!
 //! Each configuration is timed over repeated runs (at least 3, up to about half a second of
 //! sampling) and the median is reported; the load average of the machine is recorded at the
@@ -16,11 +17,15 @@ mod common;
 
 use std::fmt::Write as _;
 use std::hint::black_box;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use qcsg_csg::Dnf;
 use qcsg_quadric::{DMat4, DVec3, Quadric};
-use qcsg_sample::{SampleStats, Sampling, resample, sample};
+use qcsg_sample::{
+    Progress, SampleLimits, SampleStats, Sampling, resample, resample_with_limits, sample,
+};
 
 /// The allocator `qcsg` runs with.
 #[global_allocator]
@@ -558,6 +563,62 @@ struct Row {
     /// Median seconds of a one-thread run alone, and while a second copy runs on the other
     /// core ([`two_copies_seconds`]).
     copies: (f64, f64),
+    /// Medians over the one-thread runs of the seconds of their basic regions, of their first
+    /// pass, of their refinement, and of the rest ([`PassClock`]).
+    passes: [f64; 4],
+}
+
+/// Where a run's passes end, from its progress: the basic regions at [`Progress::Regions`], the
+/// first pass at [`Progress::Refining`], the refinement (the second pass, its sample index
+/// included) at its last refined rectangle.
+#[derive(Default)]
+struct PassClock {
+    ends: Mutex<[Option<Instant>; 3]>,
+    /// Rectangles still to be refined.
+    unrefined: AtomicU64,
+}
+
+impl PassClock {
+    fn progress(&self, event: Progress) {
+        let end = |pass: usize| lock(&self.ends)[pass] = Some(Instant::now());
+        match event {
+            Progress::Regions(_) => end(0),
+            Progress::Refining(rectangles) => {
+                end(1);
+                self.unrefined.store(rectangles, Ordering::Relaxed);
+                if rectangles == 0 {
+                    end(2);
+                }
+            }
+            Progress::RectangleRefined => {
+                if self.unrefined.fetch_sub(1, Ordering::Relaxed) == 1 {
+                    end(2);
+                }
+            }
+            Progress::RegionDone => {}
+        }
+    }
+
+    /// The seconds of the basic regions, of the first pass, of the refinement and of the rest
+    /// of a run that started at `start` and ended at `end`; zeros where a pass went unreported.
+    fn passes(&self, start: Instant, end: Instant) -> [f64; 4] {
+        let [Some(regions), Some(first), Some(refined)] = *lock(&self.ends) else {
+            return [0.0; 4];
+        };
+        [
+            regions - start,
+            first - regions,
+            refined - first,
+            end - refined,
+        ]
+        .map(|d| d.as_secs_f64())
+    }
+}
+
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 /// Median seconds of one-thread runs of `dnf` at `r` alone and while an independent copy of the
@@ -660,12 +721,28 @@ fn measure(dnf: &Dnf, r: f64) -> Row {
         let earlier = std::mem::take(previous);
         *previous = pool.install(|| resample(black_box(dnf), r, earlier).expect("sample"));
     };
+    // The one-thread runs also time their passes.
+    let mut passes = Vec::new();
+    let mut timed = |previous: &mut Sampling| {
+        let clock = PassClock::default();
+        let progress = |event| clock.progress(event);
+        let limits = (
+            SampleLimits::default(),
+            &progress as &(dyn Fn(Progress) + Sync),
+        );
+        let earlier = std::mem::take(previous);
+        let start = Instant::now();
+        let run = one_pool.install(|| resample_with_limits(black_box(dnf), r, limits, earlier));
+        passes.push(clock.passes(start, Instant::now()));
+        *previous = run.expect("sample");
+    };
     let cpu_start = cpu_seconds();
     let ((one, one_total, fastest_one), (two, two_wall, fastest_two)) = median_pair(
         budget,
-        || again(&one_pool, &mut previous),
+        || timed(&mut previous),
         || again(&two_pool, &mut on_two),
     );
+    let passes = [0, 1, 2, 3].map(|k| median(passes.iter().map(|p| p[k]).collect()));
     // One thread keeps one core busy: the rest of the CPU time is the 2-thread runs'.
     let two_cpu = cpu_start.zip(cpu_seconds()).map(|(a, b)| b - a - one_total);
     // As many runs as `median_pair` makes of each in its budget.
@@ -680,6 +757,7 @@ fn measure(dnf: &Dnf, r: f64) -> Row {
         two_wall,
         two_cpu,
         copies,
+        passes,
     }
 }
 
@@ -894,28 +972,14 @@ fn report(
             );
         }
     }
-    // Calibrated time per sample over the paper's, per row (the mean of the paper's rows with
-    // that quadric count and size).
+    // Calibrated time per sample over the paper's, per row.
     let (mut per_sample_ratios, mut fresh_ratios) = (Vec::new(), Vec::new());
-    for (index, _) in scenes.iter().enumerate() {
-        let wanted = [3usize, 5, 21, 31, 80][index.min(4)];
-        for k in 0..RADII.len() {
-            let row = &rows[index * RADII.len() + k];
-            let ours = row.one * 1e9 / row.stats.samples.max(1) as f64 / ratio;
-            let papers: Vec<f64> = PAPER
-                .iter()
-                .filter(|p| p.0 == wanted)
-                .map(|p| p.1[k].3 * 1e6 / p.1[k].0 as f64)
-                .collect();
-            let paper = papers.iter().sum::<f64>() / papers.len() as f64;
-            per_sample_ratios.push(ours / paper);
-            fresh_ratios.push(ours * row.fresh / row.one / paper);
-        }
+    for (i, row) in rows.iter().enumerate() {
+        let ours = row.one * 1e9 / row.stats.samples.max(1) as f64 / ratio;
+        let paper = paper_ns_per_sample(i);
+        per_sample_ratios.push(ours / paper);
+        fresh_ratios.push(ours * row.fresh / row.one / paper);
     }
-    let range = |ratios: &[f64]| {
-        let low = ratios.iter().copied().fold(f64::INFINITY, f64::min);
-        (low, ratios.iter().copied().fold(0.0, f64::max))
-    };
     let (low, high) = range(&per_sample_ratios);
     let (fresh_low, fresh_high) = range(&fresh_ratios);
     let _ = writeln!(
@@ -1022,6 +1086,7 @@ fn report(
             "not reached here"
         },
     );
+    passes_section(&mut out, scenes, rows, ratio);
     many_parts_section(&mut out, grids);
     let _ = writeln!(
         out,
@@ -1033,6 +1098,78 @@ fn report(
          number of queries near region borders."
     );
     out
+}
+
+/// The paper's time per sample (ns) for row `i` of ours (scene by scene, radius by radius): the
+/// mean of its rows with the same quadric count, at the same size.
+fn paper_ns_per_sample(i: usize) -> f64 {
+    let (scene, k) = (i / RADII.len(), i % RADII.len());
+    let wanted = [3usize, 5, 21, 31, 80][scene.min(4)];
+    let papers: Vec<f64> = PAPER
+        .iter()
+        .filter(|p| p.0 == wanted)
+        .map(|p| p.1[k].3 * 1e6 / p.1[k].0 as f64)
+        .collect();
+    papers.iter().sum::<f64>() / papers.len() as f64
+}
+
+/// The least and the greatest of `values`.
+fn range(values: &[f64]) -> (f64, f64) {
+    let low = values.iter().copied().fold(f64::INFINITY, f64::min);
+    (low, values.iter().copied().fold(0.0, f64::max))
+}
+
+/// How the one-thread runs of Table 2 divide their time between the passes.
+fn passes_section(out: &mut String, scenes: &[Scene], rows: &[Row], ratio: f64) {
+    let _ = writeln!(
+        out,
+        "## Where one thread's time goes\n\n\
+         The one-thread runs of Table 2, split by the progress they report (medians of each \
+         part): *regions* decomposes each quadric's sampling planes into basic regions and \
+         narrows eq. 22 to the terms and literals near each; the *first pass* subdivides each \
+         basic region down to the splat size, fills what it proves on the surface and gives \
+         each small rectangle with a corner or its centre on the surface a sample; the \
+         *refinement* (the second pass, with the index of the first pass's samples it \
+         searches) settles each rectangle the first pass left unproven, by a sample that \
+         covers it or by subdividing it further, down to 1/64 of the splat size; *the rest* \
+         settles what the refinement gave up and makes the clip lists. The paper subdivides \
+         such rectangles down to a tenth of the splat size and drops what is still \
+         unclassified, which \"can theoretically result in small holes\" (§4.2): the \
+         refinement is what proves here that there are none.\n\n\
+         | quadrics | size | regions ms | first pass ms | refinement ms | the rest ms | refinement | ns / sample / c without it | paper ns / sample |\n\
+         |---:|---|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    let mut without = Vec::new();
+    for (i, row) in rows.iter().enumerate() {
+        let [regions, first, refinement, rest] = row.passes;
+        let ns = (regions + first + rest) * 1e9 / row.stats.samples.max(1) as f64 / ratio;
+        let paper = paper_ns_per_sample(i);
+        without.push(ns / paper);
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.0} % | {ns:.0} | {paper:.0} |",
+            scenes[i / RADII.len()].dnf.quadrics.len(),
+            RADII[i % RADII.len()].0,
+            regions * 1e3,
+            first * 1e3,
+            refinement * 1e3,
+            rest * 1e3,
+            100.0 * refinement / row.passes.iter().sum::<f64>(),
+        );
+    }
+    let (low, high) = range(&without);
+    let fewest: Vec<String> = (without.iter().take(RADII.len()))
+        .map(|r| format!("{r:.1}×"))
+        .collect();
+    let _ = writeln!(
+        out,
+        "\nWithout the refinement, per sample after calibration, the rows would take {low:.1}× \
+         to {high:.1}× the paper's time ({} at the three sizes for {}). That leaves out what \
+         the paper spends on the same rectangles below the splat size, so it bounds the cost of \
+         the rest of the method from below; it is not a like-for-like figure.\n",
+        fewest.join(", "),
+        scenes.first().map_or("", |s| s.name),
+    );
 }
 
 /// The many-parts table: time and memory per part as the parts grow.
