@@ -40,13 +40,6 @@ impl DelayedProgress {
         }
     }
 
-    /// The number of units, once known.
-    pub fn set_length(&self, length: u64) {
-        if let Some(bar) = &self.bar {
-            bar.set_length(length);
-        }
-    }
-
     /// `n` more units to do, found on the way.
     pub fn add_length(&self, n: u64) {
         if let Some(bar) = &self.bar {

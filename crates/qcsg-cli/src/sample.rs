@@ -152,9 +152,12 @@ pub fn run(args: SampleArgs) -> u8 {
     } else {
         pool.install(|| {
             sample_with_limits(&dnf, radius, limits, &|event| match event {
-                Progress::Regions(total) => bar.set_length(total),
-                Progress::Refining(more) => bar.add_length(more),
-                Progress::RegionDone | Progress::RectangleRefined => bar.inc(1),
+                Progress::Regions { work, .. } | Progress::Refining { work, .. } => {
+                    bar.add_length(work)
+                }
+                Progress::RegionDone { work } | Progress::RectangleRefined { work } => {
+                    bar.inc(work)
+                }
             })
         })
     };

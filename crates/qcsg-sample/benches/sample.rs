@@ -582,20 +582,20 @@ impl PassClock {
     fn progress(&self, event: Progress) {
         let end = |pass: usize| lock(&self.ends)[pass] = Some(Instant::now());
         match event {
-            Progress::Regions(_) => end(0),
-            Progress::Refining(rectangles) => {
+            Progress::Regions { .. } => end(0),
+            Progress::Refining { count, .. } => {
                 end(1);
-                self.unrefined.store(rectangles, Ordering::Relaxed);
-                if rectangles == 0 {
+                self.unrefined.store(count, Ordering::Relaxed);
+                if count == 0 {
                     end(2);
                 }
             }
-            Progress::RectangleRefined => {
+            Progress::RectangleRefined { .. } => {
                 if self.unrefined.fetch_sub(1, Ordering::Relaxed) == 1 {
                     end(2);
                 }
             }
-            Progress::RegionDone => {}
+            Progress::RegionDone { .. } => {}
         }
     }
 
