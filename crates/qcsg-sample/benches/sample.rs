@@ -939,8 +939,7 @@ fn report(
     let paper_rows: Vec<&PaperRow> = PAPER.iter().collect();
     for (index, scene) in scenes.iter().enumerate() {
         // Paper rows with the same quadric count (two for 5).
-        let counts = [3usize, 5, 21, 31, 80];
-        let wanted = counts[index.min(counts.len() - 1)];
+        let wanted = paper_quadrics(index);
         let papers: Vec<&&PaperRow> = paper_rows.iter().filter(|p| p.0 == wanted).collect();
         for (k, (size, _)) in RADII.iter().enumerate() {
             let row = &rows[index * RADII.len() + k];
@@ -1109,13 +1108,18 @@ fn report(
 /// mean of its rows with the same quadric count, at the same size.
 fn paper_ns_per_sample(i: usize) -> f64 {
     let (scene, k) = (i / RADII.len(), i % RADII.len());
-    let wanted = [3usize, 5, 21, 31, 80][scene.min(4)];
     let papers: Vec<f64> = PAPER
         .iter()
-        .filter(|p| p.0 == wanted)
+        .filter(|p| p.0 == paper_quadrics(scene))
         .map(|p| p.1[k].3 * 1e6 / p.1[k].0 as f64)
         .collect();
     papers.iter().sum::<f64>() / papers.len() as f64
+}
+
+/// The quadric count of the paper's rows that scene number `scene` stands beside.
+fn paper_quadrics(scene: usize) -> usize {
+    const COUNTS: [usize; 5] = [3, 5, 21, 31, 80];
+    COUNTS[scene.min(COUNTS.len() - 1)]
 }
 
 /// The least and the greatest of `values`.
