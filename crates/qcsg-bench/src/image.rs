@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 
 use qcsg_csg::Dnf;
 use qcsg_render::{Camera, Frame, ImageSize, PixelId, Projection, RenderOptions, Scene, View};
-use qcsg_sample::Sample;
+use qcsg_sample::Samples;
 use rayon::prelude::*;
 
 use crate::reference::side_step;
@@ -55,7 +55,7 @@ pub struct SplatFrame {
 
 /// Draws `samples` as splats with exact local ray casting and CSG clipping (orthographic
 /// cameras only; a perspective camera draws nothing).
-pub fn splat(dnf: &Dnf, samples: &[Sample], camera: &Camera, size: ImageSize) -> SplatFrame {
+pub fn splat(dnf: &Dnf, samples: &Samples, camera: &Camera, size: ImageSize) -> SplatFrame {
     let width = size.width() as usize;
     let mut frame = SplatFrame {
         size,

@@ -7,7 +7,7 @@
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use qcsg_csg::Dnf;
 use qcsg_quadric::{DVec3, Quadric};
-use qcsg_sample::Sample;
+use qcsg_sample::Samples;
 
 use crate::reference::{SurfacePoint, diagonal};
 
@@ -36,7 +36,7 @@ pub fn signed_residual(q: &Quadric, p: DVec3) -> f64 {
 
 /// The largest on-surface error of the samples, relative to the scene's diagonal (0 for no
 /// samples; NaN never: a non-finite residual counts as infinite).
-pub fn on_surface_error(dnf: &Dnf, samples: &[Sample]) -> f64 {
+pub fn on_surface_error(dnf: &Dnf, samples: &Samples) -> f64 {
     let diag = diagonal(dnf);
     samples
         .iter()
@@ -57,7 +57,7 @@ pub fn on_surface_error(dnf: &Dnf, samples: &[Sample]) -> f64 {
 
 /// How many samples are not on the CSG surface by an independent test with tolerance `tol`:
 /// outside their term's box or one of its other literals, or strictly inside another term.
-pub fn samples_off_csg_surface(dnf: &Dnf, samples: &[Sample], tol: f64) -> usize {
+pub fn samples_off_csg_surface(dnf: &Dnf, samples: &Samples, tol: f64) -> usize {
     samples
         .iter()
         .filter(|s| {
@@ -87,7 +87,7 @@ pub fn samples_off_csg_surface(dnf: &Dnf, samples: &[Sample], tol: f64) -> usize
 }
 
 /// How many samples carry a NaN or infinite position, normal or radius.
-pub fn non_finite_samples(samples: &[Sample]) -> usize {
+pub fn non_finite_samples(samples: &Samples) -> usize {
     samples
         .iter()
         .filter(|s| !(s.position.is_finite() && s.normal.is_finite() && s.radius.is_finite()))
@@ -102,7 +102,7 @@ pub struct SampleIndex {
 impl SampleIndex {
     /// Indexes `samples` by quadric (`quadric_count` quadrics; samples of other indices are
     /// ignored).
-    pub fn new(samples: &[Sample], quadric_count: usize) -> Self {
+    pub fn new(samples: &Samples, quadric_count: usize) -> Self {
         let mut points: Vec<Vec<[f64; 3]>> = vec![Vec::new(); quadric_count];
         for s in samples {
             if let Some(list) = points.get_mut(s.quadric as usize)

@@ -1047,9 +1047,9 @@ fn report(
          ceiling and the speed-up below 2:\n\n\
          - **memory**: two threads streaming through memory, each through its own {mib} MiB, \
            got **{memory:.2}×** the throughput of one in this run. Every sample is written once \
-           and read a few times, so the sample-heavy rows (the small radii) scale least: the \
-           runs of regions a second thread samples go to buffers of their own (reused from run \
-           to run, as `resample` does), which are copied into the output in order. Memory new \
+           and read a few times, so the sample-heavy rows (the small radii) scale least: each \
+           run of regions writes to a buffer of its own (reused from run to run, as `resample` \
+           does), which the output keeps as it is (`qcsg_sample::Samples`). Memory new \
            to the process costs more: the operating system took **{first_touch:.2} µs** to map \
            each 4 KiB page at its first touch ({per_sample:.0} ns per 72-byte sample, what the \
            *new memory* column pays for every sample);\n\
@@ -1063,7 +1063,7 @@ fn report(
            virtual machine the kernel may queue the woken thread on the core of the thread \
            that woke it, behind that thread's work, until it moves it to the idle core;\n\
          - **steps on one thread**: numbering the clip lists (while the other thread computes \
-           them) and appending the first pass's runs in order (while the other thread samples);\n\
+           them) and the settling of what the refinement gave up;\n\
          - the other work on this shared machine (see the load average);\n\
          - the clock: a core may run slower while the other is busy too.\n\n\
          The target of 1.8× on 2 cores is {reached}.\n",

@@ -26,9 +26,9 @@ use rustc_hash::FxHashMap;
 use std::ops::Range;
 use std::sync::Mutex;
 
-use crate::Sample;
 use crate::in_order::{InOrder, lock};
 use crate::subdivide::{SampleBox, box_runs};
+use crate::{Sample, Samples};
 
 /// Deduplicated clip lists: list `k` is `indices[offsets[k]..offsets[k + 1]]`, indices into
 /// [`Dnf::quadrics`], ascending. List 0 is the empty list.
@@ -287,7 +287,7 @@ fn literals_near(
 /// cube at 0.15 % of the diagonal.
 pub(crate) fn assign(
     dnf: &Dnf,
-    samples: &mut [Sample],
+    samples: &mut Samples,
     boxes: &[SampleBox],
     radius: f64,
 ) -> ClipLists {
@@ -297,7 +297,8 @@ pub(crate) fn assign(
             .all(|s| s.radius <= radius || s.radius.is_nan()),
         "a sample's radius exceeds the run's, which the boxes are tested with"
     );
-    // The boxes while they follow one another from the first sample, then boxes of the rest.
+    // The boxes while they follow one another from the first sample, then boxes of the rest,
+    // each within one run of the samples.
     let (mut following, mut boxed) = (0, 0);
     for b in boxes {
         if b.start as usize != boxed || b.end <= b.start || b.end as usize > samples.len() {
@@ -306,22 +307,54 @@ pub(crate) fn assign(
         (following, boxed) = (following + 1, b.end as usize);
     }
     let mut rest = Vec::new();
-    box_runs(samples, boxed, &mut rest);
-    // Batches of whole spans, each with its samples.
-    let mut batches = Vec::new();
-    let mut unbatched = samples;
-    let mut offset = 0;
-    for spans in [&boxes[..following], &rest[..]] {
-        for batch in chunks_of_samples(spans, CLIP_BATCH) {
-            let end = batch.last().map_or(offset, |span| span.end as usize);
-            let (head, tail) = std::mem::take(&mut unbatched).split_at_mut(end - offset);
-            batches.push((batch, offset, head));
-            (unbatched, offset) = (tail, end);
+    for (start, piece) in samples.pieces(boxed..samples.len()) {
+        let before = rest.len();
+        box_runs(piece, 0, &mut rest);
+        for span in &mut rest[before..] {
+            (span.start, span.end) = (span.start + start as u32, span.end + start as u32);
         }
+    }
+    // Batches of whole spans, each within one run of the samples (no span crosses runs), then
+    // each with its samples.
+    let ends: Vec<usize> = (samples.runs())
+        .scan(0, |end, run| {
+            *end += run.len();
+            Some(*end)
+        })
+        .collect();
+    let mut batches = Vec::new();
+    for mut spans in [&boxes[..following], &rest[..]] {
+        while let Some(first) = spans.first() {
+            let run = ends.partition_point(|&end| end <= first.start as usize);
+            let end = ends.get(run).copied().unwrap_or(usize::MAX);
+            let (in_run, after) = spans.split_at(spans.partition_point(|s| s.end as usize <= end));
+            batches.extend(chunks_of_samples(in_run, CLIP_BATCH));
+            spans = after;
+        }
+    }
+    // The batches cover the runs one after the other.
+    let mut runs = samples.runs_mut();
+    let mut unbatched: &mut [Sample] = &mut [];
+    let mut with_samples = Vec::with_capacity(batches.len());
+    for spans in batches {
+        let (Some(first), Some(last)) = (spans.first(), spans.last()) else {
+            continue;
+        };
+        let (start, end) = (first.start as usize, last.end as usize);
+        if unbatched.is_empty() {
+            let Some((_, run)) = runs.next() else { break };
+            unbatched = run;
+        }
+        let Some((batch, tail)) = std::mem::take(&mut unbatched).split_at_mut_checked(end - start)
+        else {
+            break;
+        };
+        with_samples.push((spans, start, batch));
+        unbatched = tail;
     }
     let numbered = InOrder::new(ClipListBuilder::default());
     // Threads take the batches in order, so that the numbering can follow close behind.
-    let batches = Mutex::new(batches.into_iter().enumerate());
+    let batches = Mutex::new(with_samples.into_iter().enumerate());
     (0..rayon::current_num_threads())
         .into_par_iter()
         .for_each(|_| {

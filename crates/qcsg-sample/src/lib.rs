@@ -11,8 +11,9 @@
 //! ([`blocks`]), large rectangles split between threads ([`subdivide`], "Threads"), then the
 //! small rectangles the first pass left unproven ([`subdivide`], "Two passes"); the output is
 //! the concatenation in region order, then in deferred order, so it is byte-identical for any
-//! thread count. [`threads::pool_builder`] builds a pool whose threads keep to a core each,
-//! which a virtual machine's scheduler otherwise stacks on one core.
+//! thread count. It keeps the runs as the threads wrote them instead of copying them into one
+//! vector ([`Samples`]). [`threads::pool_builder`] builds a pool whose threads keep to a core
+//! each, which a virtual machine's scheduler otherwise stacks on one core.
 //!
 //! Decisions where the paper leaves room, each documented and tested in its module:
 //! - basic regions are axis-aligned rectangles found by an exact refinement of eqs. 15-16 with
@@ -113,6 +114,7 @@ mod in_order;
 mod lanes;
 mod memo;
 pub mod regions;
+pub mod samples;
 pub mod subdivide;
 pub mod threads;
 
@@ -130,10 +132,11 @@ use crate::csg_distance::{CsgDistance, Shapes};
 use crate::in_order::{InOrder, lock};
 use crate::memo::QueryMemo;
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
+pub use crate::samples::Samples;
 use crate::subdivide::{
-    Deferred, Emitted, GivenUp, HalfBuffers, Probed, RegionContext, SampleIndex, SubdivisionStats,
-    given_up_share, grow_radius, probe_given_up, refine_deferred, sample_region, settle_given_up,
-    settle_parts,
+    Deferred, Emitted, GivenUp, HalfBuffers, Probed, RegionContext, SampleBox, SampleIndex,
+    SubdivisionStats, given_up_share, probe_given_up, refine_deferred, sample_region,
+    settle_given_up, settle_parts,
 };
 
 /// One sample on the CSG surface.
@@ -238,48 +241,48 @@ impl std::error::Error for SampleError {}
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sampling {
     /// The samples, in region order.
-    pub samples: Vec<Sample>,
+    pub samples: Samples,
     /// The deduplicated clip lists the samples point into.
     pub clip_lists: ClipLists,
     /// The counters.
     pub stats: SampleStats,
-    /// The run's working buffers, emptied, kept for [`resample`]: those the threads wrote to
-    /// before their samples were copied into `samples` (on one thread there are none; on more,
-    /// at most as much memory as the samples copied), and the boxes and deferred rectangles of
-    /// the first pass. Freed with the rest.
+    /// The run's working buffers but the samples', emptied, kept for [`resample`]: the boxes
+    /// and deferred rectangles of the first pass's runs and of the whole, and those of halves
+    /// of large cells. Freed with the rest.
     spare: SpareBuffers,
 }
 
 impl Sampling {
     /// Bytes of memory it keeps beyond its output for the next run ([`resample`]): the
-    /// threads' buffers, emptied. Their number is that of the buffers a run needs at once, so
-    /// they do not add up over runs.
+    /// threads' buffers but the samples' (the output's runs), emptied: one set for each run of
+    /// regions and for each half of a large cell a run gave away at once, so they do not add up
+    /// over runs.
     pub fn spare_bytes(&self) -> usize {
         let bytes = |out: &Emitted, deferred: &Vec<Deferred>| {
             out.heap_bytes() + deferred.capacity() * size_of::<Deferred>()
         };
         let spare = &self.spare;
-        let runs = (spare.runs.iter().chain([&spare.output])).map(|(out, d, _)| bytes(out, d));
+        let runs = (spare.runs.iter()).map(|(out, d, _)| bytes(out, d));
         let halves = (spare.halves.iter()).map(|(out, d, memo)| bytes(out, d) + memo.heap_bytes());
         runs.chain(halves).sum()
     }
 
-    /// How many buffers [`Self::spare_bytes`] counts: at most as many as a run used at once.
+    /// How many buffers [`Self::spare_bytes`] counts.
     pub fn spare_buffers(&self) -> usize {
-        self.spare.runs.len() + 1 + self.spare.halves.len()
+        self.spare.runs.len() + self.spare.halves.len()
     }
 }
 
 /// Empty buffers with their memory, for the next run ([`resample`]), which then writes to
 /// memory that is mapped already instead of growing new buffers (one thread, 0.15 % of the
 /// diagonal: three balls 20.1 -> 19.2 ms, a hollowed cube 75.5 -> 73.7 ms). They are not part
-/// of the output: copies and comparisons leave them out.
+/// of the output: copies and comparisons leave them out. The samples' own buffers are the
+/// output's runs ([`Samples`]).
 #[derive(Default)]
 struct SpareBuffers {
-    /// The buffers of runs of regions that were copied into the output.
+    /// The boxes and deferred rectangles of the first pass's runs by run number (their samples
+    /// went to the output); run 0's are those of the whole, which it handed on.
     runs: Vec<FirstPass>,
-    /// The output's boxes and deferred rectangles (no samples: those are the output's).
-    output: FirstPass,
     /// The buffers of halves of large cells that another thread took.
     halves: Vec<HalfBuffers>,
 }
@@ -517,7 +520,7 @@ fn settle_apices(
     dnf: &Dnf,
     (patches, at_apex): (&[Patch], &[(u64, f64)]),
     radius: f64,
-    samples: &mut Vec<Sample>,
+    samples: &mut Samples,
     stats: &mut SampleStats,
 ) {
     for (patch, &(count, reach)) in patches.iter().zip(at_apex) {
@@ -540,7 +543,7 @@ fn settle_apices(
         let counter = match apex::settle(literal, (cone, &patch.frame), eq22, reach, radius) {
             apex::Settled::Off => &mut stats.subdivision.discarded,
             apex::Settled::Covered(ring) => {
-                samples.extend(ring);
+                samples.push_run(ring);
                 &mut stats.subdivision.unresolved_covered
             }
             apex::Settled::Unresolved => {
@@ -611,71 +614,96 @@ fn fold_runs(count: usize) -> (usize, usize) {
 /// The first pass's output of a run of regions.
 type FirstPass = (Emitted, Vec<Deferred>, SubdivisionStats);
 
+/// The first pass's output of all runs, in run order: each run's samples as the run wrote them
+/// ([`Samples`]), the boxes around them, the deferred rectangles and the counters.
+#[derive(Default)]
+struct FirstPassOutput {
+    samples: Samples,
+    boxes: Vec<SampleBox>,
+    deferred: Vec<Deferred>,
+    counters: SubdivisionStats,
+}
+
+impl FirstPassOutput {
+    /// Moves a run's output to the end, its samples without copying them, leaving it empty.
+    fn append(&mut self, (out, deferred, counters): &mut FirstPass) {
+        out.box_new();
+        let offset = self.samples.len() as u32;
+        if self.boxes.is_empty() {
+            // The first run's boxes are taken over, as they are.
+            std::mem::swap(&mut self.boxes, &mut out.boxes);
+        } else {
+            let shifted = out.boxes.iter().map(|b| SampleBox {
+                start: b.start + offset,
+                end: b.end + offset,
+                ..*b
+            });
+            self.boxes.extend(shifted);
+        }
+        self.samples.push_run(std::mem::take(&mut out.samples));
+        out.clear();
+        if self.deferred.is_empty() {
+            std::mem::swap(&mut self.deferred, deferred);
+        } else {
+            self.deferred.extend_from_slice(deferred);
+        }
+        deferred.clear();
+        self.counters.add(&std::mem::take(counters));
+    }
+}
+
 /// The first pass's runs, appended in run order as soon as their predecessors are
-/// ([`InOrder`]). A run's buffers go back to a pool once appended, so the next runs write to
-/// memory that is already mapped: page faults were most of the cost of concatenating the runs
-/// at the end, and more threads now fault in about as much memory as one.
+/// ([`InOrder`]). Run `k` writes to the buffers of an earlier sampling's run `k`, of about the
+/// size it needs when the scene is the same, so that the runs write to memory that is already
+/// mapped: page faults were most of the cost of concatenating the runs at the end.
 struct FirstPassRuns {
-    runs: InOrder<FirstPass, FirstPass>,
-    spare: Mutex<Vec<FirstPass>>,
+    runs: InOrder<(usize, FirstPass), FirstPassOutput>,
+    /// Buffers by run number, taken by the run and given back once it is appended (its samples
+    /// go on in the output).
+    buffers: Mutex<Vec<FirstPass>>,
 }
 
 impl FirstPassRuns {
-    /// Empty buffers for a run.
-    fn buffer(&self) -> FirstPass {
-        lock(&self.spare).pop().unwrap_or_default()
+    /// Buffers for run `run`.
+    fn buffer(&self, run: usize) -> FirstPass {
+        lock(&self.buffers)
+            .get_mut(run)
+            .map(std::mem::take)
+            .unwrap_or_default()
     }
 
     /// Hands in run `run`'s output.
     fn finish(&self, run: usize, output: FirstPass) {
-        self.runs.finish(run, output, |all, mut run| {
-            append(all, &mut run);
-            keep_spare(&mut lock(&self.spare), run);
-        });
+        self.runs
+            .finish(run, (run, output), |all, (run, mut output)| {
+                all.append(&mut output);
+                give_back(&mut lock(&self.buffers), run, output);
+            });
     }
 
-    /// The whole output, once every run is in, and the buffers of the runs copied into it.
-    fn into_output(self) -> (FirstPass, Vec<FirstPass>) {
+    /// The whole output, once every run is in, and the runs' buffers by run number.
+    fn into_output(self) -> (FirstPassOutput, Vec<FirstPass>) {
         let (mut all, waiting) = self.runs.into_parts();
-        let mut spare = self
-            .spare
+        let mut buffers = self
+            .buffers
             .into_inner()
             .unwrap_or_else(PoisonError::into_inner);
         // Nothing is left waiting when every run has been handed in; appending what is keeps
         // the output whole regardless.
-        for mut run in waiting {
-            append(&mut all, &mut run);
-            keep_spare(&mut spare, run);
+        for (run, mut output) in waiting {
+            all.append(&mut output);
+            give_back(&mut buffers, run, output);
         }
-        (all, spare)
+        (all, buffers)
     }
 }
 
-/// Keeps an appended run's buffers for the next runs, unless they have no memory: the first
-/// run appended hands its buffers to the output and gets the output's empty ones back. Kept,
-/// those became one more buffer on every [`resample`], which a run then grew in new memory
-/// (three balls at 0.15 % of the diagonal on two threads: 2.4 MB and about 450 page faults
-/// more a run, and held until the sampling was dropped).
-fn keep_spare(spare: &mut Vec<FirstPass>, run: FirstPass) {
-    if run.0.samples.capacity() > 0 {
-        spare.push(run);
+/// Puts run `run`'s emptied buffers back in its place.
+fn give_back(buffers: &mut Vec<FirstPass>, run: usize, output: FirstPass) {
+    if buffers.len() <= run {
+        buffers.resize_with(run + 1, FirstPass::default);
     }
-}
-
-/// Moves run `more` to the end of `all`, leaving `more` empty, with its buffers when they were
-/// copied (the first run's are taken over instead).
-fn append(all: &mut FirstPass, more: &mut FirstPass) {
-    fn move_items<T: Copy>(all: &mut Vec<T>, more: &mut Vec<T>) {
-        if all.is_empty() {
-            std::mem::swap(all, more);
-        } else {
-            all.extend_from_slice(more);
-        }
-        more.clear();
-    }
-    all.0.append(&mut more.0);
-    move_items(&mut all.1, &mut more.1);
-    all.2.add(&std::mem::take(&mut more.2));
+    buffers[run] = output;
 }
 
 /// [`sample`], calling `progress` when the work is known and as it gets done (from any thread;
@@ -719,8 +747,8 @@ pub fn resample_with_limits(
     if !(radius.is_finite() && radius > 0.0) {
         return Err(SampleError::InvalidRadius(radius));
     }
-    let mut memory = previous.samples;
-    memory.clear();
+    let mut memory = previous.samples.into_runs();
+    memory.iter_mut().for_each(Vec::clear);
     let memory = (memory, previous.spare);
     // Called from outside the pool, every parallel step below would hand its work to the pool
     // and wait for it: a wake-up of a sleeping thread each, tens of microseconds on a virtual
@@ -731,13 +759,13 @@ pub fn resample_with_limits(
     sample_on_pool(dnf, radius, (limits, progress), memory)
 }
 
-/// [`resample_with_limits`] on a thread of the current pool, the first pass writing to
-/// `memory` first.
+/// [`resample_with_limits`] on a thread of the current pool, the first pass's run `k` writing
+/// to `memory[k]`.
 fn sample_on_pool(
     dnf: &Dnf,
     radius: f64,
     (limits, progress): (SampleLimits, &(dyn Fn(Progress) + Sync)),
-    (memory, spare): (Vec<Sample>, SpareBuffers),
+    (memory, spare): (Vec<Vec<Sample>>, SpareBuffers),
 ) -> Result<Sampling, SampleError> {
     let budget = Budget::new(limits);
     let crossed = |budget: &Budget| match budget.crossed() {
@@ -820,8 +848,7 @@ fn sample_on_pool(
     // First pass: every region on its own. Threads take runs of whole blocks in order
     // ([`blocks`], sized by the regions' estimated work), and each run's output is appended to
     // the whole as soon as its predecessors' are ([`FirstPassRuns`]): the output is the same for
-    // any thread count, one thread copies nothing, and on more the copying overlaps the
-    // sampling.
+    // any thread count, and no thread copies samples.
     let costs: Vec<f64> = (regions.iter().zip(&near))
         .map(|((_, region, _), near)| {
             near.as_ref()
@@ -837,19 +864,17 @@ fn sample_on_pool(
     });
     let blocks = blocks::blocks(&costs);
     let runs = blocks::runs(&blocks, &costs, rayon::current_num_threads());
-    let first_pass = FirstPassRuns {
-        runs: InOrder::new(FirstPass::default()),
-        spare: Mutex::default(),
-    };
-    // The first run to ask for buffers gets the memory given (mostly run 0: appended first,
-    // its buffer becomes the output, and the other runs' samples are copied in after its own).
-    {
-        let mut buffers = lock(&first_pass.spare);
-        buffers.extend(spare.runs);
-        let mut output = spare.output;
-        output.0.samples = memory;
-        buffers.push(output);
+    // Run `k` writes its samples to an earlier sampling's run `k` (the samples of runs past
+    // the first pass's are freed).
+    let mut buffers = spare.runs;
+    buffers.resize_with(runs.len(), FirstPass::default);
+    for (buffer, memory) in buffers.iter_mut().zip(memory) {
+        buffer.0.samples = memory;
     }
+    let first_pass = FirstPassRuns {
+        runs: InOrder::new(FirstPassOutput::default()),
+        buffers: Mutex::new(buffers),
+    };
     let next_run = AtomicUsize::new(0);
     (0..rayon::current_num_threads())
         .into_par_iter()
@@ -860,7 +885,7 @@ fn sample_on_pool(
                 let Some(run_blocks) = runs.get(run) else {
                     break;
                 };
-                let (mut out, mut deferred, mut counters) = first_pass.buffer();
+                let (mut out, mut deferred, mut counters) = first_pass.buffer(run);
                 for block in &blocks[run_blocks.clone()] {
                     let block_start = out.len();
                     for index in block.clone() {
@@ -876,7 +901,13 @@ fn sample_on_pool(
                 first_pass.finish(run, (out, deferred, counters));
             }
         });
-    let ((first, mut deferred, counters), spare_runs) = first_pass.into_output();
+    let (first, mut spare_runs) = first_pass.into_output();
+    let FirstPassOutput {
+        mut samples,
+        boxes,
+        deferred,
+        counters,
+    } = first;
     stats.subdivision.add(&counters);
     crossed(&budget)?;
     let count = deferred.len() as u64;
@@ -893,7 +924,7 @@ fn sample_on_pool(
             Some((region.quadric, d.centre_point(&ctx, region)?))
         })
         .collect();
-    let index = SampleIndex::new(dnf, (&first.samples, &first.boxes), &centres, radius);
+    let index = SampleIndex::new(dnf, (&samples, &boxes), &centres, radius);
     let share = given_up_share(deferred.len());
     type SecondPass = (
         Emitted,
@@ -902,7 +933,7 @@ fn sample_on_pool(
         (QueryMemo, SubdivisionStats),
     );
     let (shortest, longest) = fold_runs(deferred.len());
-    let (more, given_up, grown, (_, counters)) = deferred
+    let refined: Vec<SecondPass> = deferred
         .par_iter()
         .with_min_len(shortest)
         .with_max_len(longest)
@@ -919,25 +950,18 @@ fn sample_on_pool(
                 (out, given_up, grown, (memo, counters))
             },
         )
-        .collect::<Vec<SecondPass>>()
-        .into_iter()
-        .reduce(
-            |(mut out, mut given_up, mut grown, (memo, mut counters)), mut more| {
-                out.append(&mut more.0);
-                given_up.extend(more.1);
-                grown.extend(more.2);
-                counters.add(&more.3.1);
-                (out, given_up, grown, (memo, counters))
-            },
-        )
-        .unwrap_or_default();
+        .collect();
     drop(index);
-    let (mut samples, boxes) = (first.samples, first.boxes);
-    for (i, needed) in grown {
-        grow_radius(&mut samples, i, needed);
+    // Each part's samples are appended as they are, after the first pass's.
+    let mut given_up = Vec::new();
+    for (out, more_given_up, grown, (_, counters)) in refined {
+        for (i, needed) in grown {
+            samples.grow_radius(i, needed);
+        }
+        samples.push_run(out.samples);
+        given_up.extend(more_given_up);
+        stats.subdivision.add(&counters);
     }
-    samples.extend(more.samples);
-    stats.subdivision.add(&counters);
     crossed(&budget)?;
     // Last: what the second pass gave up, against every sample.
     let uncovered = settle_given_up(
@@ -947,7 +971,8 @@ fn sample_on_pool(
         radius,
         &mut stats.subdivision,
     );
-    let first_probed = samples.len();
+    // Probes write their samples to a run of their own, appended after them all.
+    let mut probe_samples = Vec::new();
     let mut allowance = PROBE_QUERIES + stats.subdivision.distance_queries / 16;
     // What stays unresolved is settled at its cone's apex if it lies there: per patch, the
     // rectangles and how far from the frame's centre (a cone's apex) they reach.
@@ -957,7 +982,7 @@ fn sample_on_pool(
         let before = stats.subdivision.distance_queries;
         let probed = match context(leaf.region) {
             Some(ctx) if allowance > 0 => {
-                let (region, out) = (&regions[leaf.region].1, (&mut samples, first_probed));
+                let (region, out) = (&regions[leaf.region].1, (&mut probe_samples, 0));
                 probe_given_up(&ctx, region, leaf, out, &mut stats.subdivision)
             }
             _ => Probed::Unresolved(Vec::new()),
@@ -969,6 +994,7 @@ fn sample_on_pool(
             Probed::Unresolved(parts) => unsettled.push((leaf, parts)),
         }
     }
+    samples.push_run(probe_samples);
     // What probing left of each, against every sample; what stays unresolved is settled at its
     // cone's apex if it lies there.
     let parts: Vec<Vec<GivenUp>> = unsettled
@@ -990,13 +1016,14 @@ fn sample_on_pool(
     }
     settle_apices(dnf, (&patches, &at_apex), radius, &mut samples, &mut stats);
     let clip_lists = clip::assign(dnf, &mut samples, &boxes, radius);
-    let mut spare_output = Emitted::default();
-    spare_output.boxes = boxes;
-    spare_output.clear();
-    deferred.clear();
+    // Run 0 handed its buffers on to the whole (appended first), which hands them back.
+    if let Some((out, run_deferred, _)) = spare_runs.first_mut() {
+        (out.boxes, *run_deferred) = (boxes, deferred);
+        out.clear();
+        run_deferred.clear();
+    }
     let spare = SpareBuffers {
         runs: spare_runs,
-        output: (spare_output, deferred, SubdivisionStats::default()),
         halves: spare_halves
             .into_inner()
             .unwrap_or_else(PoisonError::into_inner),

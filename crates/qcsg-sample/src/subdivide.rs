@@ -94,7 +94,6 @@ use rustc_hash::FxHashMap;
 use qcsg_csg::Dnf;
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind};
 
-use crate::Sample;
 use crate::budget::{Budget, Meter};
 use crate::csg_distance::NearDistance;
 use crate::fill_grid::{FillGrid, FillRow};
@@ -105,6 +104,7 @@ use crate::regions::{
     BasicRegion, Owned, Rect, corner_bounds, region_point, split_for_distortion,
     split_for_distortion_at_corners,
 };
+use crate::{Sample, Samples};
 
 /// Rectangles smaller than this fraction of the sample footprint are given up when unclassified.
 pub const SMALL_REGION_FRACTION: f64 = 1.0 / 64.0;
@@ -848,7 +848,7 @@ pub fn refine_deferred(
     let root_footprint = cell_footprint(region, &deferred.cell);
     // The index's samples within `r` of the deferred rectangle's centre ([`SampleIndex::near`]),
     // with that centre, once it is looked up.
-    let mut near_root: Option<(DVec3, Vec<u32>)> = None;
+    let mut near_root: Option<(DVec3, Vec<Member<'_>>)> = None;
     while let Some((mut cell, classified)) = stack.pop() {
         let (samples, queries) = done(out, stats);
         if !meter.tick(samples, queries) {
@@ -1006,7 +1006,10 @@ fn cover_halves<'n>(
     region: &BasicRegion,
     cell: &Cell,
     (out, first): (&[Sample], usize),
-    (index, listed): (&SampleIndex<'_>, &impl Fn(DVec3, f64) -> Option<&'n [u32]>),
+    (index, listed): (
+        &SampleIndex<'n>,
+        &impl Fn(DVec3, f64) -> Option<&'n [Member<'n>]>,
+    ),
 ) -> Option<[(bool, u32, f64); 2]> {
     let (low, high, _) = cell.rect.split_longest();
     // The cell's distortion bound holds over its halves.
@@ -1018,9 +1021,7 @@ fn cover_halves<'n>(
         let position = region_point(ctx.frame, &region.heightfield, region.sheet, x, y)?;
         let near = listed(position, extent).unwrap_or_default();
         // Where no sample is near enough (most halves), the centre needs no normal.
-        let candidates = own()
-            .map(|(_, s)| s)
-            .chain(near.iter().map(|&i| index.sample(i)));
+        let candidates = own().map(|(_, s)| s).chain(near.iter().map(|&(_, s)| s));
         if !candidates
             .into_iter()
             .any(|s| may_cover(s.position - position, extent, ctx.radius))
@@ -1086,7 +1087,7 @@ pub struct GivenUp {
 pub fn settle_given_up(
     dnf: &Dnf,
     given_up: &[GivenUp],
-    (samples, boxes): (&mut [Sample], &[SampleBox]),
+    (samples, boxes): (&mut Samples, &[SampleBox]),
     radius: f64,
     stats: &mut SubdivisionStats,
 ) -> Vec<GivenUp> {
@@ -1109,7 +1110,7 @@ pub fn settle_given_up(
 pub fn settle_parts(
     dnf: &Dnf,
     parts: &[Vec<GivenUp>],
-    (samples, boxes): (&mut [Sample], &[SampleBox]),
+    (samples, boxes): (&mut Samples, &[SampleBox]),
     radius: f64,
 ) -> Vec<bool> {
     let all: Vec<GivenUp> = parts.iter().flatten().copied().collect();
@@ -1130,7 +1131,7 @@ pub fn settle_parts(
 fn cover_given_up(
     dnf: &Dnf,
     given_up: &[GivenUp],
-    (samples, boxes): (&mut [Sample], &[SampleBox]),
+    (samples, boxes): (&mut Samples, &[SampleBox]),
     radius: f64,
 ) -> Vec<bool> {
     let centres: Vec<(u32, DVec3)> = given_up
@@ -1147,7 +1148,7 @@ fn cover_given_up(
         .into_iter()
         .map(|cover| {
             cover
-                .inspect(|&(i, needed)| grow_radius(samples, i, needed))
+                .inspect(|&(i, needed)| samples.grow_radius(i, needed))
                 .is_some()
         })
         .collect()
@@ -1672,30 +1673,32 @@ fn bucket_key([x, y, z]: [i64; 3], quadric: u32) -> u128 {
 /// this took the index from 11 % to 6 % of the instructions of sampling three balls there.
 pub struct SampleIndex<'a> {
     dnf: &'a Dnf,
-    samples: &'a [Sample],
     radius: f64,
     anchor: DVec3,
     /// Fine cubes per unit length, `1 / 2r`.
     per_length: f64,
     /// The fine cubes' samples in shards ([`shard`]), one per thread, each grouped on a thread
     /// of its own.
-    shards: Vec<IndexShard>,
+    shards: Vec<IndexShard<'a>>,
 }
+
+/// A sample of a [`SampleIndex`]: its index among all samples, and the sample.
+pub type Member<'a> = (u32, &'a Sample);
 
 /// The fine cubes of one shard of a [`SampleIndex`] with their samples.
-struct IndexShard {
+struct IndexShard<'a> {
     /// Each fine cube's samples ([`bucket_key`]): a range of `members`.
     buckets: FxHashMap<u128, (u32, u32)>,
-    /// Sample indices, grouped by fine cube, ascending within each.
-    members: Vec<u32>,
+    /// The samples, grouped by fine cube, ascending within each.
+    members: Vec<Member<'a>>,
 }
 
-impl IndexShard {
+impl<'a> IndexShard<'a> {
     /// The samples of the cubes among `hits` (cube and sample, in ascending sample order)
     /// that shard `shard_index` of `count` holds, in two passes (count, then place), each
     /// cube's samples in the order of the hits: sorting the hits by cube and index took
     /// longer, and a vector per cube costs an allocation each.
-    fn new(hits: &[(u128, u32)], (shard_index, count): (usize, usize)) -> Self {
+    fn new(hits: &[(u128, Member<'a>)], (shard_index, count): (usize, usize)) -> Self {
         let mut buckets = FxHashMap::default();
         buckets.reserve(hits.len() / (2 * count));
         // Consecutive hits mostly share their cube (a box's samples lie close together): one
@@ -1714,13 +1717,17 @@ impl IndexShard {
             *range = (start, start);
             start += in_cube;
         }
-        let mut members = vec![0; total];
+        // Every slot is written below; the first hit fills them until then.
+        let mut members = match hits.first() {
+            Some(&(_, first)) => vec![first; total],
+            None => Vec::new(),
+        };
         for run in runs() {
             if let Some(range) = buckets.get_mut(&run[0].0) {
                 let end = range.1 as usize + run.len();
                 let slots = &mut members[range.1 as usize..end];
-                for (slot, &(_, i)) in slots.iter_mut().zip(run) {
-                    *slot = i;
+                for (slot, &(_, member)) in slots.iter_mut().zip(run) {
+                    *slot = member;
                 }
                 range.1 = end as u32;
             }
@@ -1729,7 +1736,7 @@ impl IndexShard {
     }
 
     /// The samples of cube `key`, if it has any.
-    fn get(&self, key: u128) -> Option<&[u32]> {
+    fn get(&self, key: u128) -> Option<&[Member<'a>]> {
         let &(start, end) = self.buckets.get(&key)?;
         self.members.get(start as usize..end as usize)
     }
@@ -1751,13 +1758,12 @@ impl<'a> SampleIndex<'a> {
     /// of the boxes that meet a cube near a centre are read.
     pub fn new(
         dnf: &'a Dnf,
-        (samples, sample_boxes): (&'a [Sample], &[SampleBox]),
+        (samples, sample_boxes): (&'a Samples, &[SampleBox]),
         centres: &[(u32, DVec3)],
         radius: f64,
     ) -> Self {
         let mut index = Self {
             dnf,
-            samples,
             radius,
             anchor: centres.first().map_or(DVec3::ZERO, |c| c.1),
             per_length: 0.5 / radius,
@@ -1804,18 +1810,18 @@ impl<'a> SampleIndex<'a> {
             let (low, high) = (index.key(b.low), index.key(b.high));
             wanted.is_some_and(|(fine, coarse)| coarse.meets(low, high) && fine.meets(low, high))
         };
-        let hits: Vec<(u128, u32)> = (sample_boxes.par_iter())
+        let hits: Vec<(u128, Member<'a>)> = (sample_boxes.par_iter())
             .filter(near)
             .map(|b| b.start as usize..b.end as usize)
             .chain(rayon::iter::once(boxed..samples.len()))
-            .flat_map_iter(|range| {
-                range.filter_map(|i| {
-                    let sample = &samples[i];
+            .flat_map_iter(|range| samples.pieces(range))
+            .flat_map_iter(|(start, piece)| {
+                (start..).zip(piece).filter_map(|(i, sample)| {
                     let (wanted, _) = wanted.get(sample.quadric as usize)?.as_ref()?;
                     let cube = index.key(sample.position);
                     wanted
                         .contains(cube)
-                        .then(|| (bucket_key(cube, sample.quadric), i as u32))
+                        .then(|| (bucket_key(cube, sample.quadric), (i as u32, sample)))
                 })
             })
             .collect();
@@ -1847,7 +1853,7 @@ impl<'a> SampleIndex<'a> {
     ) -> Option<(u32, f64)> {
         // Only a sample within `r − extent` of the point can cover the ball (no radius exceeds
         // `r`): at most eight cubes, but for rounding at their faces.
-        let mut cubes: [&[u32]; 27] = [&[]; 27];
+        let mut cubes: [&[Member<'a>]; 27] = [&[]; 27];
         let mut found = 0;
         self.cubes_near(quadric, point.position, self.radius - extent, |members| {
             if let Some(slot) = cubes.get_mut(found) {
@@ -1864,11 +1870,11 @@ impl<'a> SampleIndex<'a> {
     /// `position` is among them: a refinement gathers them once around the centre of its
     /// deferred rectangle, and its parts whose centres lie that near scan this short list
     /// instead of the index's cubes ([`Self::cover_among`]).
-    pub fn near(&self, quadric: u32, position: DVec3, out: &mut Vec<u32>) {
+    pub fn near(&self, quadric: u32, position: DVec3, out: &mut Vec<Member<'a>>) {
         out.clear();
         let limit = self.radius * self.radius * (1.0 + 1e-9);
         self.cubes_near(quadric, position, self.radius, |members| {
-            let near = |&&i: &&u32| (self.sample(i).position - position).length_squared() <= limit;
+            let near = |(_, s): &&Member<'_>| (s.position - position).length_squared() <= limit;
             out.extend(members.iter().filter(near));
         });
     }
@@ -1881,7 +1887,7 @@ impl<'a> SampleIndex<'a> {
         quadric: u32,
         position: DVec3,
         reach: f64,
-        mut each: impl FnMut(&'s [u32]),
+        mut each: impl FnMut(&'s [Member<'a>]),
     ) {
         if reach.is_nan() || reach < 0.0 || self.shards.is_empty() {
             return;
@@ -1903,21 +1909,15 @@ impl<'a> SampleIndex<'a> {
         }
     }
 
-    /// Sample number `i`.
-    fn sample(&self, i: u32) -> &'a Sample {
-        &self.samples[i as usize]
-    }
-
     /// [`Self::cover`] over the samples `candidates` (of the quadric), in their order.
     pub fn cover_among(
         &self,
-        candidates: impl Iterator<Item = u32>,
+        candidates: impl Iterator<Item = Member<'a>>,
         term: u32,
         point: SurfacePoint,
         extent: f64,
     ) -> Option<(u32, f64)> {
-        let samples = candidates.map(|i| (i, self.sample(i)));
-        cover_by(samples, point, extent, self.radius, |s| {
+        cover_by(candidates, point, extent, self.radius, |s| {
             s.term == term || inside_term(self.dnf, s, term, point.position, extent)
         })
     }

@@ -10,8 +10,8 @@ mod common;
 
 use common::{Rng, sphere_scene};
 use qcsg_quadric::{DVec3, Quadric};
-use qcsg_sample::Sample;
 use qcsg_sample::subdivide::{Emitted, SampleIndex, SurfacePoint};
+use qcsg_sample::{Sample, Samples};
 
 /// A point of the unit sphere (the scene's only quadric) with its outward normal.
 fn on_sphere(direction: DVec3) -> SurfacePoint {
@@ -57,7 +57,15 @@ fn check(r: f64, queries: usize, seed: u64, boxed: bool) {
     }
     let keys: Vec<(u32, DVec3)> = centres.iter().map(|c| (0, c.position)).collect();
     let boxes = if boxed { &samples.boxes[..] } else { &[] };
-    let index = SampleIndex::new(&dnf, (&samples, boxes), &keys, r);
+    // Cut into runs at every third box, as the threads of the first pass leave them (no box
+    // crosses a run).
+    let mut runs = Samples::default();
+    for group in samples.boxes.chunks(3) {
+        let (start, end) = (group[0].start as usize, group[group.len() - 1].end as usize);
+        runs.push_run(samples[start..end].to_vec());
+    }
+    assert_eq!(runs.len(), samples.len());
+    let index = SampleIndex::new(&dnf, (&runs, boxes), &keys, r);
     let (mut covered, mut near) = (0, Vec::new());
     for c in &centres {
         // A part of a deferred rectangle whose centre lies within its extent of the rectangle's

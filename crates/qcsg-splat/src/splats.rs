@@ -5,7 +5,7 @@ use qcsg_csg::Dnf;
 use qcsg_quadric::DVec3;
 use qcsg_render::scene::Layer;
 use qcsg_render::{Camera, ImageSize, Projection, Scene};
-use qcsg_sample::{ClipLists, Sample};
+use qcsg_sample::{ClipLists, Sample, Samples};
 
 use crate::SplatError;
 
@@ -57,7 +57,7 @@ pub fn splat_radius(scene: &Scene, camera: &Camera, size: ImageSize) -> Option<f
 #[derive(Clone, Debug)]
 pub struct SampledLayer {
     /// The samples.
-    pub samples: Vec<Sample>,
+    pub samples: Samples,
     /// Their deduplicated clip lists.
     pub clip_lists: ClipLists,
     /// Per sample: (tangent, half height along the normal).

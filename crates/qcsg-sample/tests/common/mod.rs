@@ -5,7 +5,7 @@ use std::collections::HashMap;
 
 use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, Edge, Source, build_dnf};
 use qcsg_quadric::{DMat4, DVec3, Quadric};
-use qcsg_sample::Sample;
+use qcsg_sample::{Sample, Samples};
 
 /// A small deterministic generator (SplitMix64).
 pub struct Rng(u64);
@@ -222,7 +222,7 @@ pub fn brute_on_surface(dnf: &Dnf, quadric: u32, term: u32, p: DVec3, tol: f64) 
 
 /// Sample checks (a): on its quadric and on the CSG surface. Returns the worst residual relative
 /// to the diagonal and the number of samples that fail the CSG check.
-pub fn check_samples(dnf: &Dnf, samples: &[Sample], tol: f64) -> (f64, usize) {
+pub fn check_samples(dnf: &Dnf, samples: &Samples, tol: f64) -> (f64, usize) {
     let diag = diagonal(dnf);
     let mut worst = 0.0f64;
     let mut off_surface = 0;
@@ -360,13 +360,13 @@ pub fn edge_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> {
 /// far the nearest disc falls short (`+∞`: no sample within `r`).
 pub fn uncovered(
     dnf: &Dnf,
-    samples: &[Sample],
+    samples: &Samples,
     refs: &[(u32, DVec3)],
     r: f64,
     slack: f64,
 ) -> Vec<(u32, DVec3, f64)> {
     let reach = r * (1.0 + 1e-9) + slack;
-    let anchor = samples.first().map_or(DVec3::ZERO, |s| s.position);
+    let anchor = samples.get(0).map_or(DVec3::ZERO, |s| s.position);
     let key = |p: DVec3| {
         let c = ((p - anchor) / reach).floor();
         (c.x as i64, c.y as i64, c.z as i64)
@@ -646,7 +646,7 @@ pub fn programs_in(directory: &str) -> Vec<std::path::PathBuf> {
 /// `slack`) counts as a sample of the reference point's quadric.
 pub fn uncovered_on_any(
     dnf: &Dnf,
-    samples: &[Sample],
+    samples: &Samples,
     refs: &[(u32, DVec3)],
     r: f64,
     slack: f64,
