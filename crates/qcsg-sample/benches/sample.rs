@@ -1033,8 +1033,8 @@ fn report(
         out,
         "\nOver all rows: {:.1} ms on 1 thread, {:.1} ms on 2 threads, speed-up {:.2}×. \
          During the 2-thread runs this process kept **{cores}** cores busy on average (its \
-         CPU time over their wall time; it counts rayon's brief spinning while a thread waits \
-         for work), and the speed-up cannot exceed that. The fastest run of each row, the one \
+         CPU time over their wall time; it counts the spinning of a thread that waits for \
+         work), and the speed-up cannot exceed that. The fastest run of each row, the one \
          other work on this shared machine disturbed least, took {:.1} ms on 1 thread and \
          {:.1} ms on 2 threads over all rows: a speed-up of {:.2}×.\n\n\
          Two copies of the one-thread run at once, one on each core with memory of its own \
@@ -1061,7 +1061,10 @@ fn report(
            (`qcsg_sample::threads`, as `qcsg` does); in a plain rayon pool, where the kernel \
            places a woken thread, it was **{plain_idle:.0} µs** after the same idle time: on a \
            virtual machine the kernel may queue the woken thread on the core of the thread \
-           that woke it, behind that thread's work, until it moves it to the idle core;\n\
+           that woke it, behind that thread's work, until it moves it to the idle core. A run \
+           keeps the other threads awake from its start to its end \
+           (`qcsg_sample::threads::with_workers_awake`), spinning between its parallel steps, \
+           so that it pays this once and not at each step;\n\
          - **steps on one thread**: numbering the clip lists (while the other thread computes \
            them) and the settling of what the refinement gave up;\n\
          - the other work on this shared machine (see the load average);\n\

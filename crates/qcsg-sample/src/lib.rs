@@ -753,10 +753,12 @@ pub fn resample_with_limits(
     // Called from outside the pool, every parallel step below would hand its work to the pool
     // and wait for it: a wake-up of a sleeping thread each, tens of microseconds on a virtual
     // machine. Moving the whole run onto a pool thread costs one.
+    let run =
+        || threads::with_workers_awake(|| sample_on_pool(dnf, radius, (limits, progress), memory));
     if rayon::current_thread_index().is_none() {
-        return rayon::scope(|_| sample_on_pool(dnf, radius, (limits, progress), memory));
+        return rayon::scope(|_| run());
     }
-    sample_on_pool(dnf, radius, (limits, progress), memory)
+    run()
 }
 
 /// [`resample_with_limits`] on a thread of the current pool, the first pass's run `k` writing
