@@ -18,6 +18,7 @@
 //! the next step does not wait for them to wake.
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
 /// A builder for a pool of `threads` workers (`0`: rayon's default, one per core), thread `i`
 /// kept to the `i`-th core the process may use when the pool has exactly as many threads as
@@ -56,8 +57,16 @@ pub fn with_workers_awake<R: Send>(work: impl FnOnce() -> R + Send) -> R {
         // The spinners sit first on this thread's deque, where the others steal them first.
         for _ in 0..others {
             scope.spawn(|_| {
+                let mut idle_since = Instant::now();
                 while !done.load(Ordering::Acquire) {
-                    if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                    if rayon::yield_now() == Some(rayon::Yield::Executed) {
+                        idle_since = Instant::now();
+                    } else if idle_since.elapsed() > MAX_IDLE_SPIN {
+                        // A spinner holds up what its thread was doing below it on its stack
+                        // (when it was taken up by a thread waiting on other work): it never
+                        // does so for long without work.
+                        return;
+                    } else {
                         std::hint::spin_loop();
                     }
                 }
@@ -68,6 +77,12 @@ pub fn with_workers_awake<R: Send>(work: impl FnOnce() -> R + Send) -> R {
         work()
     })
 }
+
+/// How long a thread kept awake ([`with_workers_awake`]) spins without work before it leaves
+/// the rest of the run to rayon's own sleeping and waking: longer than the serial steps between
+/// a sampling run's parallel ones (up to a few tenths of a millisecond), short beside a wait
+/// for other work.
+const MAX_IDLE_SPIN: Duration = Duration::from_millis(2);
 
 /// Sets its flag when dropped.
 struct Stop<'a>(&'a AtomicBool);
@@ -134,6 +149,33 @@ mod tests {
             outcome.is_err(),
             "the spinners would otherwise keep the scope open"
         );
+    }
+
+    /// Samplings run from within parallel work: each one's spinners may be taken up by a thread
+    /// that waits on another's work, and must not hold it up for good.
+    #[test]
+    fn work_kept_awake_from_within_parallel_work_ends() {
+        use rayon::prelude::*;
+        let sum = |k: u64| -> u64 {
+            (0..2_000u32)
+                .into_par_iter()
+                .with_max_len(16)
+                .map(|i| u64::from(i) + k)
+                .sum()
+        };
+        for threads in [2, 3, 4] {
+            let pool = pool_builder(threads).build().expect("thread pool");
+            for _ in 0..500 {
+                let sums: Vec<u64> = pool.install(|| {
+                    (0..8u64)
+                        .into_par_iter()
+                        .map(|k| with_workers_awake(|| sum(k)))
+                        .collect()
+                });
+                let expected: Vec<u64> = (0..8u64).map(|k| 1_999_000 + 2_000 * k).collect();
+                assert_eq!(sums, expected, "{threads} threads");
+            }
+        }
     }
 
     #[test]
