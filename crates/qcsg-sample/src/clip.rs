@@ -311,7 +311,7 @@ pub(crate) fn assign(
         let before = rest.len();
         box_runs(piece, 0, &mut rest);
         for span in &mut rest[before..] {
-            (span.start, span.end) = (span.start + start as u32, span.end + start as u32);
+            *span = span.shifted(start as u32);
         }
     }
     // Batches of whole spans, each within one run of the samples (no span crosses runs), then

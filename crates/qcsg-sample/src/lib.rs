@@ -633,12 +633,8 @@ impl FirstPassOutput {
             // The first run's boxes are taken over, as they are.
             std::mem::swap(&mut self.boxes, &mut out.boxes);
         } else {
-            let shifted = out.boxes.iter().map(|b| SampleBox {
-                start: b.start + offset,
-                end: b.end + offset,
-                ..*b
-            });
-            self.boxes.extend(shifted);
+            self.boxes
+                .extend(out.boxes.iter().map(|b| b.shifted(offset)));
         }
         self.samples.push_run(std::mem::take(&mut out.samples));
         out.clear();

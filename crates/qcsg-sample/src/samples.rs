@@ -10,6 +10,7 @@
 use std::ops::Range;
 
 use crate::Sample;
+use crate::subdivide::grow_radius;
 
 /// Samples in order, stored as consecutive runs. Index `i` is the `i`-th sample of the whole
 /// sequence; equality compares the sequences, not how they are cut.
@@ -69,16 +70,10 @@ impl Samples {
         samples * size_of::<Sample>()
     }
 
-    /// Sample `i`, to change it.
-    pub(crate) fn get_mut(&mut self, i: usize) -> Option<&mut Sample> {
-        let (run, at) = self.locate(i)?;
-        self.runs[run].get_mut(at)
-    }
-
-    /// Grows sample `i`'s radius to `needed` (never shrinks it).
+    /// Grows sample `i`'s radius to `needed` (never shrinks it; [`grow_radius`]).
     pub(crate) fn grow_radius(&mut self, i: u32, needed: f64) {
-        if let Some(sample) = self.get_mut(i as usize) {
-            sample.radius = sample.radius.max(needed);
+        if let Some((run, at)) = self.locate(i as usize) {
+            grow_radius(&mut self.runs[run], at as u32, needed);
         }
     }
 
@@ -254,7 +249,7 @@ mod tests {
         assert_eq!(cut(&[3, 1, 4]), Samples::from(cut(&[2, 6]).to_vec()));
         assert_ne!(cut(&[3, 1, 4]), cut(&[3, 1, 3]));
         let mut changed = cut(&[3, 1, 4]);
-        changed.get_mut(5).expect("sample 5").radius = 2.0;
+        changed.grow_radius(5, 2.0);
         assert_ne!(changed, cut(&[8]));
     }
 

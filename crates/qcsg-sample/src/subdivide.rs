@@ -327,6 +327,17 @@ pub struct SampleBox {
     pub high: DVec3,
 }
 
+impl SampleBox {
+    /// The same box, its samples `by` places later in the order.
+    pub fn shifted(self, by: u32) -> Self {
+        Self {
+            start: self.start + by,
+            end: self.end + by,
+            ..self
+        }
+    }
+}
+
 /// Most samples of one box: a long row of a fill that passes near a deferred rectangle is read
 /// only where it does.
 pub const BOX_SAMPLES: usize = 32;
@@ -376,12 +387,8 @@ impl Emitted {
         } else {
             self.box_new();
             let offset = self.samples.len() as u32;
-            let shifted = more.boxes.iter().map(|b| SampleBox {
-                start: b.start + offset,
-                end: b.end + offset,
-                ..*b
-            });
-            self.boxes.extend(shifted);
+            self.boxes
+                .extend(more.boxes.iter().map(|b| b.shifted(offset)));
             self.samples.extend_from_slice(&more.samples);
             self.boxed = self.samples.len();
         }
