@@ -1701,18 +1701,22 @@ struct IndexShard<'a> {
 }
 
 impl<'a> IndexShard<'a> {
-    /// The samples of the cubes among `hits` (cube and sample, in ascending sample order)
-    /// that shard `shard_index` of `count` holds, in two passes (count, then place), each
+    /// The samples of the cubes among `hits` (pieces of the hits of this shard, each in
+    /// ascending sample order, the pieces in order), in two passes (count, then place), each
     /// cube's samples in the order of the hits: sorting the hits by cube and index took
     /// longer, and a vector per cube costs an allocation each.
-    fn new(hits: &[(u128, Member<'a>)], (shard_index, count): (usize, usize)) -> Self {
-        let mut buckets = FxHashMap::default();
-        buckets.reserve(hits.len() / (2 * count));
+    fn new<'h>(hits: impl Iterator<Item = &'h [(u128, Member<'a>)]> + Clone) -> Self
+    where
+        'a: 'h,
+    {
         // Consecutive hits mostly share their cube (a box's samples lie close together): one
         // look-up per run of them.
         let runs = || {
-            (hits.chunk_by(|a, b| a.0 == b.0)).filter(|run| shard(run[0].0, count) == shard_index)
+            hits.clone()
+                .flat_map(|piece| piece.chunk_by(|a, b| a.0 == b.0))
         };
+        let mut buckets = FxHashMap::default();
+        buckets.reserve(hits.clone().map(<[_]>::len).sum::<usize>() / 2);
         let mut total = 0;
         for run in runs() {
             buckets.entry(run[0].0).or_insert((0, 0)).1 += run.len() as u32;
@@ -1725,8 +1729,8 @@ impl<'a> IndexShard<'a> {
             start += in_cube;
         }
         // Every slot is written below; the first hit fills them until then.
-        let mut members = match hits.first() {
-            Some(&(_, first)) => vec![first; total],
+        let mut members = match runs().next() {
+            Some(run) => vec![run[0].1; total],
             None => Vec::new(),
         };
         for run in runs() {
@@ -1817,27 +1821,34 @@ impl<'a> SampleIndex<'a> {
             let (low, high) = (index.key(b.low), index.key(b.high));
             wanted.is_some_and(|(fine, coarse)| coarse.meets(low, high) && fine.meets(low, high))
         };
-        let hits: Vec<(u128, Member<'a>)> = (sample_boxes.par_iter())
+        // Each piece of the hits comes split by shard ([`shard`], one per thread, or a few
+        // more: a power of two): each shard then groups its own hits, on a thread of its own.
+        let count = rayon::current_num_threads().max(1).next_power_of_two();
+        let pieces: Vec<Vec<Vec<(u128, Member<'a>)>>> = (sample_boxes.par_iter())
             .filter(near)
             .map(|b| b.start as usize..b.end as usize)
             .chain(rayon::iter::once(boxed..samples.len()))
             .flat_map_iter(|range| samples.pieces(range))
-            .flat_map_iter(|(start, piece)| {
-                (start..).zip(piece).filter_map(|(i, sample)| {
-                    let (wanted, _) = wanted.get(sample.quadric as usize)?.as_ref()?;
-                    let cube = index.key(sample.position);
-                    wanted
-                        .contains(cube)
-                        .then(|| (bucket_key(cube, sample.quadric), (i as u32, sample)))
-                })
-            })
+            .fold(
+                || vec![Vec::new(); count],
+                |mut by_shard, (start, piece)| {
+                    for (i, sample) in (start..).zip(piece) {
+                        let Some(Some((wanted, _))) = wanted.get(sample.quadric as usize) else {
+                            continue;
+                        };
+                        let cube = index.key(sample.position);
+                        if wanted.contains(cube) {
+                            let key = bucket_key(cube, sample.quadric);
+                            by_shard[shard(key, count)].push((key, (i as u32, sample)));
+                        }
+                    }
+                    by_shard
+                },
+            )
             .collect();
-        // Grouped by cube in shards, one per thread (or a few more, a power of two for
-        // [`shard`]): grouping them all on one thread took longer than reading them on two.
-        let count = rayon::current_num_threads().max(1).next_power_of_two();
         index.shards = (0..count)
             .into_par_iter()
-            .map(|shard_index| IndexShard::new(&hits, (shard_index, count)))
+            .map(|k| IndexShard::new(pieces.iter().map(|by_shard| by_shard[k].as_slice())))
             .collect();
         index
     }
