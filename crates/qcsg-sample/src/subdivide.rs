@@ -1823,6 +1823,8 @@ impl<'a> SampleIndex<'a> {
         };
         // Each piece of the hits comes split by shard ([`shard`], one per thread, or a few
         // more: a power of two): each shard then groups its own hits, on a thread of its own.
+        // A piece folds a stretch of consecutive samples, and `collect` keeps the stretches in
+        // order, so each shard's hits stay in ascending sample order.
         let count = rayon::current_num_threads().max(1).next_power_of_two();
         let pieces: Vec<Vec<Vec<(u128, Member<'a>)>>> = (sample_boxes.par_iter())
             .filter(near)
