@@ -1,5 +1,5 @@
-//! Completion: names in scope, built-ins with their signatures, named arguments inside a call,
-//! and paths inside `include <…>` / `use <…>`.
+//! Completion: names in scope, built-ins with their signatures, argument names inside a call
+//! (ranked first there; the `arguments` module), and paths inside `include <…>` / `use <…>`.
 
 use std::path::Path;
 
@@ -7,9 +7,10 @@ use qcsg_sema::builtins;
 use qcsg_sema::{DefId, DefKind, LinkKind};
 use qcsg_syntax::ast::{ExprKind, ListElemKind, StmtKind};
 
+use crate::call_site::{Bracket, surroundings};
 use crate::hover::builtin_markdown;
-use crate::walk::{Node, call_at, walk};
-use crate::{Analysis, LineCol, Span};
+use crate::walk::{Node, walk};
+use crate::{Analysis, LineCol, Span, TextRange};
 
 /// What a completion inserts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -43,6 +44,12 @@ pub struct CompletionItem {
     pub doc: Option<String>,
     /// The text to insert when it differs from the label.
     pub insert_text: Option<String>,
+    /// The key that orders the list, best first; the label when absent.
+    pub sort_text: Option<String>,
+    /// What the completion replaces: the part of the name typed before the cursor. (Left to
+    /// the editor, a `$` typed before `$fn` could stay, since not every editor counts it as part
+    /// of a word.)
+    pub replace: Option<TextRange>,
 }
 
 const KEYWORDS: &[&str] = &[
@@ -51,7 +58,8 @@ const KEYWORDS: &[&str] = &[
 ];
 
 impl Analysis {
-    /// Completions at `position` of the main document.
+    /// Completions at `position` of the main document, best first: inside an argument list the
+    /// argument names the call still accepts come before the expressions an argument may be.
     pub fn completions(&self, position: LineCol) -> Vec<CompletionItem> {
         let offset = self.offset(position);
         let text = self.text();
@@ -63,30 +71,14 @@ impl Analysis {
             .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '$'))
             .map_or(0, |i| i + 1);
         let prefix = &text[prefix_start..offset];
+        let around = surroundings(text, self.main(), offset);
+        let visible = self.visible_definitions(offset);
         let mut items = Vec::new();
-        if let Some(call) = call_at(self.tree(), offset)
-            && let Some(signature) =
-                self.call_signature(call.name.span.start as usize, call.is_module)
-        {
-            let given: Vec<&str> = call
-                .args
-                .iter()
-                .filter_map(|a| a.name.as_ref())
-                .map(|n| n.name.as_str())
-                .collect();
-            for (name, (_, accepts)) in signature.param_names().zip(&signature.params) {
-                if !given.contains(&name) {
-                    items.push(CompletionItem {
-                        label: format!("{name} ="),
-                        kind: CompletionKind::Parameter,
-                        detail: accepts.clone(),
-                        doc: None,
-                        insert_text: Some(format!("{name} = ")),
-                    });
-                }
-            }
+        if let Some(site) = around.call.as_ref().filter(|site| site.at_name) {
+            items.extend(self.argument_completions(site, offset, &visible));
         }
-        self.scope_completions(offset, &mut items);
+        let arguments = items.len();
+        self.scope_completions(&visible, &mut items);
         builtin_completions(&mut items);
         items.extend(KEYWORDS.iter().map(|k| CompletionItem {
             label: (*k).to_owned(),
@@ -94,17 +86,46 @@ impl Analysis {
             detail: None,
             doc: None,
             insert_text: None,
+            sort_text: None,
+            replace: None,
         }));
+        if let Some(bracket) = around.bracket {
+            // Inside brackets only expressions are written: no module instantiation, no
+            // statement keyword.
+            let mut index = 0;
+            items.retain(|item| {
+                index += 1;
+                index <= arguments || fits_expression(item, bracket)
+            });
+        }
         let lower = prefix.to_lowercase();
-        items.retain(|item| item.label.to_lowercase().starts_with(&lower));
+        let replace = self.range(self.sema.main, Span::new(prefix_start, offset));
         let mut seen = std::collections::HashSet::new();
-        items.retain(|item| seen.insert((item.label.clone(), item.kind)));
-        items
+        let mut rank = 0;
+        let mut ranked = Vec::with_capacity(items.len());
+        for (index, mut item) in items.into_iter().enumerate() {
+            if !item.label.to_lowercase().starts_with(&lower)
+                || !seen.insert((item.label.clone(), item.kind))
+            {
+                continue;
+            }
+            item.sort_text = Some(if index < arguments {
+                rank += 1;
+                format!("0{rank:04}")
+            } else {
+                format!("1{}", item.label)
+            });
+            item.replace = Some(replace);
+            ranked.push(item);
+        }
+        ranked.sort_by(|a, b| a.sort_text.cmp(&b.sort_text));
+        ranked
     }
 
-    /// User definitions visible at `offset`: top-level ones of every file, and the parameters,
-    /// variables, loop and `let` variables of the scopes around it.
-    fn scope_completions(&self, offset: usize, items: &mut Vec<CompletionItem>) {
+    /// User definitions visible at `offset`: top-level ones of every file (only modules and
+    /// functions of `use`d files), and the parameters, variables, loop and `let` variables of the
+    /// scopes around it.
+    pub(crate) fn visible_definitions(&self, offset: usize) -> Vec<DefId> {
         let main = self.sema.main;
         let inside = |span: Span| span.start as usize <= offset && offset <= span.end as usize;
         let mut local_names: Vec<Span> = Vec::new();
@@ -140,13 +161,13 @@ impl Analysis {
             .filter(|l| l.kind == LinkKind::Use)
             .filter_map(|l| l.target)
             .collect();
+        let mut visible = Vec::new();
         for (i, definition) in self.sema.definitions.iter().enumerate() {
-            let id = DefId(i as u32);
             let enclosing = definition
                 .parent
                 .and_then(|p| self.sema.definition(p))
                 .is_some_and(|p| p.file == main && inside(p.span));
-            let visible = match definition.kind {
+            let shown = match definition.kind {
                 DefKind::Module | DefKind::Function => definition.parent.is_none() || enclosing,
                 DefKind::Variable => {
                     (definition.parent.is_none() && !used.contains(&definition.file)) || enclosing
@@ -156,9 +177,19 @@ impl Analysis {
                     definition.file == main && local_names.contains(&definition.name_span)
                 }
             };
-            if !visible {
-                continue;
+            if shown {
+                visible.push(DefId(i as u32));
             }
+        }
+        visible
+    }
+
+    /// The `visible` user definitions as completions.
+    fn scope_completions(&self, visible: &[DefId], items: &mut Vec<CompletionItem>) {
+        for &id in visible {
+            let Some(definition) = self.sema.definition(id) else {
+                continue;
+            };
             let kind = match definition.kind {
                 DefKind::Module => CompletionKind::Module,
                 DefKind::Function => CompletionKind::Function,
@@ -174,6 +205,8 @@ impl Analysis {
                 detail,
                 doc: definition.doc.clone(),
                 insert_text: None,
+                sort_text: None,
+                replace: None,
             });
         }
     }
@@ -215,11 +248,28 @@ impl Analysis {
                     detail: None,
                     doc: None,
                     insert_text: None,
+                    sort_text: None,
+                    replace: None,
                 })
             })
             .collect();
         items.sort_by(|a, b| a.label.cmp(&b.label));
         items
+    }
+}
+
+/// Whether `item` may be written inside `bracket`: not a module (but for `assert` and `echo`,
+/// which have expression forms too), and of the keywords only those that start expressions, with
+/// list comprehensions' inside `[ ]`.
+fn fits_expression(item: &CompletionItem, bracket: Bracket) -> bool {
+    match item.kind {
+        CompletionKind::Module => matches!(item.label.as_str(), "assert" | "echo"),
+        CompletionKind::Keyword => match item.label.as_str() {
+            "true" | "false" | "undef" | "let" | "function" => true,
+            "for" | "if" | "else" | "each" => bracket == Bracket::Square,
+            _ => false,
+        },
+        _ => true,
     }
 }
 
@@ -241,6 +291,8 @@ fn builtin_completions(items: &mut Vec<CompletionItem>) {
             detail: signature,
             doc: builtin_markdown(module.name, qcsg_sema::Namespace::Module),
             insert_text: None,
+            sort_text: None,
+            replace: None,
         });
     }
     for function in builtins::FUNCTIONS {
@@ -251,6 +303,8 @@ fn builtin_completions(items: &mut Vec<CompletionItem>) {
             detail: signature,
             doc: builtin_markdown(function.name, qcsg_sema::Namespace::Function),
             insert_text: None,
+            sort_text: None,
+            replace: None,
         });
     }
     for (name, doc) in builtins::SPECIAL_VARIABLES {
@@ -260,6 +314,8 @@ fn builtin_completions(items: &mut Vec<CompletionItem>) {
             detail: Some("special variable".to_owned()),
             doc: Some((*doc).to_owned()),
             insert_text: None,
+            sort_text: None,
+            replace: None,
         });
     }
     for (name, doc, ty) in builtins::VARIABLES {
@@ -269,6 +325,8 @@ fn builtin_completions(items: &mut Vec<CompletionItem>) {
             detail: Some(ty.to_string()),
             doc: Some((*doc).to_owned()),
             insert_text: None,
+            sort_text: None,
+            replace: None,
         });
     }
 }

@@ -9,6 +9,8 @@
 //! quadrics a call becomes, for hover.
 
 mod actions;
+mod arguments;
+mod call_site;
 mod completion;
 mod consteval;
 mod diagnostics;
