@@ -741,9 +741,19 @@ fn completion_item(item: ide::CompletionItem) -> CompletionItem {
         ide::CompletionKind::File => CompletionItemKind::FILE,
         ide::CompletionKind::Folder => CompletionItemKind::FOLDER,
     };
+    let text_edit = item.replace.map(|range| {
+        CompletionTextEdit::Edit(TextEdit::new(
+            convert::range(range),
+            item.insert_text
+                .clone()
+                .unwrap_or_else(|| item.label.clone()),
+        ))
+    });
     CompletionItem {
         label: item.label,
         kind: Some(kind),
+        sort_text: item.sort_text,
+        text_edit,
         detail: item.detail,
         documentation: item.doc.map(|value| {
             Documentation::MarkupContent(MarkupContent {
