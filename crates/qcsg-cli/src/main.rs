@@ -58,7 +58,7 @@ enum Command {
     /// Format files in place (`-`: standard input to standard output); `--check` only reports.
     Fmt(fmt::FmtArgs),
     /// Run the language server on standard input and output.
-    Lsp,
+    Lsp(lsp::LspArgs),
 }
 
 /// Arguments of `qcsg check`.
@@ -146,7 +146,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Sample(args) => sample::run(args),
         Command::Fmt(args) => fmt::run(args),
-        Command::Lsp => lsp::run(),
+        Command::Lsp(args) => lsp::run(args),
     };
     ExitCode::from(status)
 }

@@ -7,30 +7,35 @@
 //!
 //! Every analysis comes from `qcsg-ide` as plain data; this crate keeps the open documents
 //! ([`documents`]), converts positions and results to LSP types ([`convert`]) and answers
-//! requests ([`server`]). [`run_stdio`] is what `qcsg lsp` runs.
+//! requests ([`server`]). The client's bytes reach the server only through [`transport`],
+//! which frames and checks them and answers what is malformed. [`run_stdio`] is what `qcsg lsp`
+//! runs.
 
 pub mod convert;
 pub mod documents;
 pub mod server;
+pub mod transport;
 
-use tower_lsp_server::{LspService, Server};
+use transport::{Ending, Options};
 
-/// Serves LSP on standard input and output until the client exits.
+/// Serves LSP on standard input and output until the client exits or the input ends.
 ///
 /// # Errors
 /// If the tokio runtime cannot be created.
-pub fn run_stdio() -> std::io::Result<()> {
+pub fn run_stdio(options: Options) -> std::io::Result<Ending> {
     let runtime = tokio::runtime::Builder::new_multi_thread()
         // Analyses walk trees recursively; deep (but accepted) nesting needs more than the 2 MiB
         // default of tokio's threads.
         .thread_stack_size(32 * 1024 * 1024)
         .enable_all()
         .build()?;
-    runtime.block_on(async {
-        let (service, socket) = LspService::new(server::Backend::new);
-        Server::new(tokio::io::stdin(), tokio::io::stdout(), socket)
-            .serve(service)
-            .await;
-    });
-    Ok(())
+    let ending = runtime.block_on(transport::serve(
+        tokio::io::stdin(),
+        tokio::io::stdout(),
+        options,
+    ));
+    // Standard input is read by a blocking thread that cannot be interrupted: after `exit`,
+    // waiting for it would wait for the client to close its end.
+    runtime.shutdown_background();
+    Ok(ending)
 }
