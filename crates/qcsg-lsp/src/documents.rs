@@ -249,7 +249,7 @@ impl FileLoader for Snapshot {
     fn load(&self, path: &Path) -> std::io::Result<String> {
         match self.buffers.get(path) {
             Some(text) => Ok(text.clone()),
-            None => std::fs::read_to_string(path),
+            None => qcsg_ide::FsLoader.load(path),
         }
     }
 }

@@ -1,9 +1,9 @@
 //! Stable codes of the static-checking diagnostics.
 //!
 //! Ranges: `E01xx` names, `E02xx` arguments, `E03xx` unsupported OpenSCAD constructs, `E04xx`
-//! `include` / `use`, `E05xx` static types, `W01xx` warnings, `H01xx` hints. Tools and tests match
-//! on these codes, never on messages. [`ALL`] lists every code with a one-line description; the
-//! documentation's table of codes is checked against it.
+//! source files and `include` / `use`, `E05xx` static types, `W01xx` warnings, `H01xx` hints.
+//! Tools and tests match on these codes, never on messages. [`ALL`] lists every code with a
+//! one-line description; the documentation's table of codes is checked against it.
 
 /// A variable that is defined nowhere in scope.
 pub const UNDEFINED_VARIABLE: &str = "E0101";
@@ -41,6 +41,15 @@ pub const UNSUPPORTED_FUNCTION: &str = "E0302";
 pub const FILE_NOT_FOUND: &str = "E0401";
 /// An `include` that (directly or indirectly) includes the file it is in.
 pub const INCLUDE_CYCLE: &str = "E0402";
+/// An `include <…>` or `use <…>` path that names a directory, a device or anything else that is
+/// not a regular file.
+pub const NOT_A_FILE: &str = "E0403";
+/// An included or used file larger than the limit on source files.
+pub const FILE_TOO_LARGE: &str = "E0404";
+/// An `include <…>` or `use <…>` file that exists but cannot be read (permission denied, …).
+pub const UNREADABLE_FILE: &str = "E0405";
+/// A source file that is not valid UTF-8 (reported once per file, at the first invalid byte).
+pub const INVALID_UTF8: &str = "E0406";
 
 /// An operator applied to operands of types it is not defined for.
 pub const OPERATOR_TYPE: &str = "E0501";
@@ -104,6 +113,10 @@ pub const ALL: &[(&str, &str)] = &[
     ),
     (FILE_NOT_FOUND, "include or use file not found"),
     (INCLUDE_CYCLE, "include cycle"),
+    (NOT_A_FILE, "include or use path is not a regular file"),
+    (FILE_TOO_LARGE, "include or use file over the size limit"),
+    (UNREADABLE_FILE, "include or use file cannot be read"),
+    (INVALID_UTF8, "source file is not valid UTF-8"),
     (
         OPERATOR_TYPE,
         "operator applied to operands of the wrong types",

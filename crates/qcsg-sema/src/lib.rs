@@ -34,6 +34,7 @@ pub mod builtins;
 pub mod codes;
 mod fxhash;
 mod loader;
+mod read;
 mod resolve;
 mod suggest;
 pub mod ty;
@@ -44,22 +45,28 @@ use std::path::{Path, PathBuf};
 use qcsg_diag::{Diagnostic, FileId, SourceMap, Span};
 
 pub use loader::{FileLink, LinkKind, STDIN_NAME};
+pub use read::{
+    InvalidUtf8, MAX_SOURCE_BYTES, SourceError, SourceText, load_source, read_source,
+    read_source_from, read_source_with_limit,
+};
 pub use ty::Ty;
 
 /// Reads files for `include` / `use`; the CLI reads the file system, the language server also
 /// sees unsaved editor buffers.
 pub trait FileLoader {
-    /// The text of the file at `path`.
+    /// The text of the file at `path`. A loader that reads files should read them with
+    /// [`load_source`], whose errors say what is wrong (a device, too large, not UTF-8) in a way
+    /// the checker reports at the `include`.
     fn load(&self, path: &Path) -> std::io::Result<String>;
 }
 
-/// A [`FileLoader`] reading the file system.
+/// A [`FileLoader`] reading the file system with [`load_source`].
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FsLoader;
 
 impl FileLoader for FsLoader {
     fn load(&self, path: &Path) -> std::io::Result<String> {
-        std::fs::read_to_string(path)
+        load_source(path)
     }
 }
 
@@ -239,10 +246,28 @@ pub fn check_file(
     options: &CheckOptions,
     loader: &dyn FileLoader,
 ) -> Analysis {
+    check_source(name, text.into(), options, loader)
+}
+
+/// [`check_file`] for a main file read by [`read_source`]: invalid UTF-8 in it is reported as
+/// in any included file.
+pub fn check_source(
+    name: &str,
+    source: SourceText,
+    options: &CheckOptions,
+    loader: &dyn FileLoader,
+) -> Analysis {
     let mut sources = SourceMap::new();
-    let main = sources.add(name, text);
+    let main = sources.add(name, source.text);
     let mut diagnostics = Vec::new();
-    let loaded = loader::load_program(&mut sources, main, options, loader, &mut diagnostics);
+    let loaded = loader::load_program(
+        &mut sources,
+        main,
+        source.invalid_utf8,
+        options,
+        loader,
+        &mut diagnostics,
+    );
     let defines = options.defines.iter().map(|(name, _)| name.clone());
     let resolved = resolve::Resolver::new(&loaded, &sources, main, defines).run();
     diagnostics.extend(resolved.diagnostics);
@@ -531,6 +556,92 @@ mod tests {
             "{:?}",
             analysis.diagnostics.first()
         );
+    }
+
+    /// A loader whose files fail as [`load_source`] fails on a device or on invalid UTF-8.
+    struct FailingLoader;
+
+    impl FileLoader for FailingLoader {
+        fn load(&self, path: &Path) -> std::io::Result<String> {
+            match path.to_str() {
+                Some("dir/device.scad") => Err(SourceError::NotAFile {
+                    what: "a character device",
+                }
+                .into()),
+                Some("dir/latin1.scad") => Err(SourceError::InvalidUtf8(SourceText::decode(
+                    b"x = \"\xE9\"; // \xFF\xFE\nmodule part() cube(1);\n".to_vec(),
+                ))
+                .into()),
+                Some("dir/locked.scad") => Err(std::io::ErrorKind::PermissionDenied.into()),
+                _ => Err(std::io::ErrorKind::NotFound.into()),
+            }
+        }
+    }
+
+    #[test]
+    fn files_that_exist_but_cannot_be_loaded_say_why() {
+        let options = CheckOptions::default();
+        let analysis = check_with(
+            "include <device.scad>\nuse <locked.scad>\n",
+            &options,
+            &MemoryLoader::default(),
+        );
+        assert_eq!(
+            codes(&analysis),
+            [codes::FILE_NOT_FOUND, codes::FILE_NOT_FOUND]
+        );
+        let analysis = check_file(
+            "dir/main.scad",
+            "include <device.scad>\nuse <locked.scad>\n".into(),
+            &options,
+            &FailingLoader,
+        );
+        assert_eq!(
+            codes(&analysis),
+            [codes::NOT_A_FILE, codes::UNREADABLE_FILE]
+        );
+        assert_eq!(
+            analysis.diagnostics[0].message,
+            "cannot read `dir/device.scad` named by `include`: it is a character device, not a \
+             regular file"
+        );
+    }
+
+    #[test]
+    fn invalid_utf8_is_one_error_in_its_file_and_the_rest_is_checked() {
+        let analysis = check_file(
+            "dir/main.scad",
+            "include <latin1.scad>\npart();\n".into(),
+            &CheckOptions::default(),
+            &FailingLoader,
+        );
+        // One error; `part` is defined after the invalid bytes, and found.
+        assert_eq!(
+            codes(&analysis),
+            [codes::INVALID_UTF8],
+            "{:?}",
+            analysis.diagnostics
+        );
+        let error = &analysis.diagnostics[0];
+        assert_eq!(analysis.sources.get(error.file).name, "dir/latin1.scad");
+        assert_eq!(error.span, Span::new(5, 8));
+        assert_eq!(
+            error.message,
+            "not valid UTF-8: byte 0xE9; 2 more invalid sequences follow"
+        );
+
+        // A replacement character outside a string is also an invalid character, which the
+        // invalid UTF-8 already says.
+        let main = SourceText::decode(b"a = 1;\necho(a, \"\xC3(\");\n\xFF\n".to_vec());
+        let analysis = check_source(
+            "dir/main.scad",
+            main,
+            &CheckOptions::default(),
+            &MemoryLoader::default(),
+        );
+        assert_eq!(codes(&analysis), [codes::INVALID_UTF8]);
+        assert_eq!(analysis.diagnostics[0].file, analysis.main);
+        assert_eq!(analysis.diagnostics[0].span, Span::new(16, 19));
     }
 
     #[test]

@@ -4,6 +4,10 @@
 //! relative to the directory of the file that names it, then relative to each directory of the
 //! search path (`QCSG_PATH`), as OpenSCAD does. Files are identified by their lexically normalised
 //! path, because the loader may serve editor buffers that do not exist on disk.
+//!
+//! A file that exists but cannot serve as a source (a device, a directory, a file over the size
+//! limit, one that cannot be read) is reported as such at the `<path>`, not as missing; a file that
+//! is not valid UTF-8 is reported once, at its first invalid byte, and checked as decoded.
 
 use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
@@ -11,6 +15,7 @@ use std::path::{Component, Path, PathBuf};
 use qcsg_diag::{Diagnostic, FileId, SourceMap, Span};
 use qcsg_syntax::ast::{SourceFile, Stmt, StmtKind};
 
+use crate::read::{InvalidUtf8, SourceError, describe};
 use crate::{CheckOptions, FileLoader, codes};
 
 /// The name under which standard input is checked; its includes resolve from the current
@@ -141,10 +146,20 @@ fn link_statements(tree: &SourceFile) -> Vec<(LinkKind, &qcsg_syntax::ast::PathL
     found
 }
 
-/// Parses `main` and loads, parses and links everything it includes or uses, transitively.
+/// Why an `include` / `use` found no file to load.
+enum LinkError {
+    /// No candidate exists; these are the places searched.
+    NotFound(Vec<PathBuf>),
+    /// The candidate at `path` exists but cannot be loaded.
+    Unreadable { path: PathBuf, error: SourceError },
+}
+
+/// Parses `main` (whose text has `main_invalid_utf8`, if it was not valid UTF-8) and loads, parses
+/// and links everything it includes or uses, transitively.
 pub(crate) fn load_program(
     sources: &mut SourceMap,
     main: FileId,
+    main_invalid_utf8: Option<InvalidUtf8>,
     options: &CheckOptions,
     loader: &dyn FileLoader,
     diagnostics: &mut Vec<Diagnostic>,
@@ -156,6 +171,10 @@ pub(crate) fn load_program(
         links_by_file: HashMap::new(),
     };
     let mut by_path: HashMap<PathBuf, FileId> = HashMap::new();
+    let mut invalid_utf8: HashMap<FileId, InvalidUtf8> = HashMap::new();
+    if let Some(invalid) = main_invalid_utf8 {
+        invalid_utf8.insert(main, invalid);
+    }
     let main_name = sources.get(main).name.clone();
     if main_name != STDIN_NAME {
         by_path.insert(normalize(Path::new(&main_name)), main);
@@ -168,22 +187,59 @@ pub(crate) fn load_program(
         let file = FileId(next as u32);
         next += 1;
         let parse = qcsg_syntax::parse(&sources.get(file).text, file);
-        diagnostics.extend(parse.diagnostics);
+        match invalid_utf8.get(&file) {
+            Some(invalid) => {
+                diagnostics.push(invalid_utf8_diagnostic(file, invalid));
+                let text = &sources.get(file).text;
+                diagnostics.extend(
+                    parse
+                        .diagnostics
+                        .into_iter()
+                        .filter(|d| !is_replacement_only(text, d)),
+                );
+            }
+            None => diagnostics.extend(parse.diagnostics),
+        }
         let tree = parse.file;
         let dir = base_dir(&sources.get(file).name);
         for (kind, path) in link_statements(&tree) {
-            let target = resolve_link(sources, &mut by_path, &dir, &path.path, options, loader);
+            let keyword = if kind == LinkKind::Include {
+                "include"
+            } else {
+                "use"
+            };
+            let target = resolve_link(
+                sources,
+                &mut by_path,
+                &mut invalid_utf8,
+                &dir,
+                &path.path,
+                options,
+                loader,
+            );
             let target = match target {
                 Ok(target) => {
                     file_count = file_count.max(target.0 as usize + 1);
                     Some(target)
                 }
-                Err(searched) => {
-                    let keyword = if kind == LinkKind::Include {
-                        "include"
-                    } else {
-                        "use"
+                Err(LinkError::Unreadable { path: found, error }) => {
+                    let code = match error {
+                        SourceError::NotAFile { .. } => codes::NOT_A_FILE,
+                        SourceError::TooLarge { .. } => codes::FILE_TOO_LARGE,
+                        _ => codes::UNREADABLE_FILE,
                     };
+                    diagnostics.push(Diagnostic::error(
+                        code,
+                        format!(
+                            "cannot read `{}` named by `{keyword}`: {error}",
+                            found.display()
+                        ),
+                        file,
+                        path.span,
+                    ));
+                    None
+                }
+                Err(LinkError::NotFound(searched)) => {
                     let help = format!(
                         "searched {}; set QCSG_PATH to add library directories",
                         searched
@@ -231,15 +287,40 @@ pub(crate) fn load_program(
     loaded
 }
 
-/// Finds and loads the file `path` names; on failure, the places searched.
+/// The error for a file that is not valid UTF-8, at its first invalid sequence.
+fn invalid_utf8_diagnostic(file: FileId, invalid: &InvalidUtf8) -> Diagnostic {
+    Diagnostic::error(
+        codes::INVALID_UTF8,
+        format!("not valid UTF-8: {}", describe(invalid)),
+        file,
+        invalid.span,
+    )
+    .with_help(
+        "source files are UTF-8: save the file in that encoding (until then, each invalid \
+         sequence reads as U+FFFD)",
+    )
+}
+
+/// Whether `diagnostic` is the lexer's "invalid character" for replacement characters only,
+/// which the invalid-UTF-8 error of the file already covers.
+fn is_replacement_only(text: &str, diagnostic: &Diagnostic) -> bool {
+    diagnostic.code == qcsg_syntax::codes::INVALID_CHARACTER
+        && text
+            .get(diagnostic.span.range())
+            .is_some_and(|s| !s.is_empty() && s.chars().all(|c| c == '\u{FFFD}'))
+}
+
+/// Finds and loads the file `path` names; on failure, the places searched or why the file found
+/// cannot be loaded.
 fn resolve_link(
     sources: &mut SourceMap,
     by_path: &mut HashMap<PathBuf, FileId>,
+    invalid_utf8: &mut HashMap<FileId, InvalidUtf8>,
     dir: &Path,
     path: &str,
     options: &CheckOptions,
     loader: &dyn FileLoader,
-) -> Result<FileId, Vec<PathBuf>> {
+) -> Result<FileId, LinkError> {
     let written = Path::new(path);
     let candidates: Vec<PathBuf> = if path.is_empty() {
         Vec::new()
@@ -255,13 +336,25 @@ fn resolve_link(
         if let Some(&known) = by_path.get(candidate) {
             return Ok(known);
         }
-        if let Ok(text) = loader.load(candidate) {
-            let id = sources.add(candidate.to_string_lossy().into_owned(), text);
-            by_path.insert(candidate.clone(), id);
-            return Ok(id);
+        let (text, invalid) = match loader.load(candidate).map_err(SourceError::from_io) {
+            Ok(text) => (text, None),
+            Err(SourceError::InvalidUtf8(source)) => (source.text, source.invalid_utf8),
+            Err(error) if error.is_not_found() => continue,
+            Err(error) => {
+                return Err(LinkError::Unreadable {
+                    path: candidate.clone(),
+                    error,
+                });
+            }
+        };
+        let id = sources.add(candidate.to_string_lossy().into_owned(), text);
+        by_path.insert(candidate.clone(), id);
+        if let Some(invalid) = invalid {
+            invalid_utf8.insert(id, invalid);
         }
+        return Ok(id);
     }
-    Err(candidates)
+    Err(LinkError::NotFound(candidates))
 }
 
 #[cfg(test)]
