@@ -274,6 +274,7 @@ pub(crate) fn parse_tokens(
         .into_output_errors();
     let mut diagnostics: Vec<Diagnostic> = Vec::with_capacity(errors.len());
     let mut eof_done = eof_reported;
+    let mut seen = std::collections::HashSet::new();
     for error in &errors {
         if error.custom.is_none() {
             match error.found {
@@ -285,10 +286,8 @@ pub(crate) fn parse_tokens(
             }
         }
         let diagnostic = to_diagnostic(error, tokens, text, file);
-        if !diagnostics
-            .iter()
-            .any(|d| d.span == diagnostic.span && d.message == diagnostic.message)
-        {
+        // A set, not a scan of the list: a broken file may have an error on every token.
+        if seen.insert((diagnostic.span, diagnostic.message.clone())) {
             diagnostics.push(diagnostic);
         }
     }
@@ -322,8 +321,18 @@ fn file_parser<'t, E: SyntaxError<'t>>(
 ) -> impl Parser<'t, In<'t>, Vec<Stmt>, extra::Err<E>> {
     let expr = expr_parser(ctx);
     let stmt = stmt_parser(ctx, expr);
-    // A closing delimiter with nothing to close: report it and move on.
-    let stray = one_of([Tok::RParen, Tok::RBracket, Tok::RBrace])
+    stmt.or(stray_closer([Tok::RParen, Tok::RBracket, Tok::RBrace]))
+        .repeated()
+        .collect::<Vec<_>>()
+        .then_ignore(end())
+}
+
+/// A closing delimiter (one of `closers`) with nothing to close: reported, and read as an error
+/// statement so that parsing moves on.
+fn stray_closer<'t, E: SyntaxError<'t>>(
+    closers: impl chumsky::container::Seq<'t, Tok> + Clone + 't,
+) -> impl Parser<'t, In<'t>, Stmt, extra::Err<E>> + Clone {
+    one_of(closers)
         .map_with(|_, e| Stmt {
             kind: StmtKind::Error,
             span: sp(e.span()),
@@ -332,11 +341,7 @@ fn file_parser<'t, E: SyntaxError<'t>>(
         .validate(|stmt, e, emitter| {
             emitter.emit(E::custom(e.span(), "unexpected closing delimiter"));
             stmt
-        });
-    stmt.or(stray)
-        .repeated()
-        .collect::<Vec<_>>()
-        .then_ignore(end())
+        })
 }
 
 /// Balanced `( … )` or `[ … ]` group, skipped whole during recovery. It does not cross a `;`:
@@ -878,11 +883,22 @@ fn stmt_parser<'t, E: SyntaxError<'t>>(
         };
 
         let empty_stmt = just(Tok::Semi).map_with(move |_, e| mk(StmtKind::Empty, e.span()));
+        // Once its `{` is read, a block never fails: a stray `)` or `]` inside is reported and
+        // skipped, and a `}` missing at the end of the file is reported and assumed. Recovery
+        // from a failed block would re-parse everything inside it from the enclosing statement,
+        // which doubles the work at every level of nesting.
         let block = stmt
             .clone()
+            .or(stray_closer::<E>([Tok::RParen, Tok::RBracket]))
             .repeated()
             .collect::<Vec<_>>()
-            .delimited_by(just(Tok::LBrace), just(Tok::RBrace).labelled("`}`"))
+            .delimited_by(
+                just(Tok::LBrace),
+                just(Tok::RBrace)
+                    .labelled("`}`")
+                    .ignored()
+                    .recover_with(via_parser(end().rewind())),
+            )
             .map_with(move |stmts, e| mk(StmtKind::Block(stmts), e.span()));
         let module_def = just(Tok::Module)
             .ignore_then(name(ctx))

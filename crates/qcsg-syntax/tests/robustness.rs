@@ -155,6 +155,64 @@ fn deep_nesting_is_reported_not_overflowed() {
     assert!(check(&ok).diagnostics.is_empty());
 }
 
+/// Broken text nested 200 deep. Recovery that re-parsed a failed construct from its parent took
+/// twice as long per level (20 levels of `union(){` took 8.5 s), so each of these would run for
+/// longer than the universe has existed; parsing them now takes milliseconds. A worker thread and
+/// a deadline turn a regression into a failure instead of a hung test run.
+#[test]
+fn broken_nesting_recovers_in_linear_time() {
+    let n = 200;
+    let cases = [
+        "union(){".repeat(n),
+        format!("{} ) {}", "union(){".repeat(n), "}".repeat(n)),
+        format!("{} ]; {}", "union(){".repeat(n), "}".repeat(n)),
+        "module m(){".repeat(n),
+        format!("{} ( {}", "{".repeat(n), "}".repeat(n)),
+        format!("x = {};", "f(1, ".repeat(n)),
+        format!("x = {}", "[for (i = ".repeat(n)),
+        format!("x = {}", "let (a = ".repeat(n)),
+        format!("x = {} ) {};", "[".repeat(n), "]".repeat(n)),
+        format!("{} )", "if (1) ".repeat(n)),
+        format!("{}{}", "union(){ cube() ) ".repeat(n), "}".repeat(n)),
+        // Many broken siblings: the work per error must not grow with the number of errors.
+        "a = (1 ];\n".repeat(20 * n),
+        ")".repeat(20 * n),
+    ];
+    let (done, finished) = std::sync::mpsc::channel();
+    std::thread::Builder::new()
+        .stack_size(64 * 1024 * 1024)
+        .spawn(move || {
+            for text in &cases {
+                let parse = check(text);
+                assert!(!parse.diagnostics.is_empty(), "{}", &text[..40]);
+            }
+            done.send(()).unwrap();
+        })
+        .unwrap();
+    finished
+        .recv_timeout(std::time::Duration::from_secs(60))
+        .expect("parsing broken nested text did not finish in 60 s (or panicked)");
+}
+
+/// A block whose `}` is missing at the end of the file keeps its statements: the tree is what an
+/// editor shows while the user is typing.
+#[test]
+fn unclosed_blocks_keep_their_statements() {
+    let parse = check("union() {\n    cube(1);\n    translate([1, 0, 0]) {\n        sphere(2);\n");
+    assert_eq!(parse.diagnostics.len(), 1, "{:#?}", parse.diagnostics);
+    assert_eq!(
+        parse.diagnostics[0].code, "E0008",
+        "{:#?}",
+        parse.diagnostics
+    );
+    let tree = qcsg_syntax::sexpr::file_to_sexpr(&parse.file);
+    assert!(tree.contains("sphere"), "{tree}");
+    let parse = check("union() { cube(1); ) sphere(2); }");
+    assert_eq!(parse.diagnostics.len(), 1, "{:#?}", parse.diagnostics);
+    let tree = qcsg_syntax::sexpr::file_to_sexpr(&parse.file);
+    assert!(tree.contains("cube") && tree.contains("sphere"), "{tree}");
+}
+
 #[test]
 fn long_chains_parse() {
     let sum = format!("x = 1{};", " + 1".repeat(1_000));
