@@ -25,7 +25,7 @@ use qcsg_syntax::ast::{
 
 use crate::builtins::{self, BuiltinFunction, BuiltinModule};
 use crate::loader::{LinkKind, Loaded};
-use crate::suggest::closest;
+use crate::suggest::Suggester;
 use crate::ty::{Mismatch, ParamTy, Ty, format_lengths};
 use crate::walk::{Node, walk};
 use crate::{DefId, DefKind, Definition, Namespace, ParamInfo, Reference, Target, codes};
@@ -34,8 +34,6 @@ use crate::{DefId, DefKind, Definition, Namespace, ParamInfo, Reference, Target,
 const STACK_RED_ZONE: usize = 64 * 1024;
 /// How much stack to add each time.
 const STACK_GROWTH: usize = 2 * 1024 * 1024;
-/// How many "did you mean" searches one check does at most (each scans the names in scope).
-const SUGGESTION_BUDGET: u32 = 256;
 
 /// What resolution produced.
 pub(crate) struct Resolved {
@@ -161,7 +159,8 @@ pub(crate) struct Resolver<'a> {
     current_unit: usize,
     /// Definitions whose body is being resolved (self-references do not count as uses).
     enclosing: Vec<DefId>,
-    suggestions_left: u32,
+    /// What is left of the "did you mean" budget.
+    suggester: Suggester,
     /// While resolving parameter defaults: the names of the parameters (for a better message).
     sibling_params: Vec<String>,
 }
@@ -196,7 +195,7 @@ impl<'a> Resolver<'a> {
             unit_of_file: HashMap::default(),
             current_unit: 0,
             enclosing: Vec::new(),
-            suggestions_left: SUGGESTION_BUDGET,
+            suggester: Suggester::default(),
             sibling_params: Vec::new(),
         }
     }
@@ -1101,7 +1100,8 @@ impl<'a> Resolver<'a> {
                         );
                         let names: Vec<&str> =
                             signature.params.iter().map(|p| p.name.as_str()).collect();
-                        diagnostic = match closest(&name.name, names.iter().copied()) {
+                        diagnostic = match self.suggester.closest(&name.name, names.iter().copied())
+                        {
                             Some(similar) => {
                                 diagnostic.with_help(format!("did you mean `{similar}`?"))
                             }
@@ -1979,10 +1979,10 @@ impl<'a> Resolver<'a> {
 
     /// The visible name of `namespace` closest to `name`, for "did you mean".
     fn suggest(&mut self, name: &str, namespace: Namespace) -> Option<String> {
-        if self.suggestions_left == 0 {
+        // Gathering the candidates costs too: not for a name that gets no suggestion.
+        if !self.suggester.wants(name) {
             return None;
         }
-        self.suggestions_left -= 1;
         let mut candidates: Vec<&str> = Vec::new();
         let used: Vec<&Scope> = self
             .used_units()
@@ -2018,10 +2018,8 @@ impl<'a> Resolver<'a> {
             Namespace::Function => candidates.extend(builtins::FUNCTIONS.iter().map(|f| f.name)),
             Namespace::Module => candidates.extend(builtins::MODULES.iter().map(|m| m.name)),
         }
-        // Scope maps iterate in arbitrary order: sort for deterministic messages.
-        candidates.sort_unstable();
-        candidates.dedup();
-        closest(name, candidates).map(str::to_string)
+        // Scope maps iterate in arbitrary order; the choice among ties does not depend on it.
+        self.suggester.closest(name, candidates).map(str::to_string)
     }
 
     // ----- bookkeeping ------------------------------------------------------------------------
