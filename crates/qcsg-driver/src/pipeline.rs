@@ -1,0 +1,99 @@
+//! The stages, run in order as far as a [`Stage`]: static check, evaluation to the scene DAG,
+//! and the DNF of each layer. Each stage appends its diagnostics to the analysis and runs only
+//! when the stages before it found no error, so what a command reports is all that the stages
+//! up to its own would report.
+
+use qcsg_csg::{Dag, Dnf};
+use qcsg_sema::{Analysis, FileLoader, SourceText, check_source};
+
+use crate::layers::{Layers, build_layers};
+use crate::options::Options;
+
+/// How far a run goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Stage {
+    /// Parse, resolve names and check statically.
+    Check,
+    /// Also evaluate into the scene DAG.
+    Evaluate,
+    /// Also build the DNF of every layer, with its bounds (what a render needs).
+    Dnf,
+}
+
+/// What a run produced. The analysis holds the sources and every stage's diagnostics.
+#[derive(Debug)]
+pub struct Compilation {
+    /// Sources, syntax trees, definitions and all diagnostics.
+    pub analysis: Analysis,
+    /// The scene DAG, when evaluation ran and found no error.
+    pub dag: Option<Dag>,
+    /// The DNF layers, when they were built without error.
+    pub layers: Option<Layers>,
+}
+
+impl Compilation {
+    /// Whether any stage found an error.
+    pub fn has_errors(&self) -> bool {
+        self.analysis.has_errors()
+    }
+
+    /// The solid's DNF, when the layers were built.
+    pub fn solid(&self) -> Option<&Dnf> {
+        self.layers.as_ref()?.solid.as_ref()
+    }
+}
+
+/// Runs the pipeline on a program whose main file is `name` with contents `text`, reading
+/// included and used files through `loader`.
+pub fn compile(
+    name: &str,
+    text: String,
+    options: &Options,
+    loader: &dyn FileLoader,
+    stage: Stage,
+) -> Compilation {
+    compile_source(name, text.into(), options, loader, stage)
+}
+
+/// [`compile`] for a main file read by `qcsg_sema::read_source` (invalid UTF-8 in it is
+/// reported as in any included file).
+pub fn compile_source(
+    name: &str,
+    source: SourceText,
+    options: &Options,
+    loader: &dyn FileLoader,
+    stage: Stage,
+) -> Compilation {
+    let analysis = check_source(name, source, &options.check_options(), loader);
+    let mut compilation = Compilation {
+        analysis,
+        dag: None,
+        layers: None,
+    };
+    if stage >= Stage::Evaluate && !compilation.has_errors() {
+        let evaluation = qcsg_eval::evaluate(&compilation.analysis, &options.eval_options());
+        let failed = evaluation.has_errors();
+        compilation
+            .analysis
+            .diagnostics
+            .extend(evaluation.diagnostics);
+        compilation.dag = (!failed).then_some(evaluation.dag);
+    }
+    if stage >= Stage::Dnf
+        && let Some(dag) = &mut compilation.dag
+    {
+        match build_layers(dag, &options.dnf) {
+            Ok(layers) => {
+                if let Some(solid) = &layers.solid {
+                    compilation
+                        .analysis
+                        .diagnostics
+                        .extend(solid.warnings.iter().cloned());
+                }
+                compilation.layers = Some(layers);
+            }
+            Err(errors) => compilation.analysis.diagnostics.extend(errors),
+        }
+    }
+    compilation
+}
