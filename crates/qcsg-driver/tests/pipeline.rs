@@ -22,7 +22,7 @@ fn codes(compilation: &qcsg_driver::Compilation) -> Vec<&str> {
         .analysis
         .diagnostics
         .iter()
-        .map(|d| d.code.as_ref())
+        .map(|d| d.code)
         .collect()
 }
 
@@ -116,7 +116,7 @@ fn overrides_reach_the_checker_and_the_evaluator() {
         defines: vec![("r".to_owned(), "5".to_owned())],
         ..Options::default()
     };
-    let mut built = compile(
+    let built = compile(
         "t.qcsg",
         "r = 1; sphere(r);".to_owned(),
         &options,
