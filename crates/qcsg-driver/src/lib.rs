@@ -10,15 +10,15 @@
 //!   overrides and every limit.
 //! - [`pipeline`]: the stages, each appending its diagnostics to the analysis, and
 //!   [`Compilation`], what a run produced.
-//! - [`layers`]: the DNFs of what a preview draws: the solid, the `#` highlighted parts and
-//!   the `%` background parts.
+//!
+//! The DNF stage builds [`Layers`]: the solid, the `#` highlighted parts and the `%`
+//! background parts, all that a preview draws.
 //!
 //! This crate knows nothing of terminals, editors or images: diagnostics stay plain data.
 
-pub mod layers;
 pub mod options;
 pub mod pipeline;
 
-pub use layers::{Layers, build_layers};
 pub use options::{Options, search_path_from_env};
 pub use pipeline::{Compilation, Stage, compile, compile_source};
+pub use qcsg_csg::Layers;

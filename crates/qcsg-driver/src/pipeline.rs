@@ -3,10 +3,9 @@
 //! when the stages before it found no error, so what a command reports is all that the stages
 //! up to its own would report.
 
-use qcsg_csg::{Dag, Dnf};
+use qcsg_csg::{Dag, Dnf, Layers, build_layers};
 use qcsg_sema::{Analysis, FileLoader, SourceText, check_source};
 
-use crate::layers::{Layers, build_layers};
 use crate::options::Options;
 
 /// How far a run goes.

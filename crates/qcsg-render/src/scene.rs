@@ -1,13 +1,10 @@
 //! What a preview shows: the solid, plus the `#` highlighted and `%` background parts that
 //! OpenSCAD previews draw translucent over it.
 
-use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
+use qcsg_csg::{Aabb, Dag, Dnf, DnfOptions, DnfQuadric, Layers, Term, build_layers};
 use qcsg_diag::Diagnostic;
 
 use crate::raytrace::{TermIndex, term_index};
-
-/// How many DAG edges the search for highlighted parts may follow before it gives up on them.
-const HIGHLIGHT_VISIT_LIMIT: usize = 1_000_000;
 
 /// One solid to ray trace: its DNF and what its rays look at (the padded term boxes it is
 /// clipped to, indexed).
@@ -80,30 +77,18 @@ impl Scene {
         }
     }
 
-    /// The solid, the highlighted parts and the background parts of a DAG. A DAG without a
-    /// root gives a scene without a solid (background parts alone are fine).
+    /// The scene of a DAG's layers: its solid, highlighted parts and background parts.
+    pub fn from_layers(layers: Layers) -> Self {
+        Self {
+            solid: layers.solid.map(Layer::new),
+            highlights: Layer::union(layers.highlights),
+            backgrounds: Layer::union(layers.backgrounds),
+        }
+    }
+
+    /// The scene of a DAG (see [`build_layers`]).
     pub fn from_dag(dag: &mut Dag, options: &DnfOptions) -> Result<Self, Vec<Diagnostic>> {
-        let solid = match dag.root() {
-            Some(_) => Some(Layer::new(build_dnf(dag, options)?)),
-            None => None,
-        };
-        let highlight_parts = dag
-            .highlighted_parts(HIGHLIGHT_VISIT_LIMIT)
-            .unwrap_or_default();
-        let highlights = highlight_parts
-            .into_iter()
-            .map(|edge| build_dnf_of(dag, edge, options))
-            .collect::<Result<Vec<_>, _>>()?;
-        let backgrounds = dag
-            .backgrounds()
-            .iter()
-            .map(|&edge| build_dnf_of(dag, edge, options))
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(Self {
-            solid,
-            highlights: Layer::union(highlights),
-            backgrounds: Layer::union(backgrounds),
-        })
+        build_layers(dag, options).map(Self::from_layers)
     }
 
     /// The box holding everything drawn (empty for an empty scene).

@@ -1,8 +1,9 @@
 //! What a preview draws, as DNFs: the solid, the `#` highlighted parts (drawn where they are,
 //! also where they were subtracted) and the `%` background parts (not part of the solid).
 
-use qcsg_csg::{Dag, Dnf, DnfOptions, build_dnf, build_dnf_of};
 use qcsg_diag::Diagnostic;
+
+use crate::{Dag, Dnf, DnfOptions, build_dnf, build_dnf_of};
 
 /// How many DAG edges the search for highlighted parts may follow before it gives up on them
 /// (they are a preview aid: a scene too large to search is still drawn, without them).
