@@ -63,6 +63,15 @@ pub struct EvalLimitArgs {
     /// Most primitive instances.
     #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_INSTANCES)]
     max_instances: u64,
+
+    /// Most bytes of one string (`str`, `chr`).
+    #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_STRING_LEN)]
+    max_string_len: u64,
+
+    /// Most bytes of `echo` output in all, each line counting 64 more; past it, output is cut
+    /// with a warning.
+    #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_ECHO_LEN)]
+    max_echo_len: u64,
 }
 
 impl EvalLimitArgs {
@@ -74,6 +83,8 @@ impl EvalLimitArgs {
             max_iterations: self.max_iterations,
             max_vector_len: self.max_vector_len,
             max_instances: self.max_instances,
+            max_string_len: self.max_string_len,
+            max_echo_len: self.max_echo_len,
         }
     }
 }

@@ -2,11 +2,21 @@
 //!
 //! Arguments arrive evaluated and in positional order (named arguments already placed by the
 //! caller). Where OpenSCAD returns `undef` with a warning, these return an error message, which
-//! the evaluator reports at the call.
+//! the evaluator reports at the call. Results are bounded by the evaluation's limits before they
+//! are built: vectors by `max_vector_len`, strings by `max_string_len`, and the work of a call by
+//! its arguments and result (a value's parts are shared, so nothing walks a value further than
+//! the result it makes).
 
+use std::collections::HashMap;
+
+use crate::EvalOptions;
 use crate::math::{Mt19937, cos_degrees, rad2deg, sin_degrees, tan_degrees};
 use crate::ops::compare;
+use crate::text::{BoundedText, Overflow, echo_text_cut};
 use crate::value::{Value, values_equal};
+
+/// How much of a value a warning or error message quotes, in bytes.
+const QUOTED_VALUE_LEN: usize = 200;
 
 /// Why a built-in function gave no value.
 #[derive(Debug)]
@@ -15,6 +25,8 @@ pub enum BuiltinError {
     Undefined(String),
     /// The result would be longer than the vector-length limit.
     TooLong(u64),
+    /// The result would be a string longer than the string-length limit.
+    StringTooLong,
 }
 
 /// What a call produced: the value and any warnings.
@@ -29,14 +41,15 @@ pub fn is_builtin(name: &str) -> bool {
     qcsg_sema::builtins::function(name).is_some()
 }
 
-/// Calls the built-in function `name`. `max_len` bounds the length of vectors it creates.
-/// `warnings` receives messages that do not make the result undefined.
+/// Calls the built-in function `name`, within the length limits of `limits`. `warnings`
+/// receives messages that do not make the result undefined.
 pub fn call<'a>(
     name: &str,
     args: &[Value<'a>],
-    max_len: u64,
+    limits: &EvalOptions,
     warnings: &mut Vec<String>,
 ) -> BuiltinResult<'a> {
+    let max_len = limits.max_vector_len;
     let arg = |i: usize| args.get(i).cloned().unwrap_or(Value::Undef);
     let num = |i: usize| -> Result<f64, BuiltinError> {
         match args.get(i) {
@@ -124,26 +137,21 @@ pub fn call<'a>(
         }
         "lookup" => lookup(num(0)?, &arg(1)),
         "str" => {
-            let mut s = String::new();
+            let mut s = BoundedText::new(limits.max_string_len);
             for a in args {
-                s.push_str(&a.to_str_string());
+                s.push_str_form(a)
+                    .map_err(|Overflow| BuiltinError::StringTooLong)?;
             }
-            Ok(Value::string(s))
+            Ok(Value::string(s.into_string()))
         }
-        "chr" => {
-            let mut s = String::new();
-            for a in args {
-                chr_into(a, &mut s, max_len)?;
-            }
-            Ok(Value::string(s))
-        }
+        "chr" => chr(args, max_len, limits.max_string_len),
         "ord" => match args.first() {
             Some(Value::String(s)) if s.chars().count() == 1 => Ok(Value::Number(
                 s.chars().next().map_or(0, |c| c as u32) as f64,
             )),
             _ => undefined("ord() needs a string of one character"),
         },
-        "search" => search(args, warnings),
+        "search" => search(args, max_len, warnings),
         "is_undef" => Ok(Value::Bool(matches!(arg(0), Value::Undef))),
         "is_bool" => Ok(Value::Bool(matches!(arg(0), Value::Bool(_)))),
         "is_num" => Ok(Value::Bool(
@@ -236,35 +244,52 @@ fn lookup<'a>(p: f64, table: &Value<'a>) -> BuiltinResult<'a> {
     Ok(Value::Number(high_v * f + low_v * (1.0 - f)))
 }
 
-fn chr_into(v: &Value<'_>, out: &mut String, max_len: u64) -> Result<(), BuiltinError> {
-    match v {
-        Value::Number(x) => {
-            if *x >= 1.0
-                && *x <= u32::MAX as f64
-                && let Some(c) = char::from_u32(*x as u32)
-            {
-                out.push(c);
-            }
-            Ok(())
+/// `chr`: the characters of the code points in `args`, vectors flattened at any depth (ranges
+/// too), anything else skipped. The walk visits at most `max_len` values, so a vector holding
+/// one vector many times is not walked as if it were many.
+fn chr<'a>(args: &[Value<'a>], max_len: u64, max_string_len: u64) -> BuiltinResult<'a> {
+    let mut out = BoundedText::new(max_string_len);
+    let mut visited: u64 = 0;
+    // The vectors being walked, innermost last, with the elements still to visit.
+    let mut open: Vec<std::slice::Iter<'_, Value<'a>>> = vec![args.iter()];
+    while let Some(items) = open.last_mut() {
+        let Some(item) = items.next() else {
+            open.pop();
+            continue;
+        };
+        visited += 1;
+        if visited > max_len {
+            return Err(BuiltinError::TooLong(visited));
         }
-        Value::Vector(items) => {
-            for item in items.iter() {
-                chr_into(item, out, max_len)?;
+        match item {
+            Value::Number(x) => push_code_point(&mut out, *x)?,
+            Value::Vector(items) => open.push(items.iter()),
+            Value::Range(r) => {
+                let n = r.len();
+                if visited.saturating_add(n) > max_len {
+                    return Err(BuiltinError::TooLong(visited.saturating_add(n)));
+                }
+                visited += n;
+                for i in 0..n {
+                    push_code_point(&mut out, r.at(i))?;
+                }
             }
-            Ok(())
+            _ => {}
         }
-        Value::Range(r) => {
-            let n = r.len();
-            if n > max_len {
-                return Err(BuiltinError::TooLong(n));
-            }
-            for i in 0..n {
-                chr_into(&Value::Number(r.at(i)), out, max_len)?;
-            }
-            Ok(())
-        }
-        _ => Ok(()),
     }
+    Ok(Value::string(out.into_string()))
+}
+
+/// Appends the character of code point `x`, if it is one (OpenSCAD skips the others).
+fn push_code_point(out: &mut BoundedText, x: f64) -> Result<(), BuiltinError> {
+    if x >= 1.0
+        && x <= u32::MAX as f64
+        && let Some(c) = char::from_u32(x as u32)
+    {
+        out.push_str(c.encode_utf8(&mut [0; 4]))
+            .map_err(|Overflow| BuiltinError::StringTooLong)?;
+    }
+    Ok(())
 }
 
 /// `(unsigned int)` of a double as C++ on x86-64 computes it for the values that matter.
@@ -276,7 +301,7 @@ fn as_count(x: f64) -> u64 {
     }
 }
 
-fn search<'a>(args: &[Value<'a>], warnings: &mut Vec<String>) -> BuiltinResult<'a> {
+fn search<'a>(args: &[Value<'a>], max_len: u64, warnings: &mut Vec<String>) -> BuiltinResult<'a> {
     let find = args.first().cloned().unwrap_or(Value::Undef);
     let table = args.get(1).cloned().unwrap_or(Value::Undef);
     let per_match = args.get(2).and_then(Value::as_number).map_or(1, as_count);
@@ -310,12 +335,12 @@ fn search<'a>(args: &[Value<'a>], warnings: &mut Vec<String>) -> BuiltinResult<'
                     let mut firsts = Vec::with_capacity(rows.len());
                     for (j, row) in rows.iter().enumerate() {
                         match row.as_vector().and_then(|r| r.get(column)) {
-                            Some(cell) => firsts.push(cell.to_str_string().chars().next()),
+                            Some(cell) => firsts.push(first_str_char(cell)),
                             None => {
                                 warnings.push(format!(
                                     "invalid entry in search vector at index {j}, required number of values in the entry: {}. Invalid entry: {}",
                                     column + 1,
-                                    row.to_echo_string()
+                                    echo_text_cut(row, QUOTED_VALUE_LEN)
                                 ));
                                 return Ok(Value::vector(Vec::new()));
                             }
@@ -325,24 +350,7 @@ fn search<'a>(args: &[Value<'a>], warnings: &mut Vec<String>) -> BuiltinResult<'
                 }
                 _ => return undefined("search() needs a string or vector to search in"),
             };
-            let mut out = Vec::new();
-            for c in needle.chars() {
-                let mut found = Vec::new();
-                for (j, h) in haystack.iter().enumerate() {
-                    if *h == Some(c) {
-                        found.push(index(j));
-                        if per_match == 1 || (per_match > 1 && found.len() as u64 >= per_match) {
-                            break;
-                        }
-                    }
-                }
-                if per_match == 1 {
-                    out.extend(found);
-                } else {
-                    out.push(Value::vector(found));
-                }
-            }
-            Ok(Value::vector(out))
+            search_characters(needle, &haystack, per_match, max_len)
         }
         Value::Vector(needles) => {
             let mut out = Vec::new();
@@ -369,9 +377,73 @@ fn search<'a>(args: &[Value<'a>], warnings: &mut Vec<String>) -> BuiltinResult<'
         }
         other => undefined(format!(
             "search term not supported: {}",
-            other.to_echo_string()
+            echo_text_cut(other, QUOTED_VALUE_LEN)
         )),
     }
+}
+
+/// The first character of the text `str` makes of `value`, without printing the rest.
+fn first_str_char(value: &Value<'_>) -> Option<char> {
+    // A character is 4 bytes at most: the first one fits.
+    let mut text = BoundedText::new(4);
+    let _ = text.push_str_form(value);
+    text.as_str().chars().next()
+}
+
+/// `search` of each character of `needle` in `haystack` (a string's characters, or the first
+/// characters of a table's cells): for each, the first match's index when `per_match` is 1
+/// (nothing when none), else a vector of the first `per_match` matches' indices (all for 0).
+///
+/// The haystack is indexed once, and each distinct character's answer is built once and shared
+/// by its repetitions, so the work is linear in the two lengths and the answer's size, never
+/// their product.
+fn search_characters<'a>(
+    needle: &str,
+    haystack: &[Option<char>],
+    per_match: u64,
+    max_len: u64,
+) -> BuiltinResult<'a> {
+    let mut positions: HashMap<char, Vec<usize>> = HashMap::new();
+    for (j, c) in haystack.iter().enumerate() {
+        if let Some(c) = c {
+            positions.entry(*c).or_default().push(j);
+        }
+    }
+    let mut answers: HashMap<char, Value<'a>> = HashMap::new();
+    let mut out = Vec::new();
+    for c in needle.chars() {
+        let found = positions.get(&c).map_or(&[][..], Vec::as_slice);
+        if per_match == 1 {
+            let Some(&j) = found.first() else {
+                continue;
+            };
+            if out.len() as u64 >= max_len {
+                return Err(BuiltinError::TooLong(out.len() as u64 + 1));
+            }
+            out.push(Value::Number(j as f64));
+            continue;
+        }
+        if out.len() as u64 >= max_len {
+            return Err(BuiltinError::TooLong(out.len() as u64 + 1));
+        }
+        let answer = answers.entry(c).or_insert_with(|| {
+            let taken = if per_match == 0 {
+                found.len()
+            } else {
+                found
+                    .len()
+                    .min(usize::try_from(per_match).unwrap_or(usize::MAX))
+            };
+            Value::vector(
+                found[..taken]
+                    .iter()
+                    .map(|&j| Value::Number(j as f64))
+                    .collect(),
+            )
+        });
+        out.push(answer.clone());
+    }
+    Ok(Value::vector(out))
 }
 
 fn rands<'a>(args: &[Value<'a>], max_len: u64) -> BuiltinResult<'a> {
@@ -416,10 +488,16 @@ mod tests {
         Value::vector(xs)
     }
     fn run(name: &str, args: Vec<Value<'_>>) -> String {
-        match call(name, &args, 1_000_000, &mut Vec::new()) {
+        let limits = EvalOptions {
+            max_vector_len: 1_000_000,
+            max_string_len: 1_000,
+            ..EvalOptions::default()
+        };
+        match call(name, &args, &limits, &mut Vec::new()) {
             Ok(v) => v.to_echo_string(),
             Err(BuiltinError::Undefined(_)) => "undef".into(),
             Err(BuiltinError::TooLong(n)) => format!("too long {n}"),
+            Err(BuiltinError::StringTooLong) => "string too long".into(),
         }
     }
 

@@ -22,7 +22,8 @@ pub const ASSERTION_FAILED: &str = "E0555";
 pub const RECURSION_LIMIT: &str = "E0556";
 /// More loop iterations and function calls than the iteration limit.
 pub const ITERATION_LIMIT: &str = "E0557";
-/// A vector, range or string longer than the vector-length limit.
+/// A vector longer than the vector-length limit (a range spliced or a string split into a
+/// vector counts its elements).
 pub const VECTOR_LIMIT: &str = "E0558";
 /// More primitive instances than the instance limit.
 pub const INSTANCE_LIMIT: &str = "E0559";
@@ -32,6 +33,8 @@ pub const UNSUPPORTED: &str = "E0560";
 pub const BAD_DEFINE: &str = "E0561";
 /// A module instantiated as a function or a function as a module, found at run time.
 pub const WRONG_KIND: &str = "E0562";
+/// A string (`str`, `chr`) longer than the string-length limit, in bytes.
+pub const STRING_LIMIT: &str = "E0563";
 
 /// A transform with a singular or non-finite matrix: the object is removed, as in OpenSCAD.
 pub const SINGULAR_TRANSFORM: &str = "W0550";
@@ -49,6 +52,8 @@ pub const UNKNOWN_COLOR: &str = "W0555";
 pub const RESIZE_IGNORED: &str = "W0556";
 /// A malformed entry in a `search` table: OpenSCAD returns `[]`.
 pub const SEARCH_TABLE: &str = "W0557";
+/// `echo` output past the echo-output limit: the line is cut, later output left out.
+pub const ECHO_LIMIT: &str = "W0558";
 
 /// The output of `echo`, formatted exactly as OpenSCAD prints it (`ECHO: …`).
 pub const ECHO: &str = "I0550";
@@ -80,6 +85,7 @@ pub const ALL: &[(&str, &str)] = &[
         WRONG_KIND,
         "module used as a function or function as a module",
     ),
+    (STRING_LIMIT, "string length limit reached"),
     (
         SINGULAR_TRANSFORM,
         "singular transform: the object is removed",
@@ -100,6 +106,7 @@ pub const ALL: &[(&str, &str)] = &[
     (UNKNOWN_COLOR, "unrecognised colour"),
     (RESIZE_IGNORED, "resize not applied"),
     (SEARCH_TABLE, "malformed `search` table entry"),
+    (ECHO_LIMIT, "echo output limit reached: output cut"),
     (ECHO, "output of `echo`"),
 ];
 

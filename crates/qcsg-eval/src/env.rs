@@ -258,8 +258,8 @@ mod tests {
 
     #[test]
     fn large_scopes_keep_one_value_per_name_in_order() {
-        let frame = Frame::root();
         let names: Vec<String> = (0..3 * INDEX_FROM).map(|i| format!("v{i}")).collect();
+        let frame = Frame::root();
         for round in 0..2 {
             for (i, name) in names.iter().enumerate() {
                 frame.set(name, Value::Number((i + round * 1000) as f64));

@@ -27,6 +27,7 @@ use crate::builtins_fn::{self, BuiltinError};
 use crate::codes;
 use crate::env::{Callable, Children, Frame, FunctionDef, ModuleDef};
 use crate::primitives::{self, ArgLookup, Built};
+use crate::text::BoundedText;
 use crate::transforms;
 use crate::value::{Range, Value};
 use crate::{EvalOptions, color, ops, printer};
@@ -37,6 +38,11 @@ use crate::{EvalOptions, color, ops, printer};
 pub(crate) struct Stop {
     fatal: bool,
 }
+
+/// What an `echo` line costs beside its text, in bytes of the echo-output limit: the diagnostic
+/// that carries it and its printed form take about this much more, so that ten million empty
+/// lines count as the burden they are.
+pub(crate) const ECHO_LINE_COST: u64 = 64;
 
 /// The most distinct runtime errors reported before the evaluation stops.
 pub(crate) const MAX_ERRORS: usize = 50;
@@ -49,6 +55,7 @@ fn is_fatal(code: &str) -> bool {
         codes::RECURSION_LIMIT
             | codes::ITERATION_LIMIT
             | codes::VECTOR_LIMIT
+            | codes::STRING_LIMIT
             | codes::INSTANCE_LIMIT
             | codes::ASSERTION_FAILED
     )
@@ -60,6 +67,7 @@ fn limit_flag(code: &str) -> Option<&'static str> {
         codes::RECURSION_LIMIT => Some("--max-recursion"),
         codes::ITERATION_LIMIT => Some("--max-iterations"),
         codes::VECTOR_LIMIT => Some("--max-vector-len"),
+        codes::STRING_LIMIT => Some("--max-string-len"),
         codes::INSTANCE_LIMIT => Some("--max-instances"),
         _ => None,
     }
@@ -149,6 +157,8 @@ pub(crate) struct Evaluator<'a> {
     depth: usize,
     iterations: u64,
     instances: u64,
+    /// Bytes of `echo` output still allowed; `None` once the limit has cut the output.
+    echo_left: Option<u64>,
     root_override: Option<Edge>,
     used_frames: HashMap<FileId, Rc<Frame<'a>>>,
     include_stack: Vec<FileId>,
@@ -177,6 +187,7 @@ impl<'a> Evaluator<'a> {
             depth: 0,
             iterations: 0,
             instances: 0,
+            echo_left: Some(options.max_echo_len),
             root_override: None,
             used_frames: HashMap::new(),
             include_stack: Vec::new(),
@@ -826,7 +837,7 @@ impl<'a> Evaluator<'a> {
         file: FileId,
         span: Span,
     ) -> R<Option<[f64; 4]>> {
-        let mut rgba = match named.get("c") {
+        let mut rgba = match &named.get("c") {
             Value::Vector(v) => {
                 let mut out = [1.0; 4];
                 for (o, e) in out.iter_mut().zip(v.iter()) {
@@ -834,7 +845,7 @@ impl<'a> Evaluator<'a> {
                 }
                 out
             }
-            Value::String(s) => match color::parse_color(&s) {
+            Value::String(s) => match color::parse_color(s) {
                 Some(c) => c,
                 None => {
                     self.warn(
@@ -1105,25 +1116,43 @@ impl<'a> Evaluator<'a> {
 
     // ----- echo and assert ---------------------------------------------------------------
 
+    /// Reports an `echo` line, within what is left of the echo-output limit: the line that
+    /// crosses it is cut, with a warning, and later lines are left out.
     fn echo(&mut self, values: &[ArgValue<'a>], file: FileId, span: Span) {
-        let mut text = String::from("ECHO: ");
-        for (i, a) in values.iter().enumerate() {
-            if i > 0 {
-                text.push_str(", ");
-            }
-            if let Some(n) = a.name {
-                text.push_str(n);
-                text.push_str(" = ");
-            }
-            text.push_str(&a.value.to_echo_string());
+        let Some(left) = self.echo_left else {
+            return;
+        };
+        let mut text = BoundedText::new(left.saturating_sub(ECHO_LINE_COST));
+        let written = text.push_echo_line(values.iter().map(|a| (a.name, &a.value)));
+        self.echo_left = Some(left.saturating_sub(text.len() as u64 + ECHO_LINE_COST));
+        let mut line = text.into_string();
+        if written.is_err() {
+            line.push('…');
+            self.echo_left = None;
         }
         self.diagnostics.push(Diagnostic::new(
             qcsg_diag::Severity::Info,
             codes::ECHO,
-            text,
+            line,
             file,
             span,
         ));
+        if written.is_err() {
+            self.diagnostics.push(
+                Diagnostic::warning(
+                    codes::ECHO_LIMIT,
+                    format!(
+                        "echo output passed the limit of {} bytes: this line is cut and later echo output is left out",
+                        self.options.max_echo_len
+                    ),
+                    file,
+                    span,
+                )
+                .with_help(
+                    "if you need all of it, raise the limit with `--max-echo-len N` on the command line",
+                ),
+            );
+        }
     }
 
     fn assert(
@@ -1162,7 +1191,13 @@ impl<'a> Evaluator<'a> {
         let mut message = format!("assertion `{condition_text}` failed");
         if let Some((m, _)) = pick("message", 1) {
             message.push_str(": ");
-            message.push_str(&m.value.to_echo_string());
+            // The message is quoted as echo prints it, as long as a string may be at most.
+            let mut text = BoundedText::new(self.options.max_string_len);
+            let cut = text.push_echo(&m.value).is_err();
+            message.push_str(text.as_str());
+            if cut {
+                message.push('…');
+            }
         }
         Err(self.error(codes::ASSERTION_FAILED, message, file, span))
     }
@@ -1476,8 +1511,8 @@ impl<'a> Evaluator<'a> {
         let function = match &callee.kind {
             ExprKind::Ident(ident) => {
                 let name = ident.name.as_str();
-                match cx.frame.lookup(name) {
-                    Some(Value::Function(f)) => f,
+                match &cx.frame.lookup(name) {
+                    Some(Value::Function(f)) => f.clone(),
                     found => {
                         if let Some(def) = cx.frame.lookup_function(name) {
                             def
@@ -1513,8 +1548,8 @@ impl<'a> Evaluator<'a> {
                     }
                 }
             }
-            _ => match self.eval_expr(callee, cx)? {
-                Value::Function(f) => f,
+            _ => match &self.eval_expr(callee, cx)? {
+                Value::Function(f) => f.clone(),
                 other => {
                     return Err(self.error(
                         codes::NOT_CALLABLE,
@@ -1616,12 +1651,7 @@ impl<'a> Evaluator<'a> {
             }
         }
         let mut warnings = Vec::new();
-        let result = builtins_fn::call(
-            name,
-            &positional,
-            self.options.max_vector_len,
-            &mut warnings,
-        );
+        let result = builtins_fn::call(name, &positional, self.options, &mut warnings);
         for w in warnings {
             self.warn(codes::SEARCH_TABLE, w, file, span);
         }
@@ -1634,6 +1664,15 @@ impl<'a> Evaluator<'a> {
                 self.check_len(n, file, span)?;
                 Ok(Value::Undef)
             }
+            Err(BuiltinError::StringTooLong) => Err(self.error(
+                codes::STRING_LIMIT,
+                format!(
+                    "{name}() would make a string longer than the limit of {} bytes",
+                    self.options.max_string_len
+                ),
+                file,
+                span,
+            )),
         }
     }
 }

@@ -9,7 +9,11 @@
 //! OpenSCAD; any other runtime error (where OpenSCAD warns and goes on with `undef`) abandons
 //! only its assignment (the variable is then `undef`) or statement, so one run reports them all
 //! (each place once, at most 50). With errors the DAG is partial: tools may show it, nothing may
-//! build a solid from it.
+//! build a solid from it. Text is bounded like vectors: a string longer than
+//! [`EvalOptions::max_string_len`] is a limit error; `echo` output past
+//! [`EvalOptions::max_echo_len`] is cut with a warning and evaluation goes on, since `echo`
+//! does not change the solid. Printing stops at those limits, so a value that shares its parts
+//! (`[v, v]` forty times over) costs no more to print than the text the limit allows.
 //!
 //! Semantics follow OpenSCAD 2021.01, checked against it (see `tests/eval/`):
 //! - Values: numbers (f64), booleans, strings, `undef`, vectors, ranges, functions. Where
@@ -41,6 +45,7 @@ pub mod math;
 pub mod ops;
 pub mod primitives;
 pub mod printer;
+pub mod text;
 pub mod transforms;
 pub mod value;
 
@@ -66,6 +71,12 @@ pub struct EvalOptions {
     pub max_vector_len: u64,
     /// The most primitive instances.
     pub max_instances: u64,
+    /// The most bytes (UTF-8) of one string that evaluation builds (`str`, `chr`).
+    pub max_string_len: u64,
+    /// The most bytes of `echo` output of one evaluation, each line counting its text and 64
+    /// bytes more (about what holding and printing the line costs beside its text). The line
+    /// that crosses it is cut and later lines are left out, with a warning.
+    pub max_echo_len: u64,
 }
 
 impl EvalOptions {
@@ -77,6 +88,14 @@ impl EvalOptions {
     pub const DEFAULT_MAX_VECTOR_LEN: u64 = 10_000_000;
     /// Default primitive-instance limit.
     pub const DEFAULT_MAX_INSTANCES: u64 = 1_000_000;
+    /// Default string-length limit: 16 MiB, a thousand times the longest text a scene plausibly
+    /// needs (labels, generated names), while a string at the limit costs 16 MiB, as little as
+    /// a vector of a million numbers.
+    pub const DEFAULT_MAX_STRING_LEN: u64 = 16 << 20;
+    /// Default echo-output limit: 4 MiB, some 50,000 short lines or one line of four million
+    /// characters, more than anyone reads, and little enough that the diagnostics holding it and
+    /// their rendering for a terminal stay within a couple of hundred MB.
+    pub const DEFAULT_MAX_ECHO_LEN: u64 = 4 << 20;
 }
 
 impl Default for EvalOptions {
@@ -87,6 +106,8 @@ impl Default for EvalOptions {
             max_iterations: Self::DEFAULT_MAX_ITERATIONS,
             max_vector_len: Self::DEFAULT_MAX_VECTOR_LEN,
             max_instances: Self::DEFAULT_MAX_INSTANCES,
+            max_string_len: Self::DEFAULT_MAX_STRING_LEN,
+            max_echo_len: Self::DEFAULT_MAX_ECHO_LEN,
         }
     }
 }

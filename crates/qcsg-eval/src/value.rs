@@ -1,14 +1,15 @@
-//! Run-time values and their OpenSCAD text forms (`echo` and `str`).
+//! Run-time values, their equality, and numbers in OpenSCAD's text form.
 //!
-//! Values are cheap to clone: strings, vectors and closures are reference counted. Numbers print
-//! as OpenSCAD 2021.01 prints them: six significant digits, ties rounded away from zero, trailing
-//! zeros dropped, exponent form below `1e-5` and from `1e6` on (`1e+6`, `1.5e-7`).
+//! Values are cheap to clone: strings, vectors and closures are reference counted (the text
+//! forms of whole values, which sharing can make far larger than the values, are in
+//! [`text`](crate::text)). Numbers print as OpenSCAD 2021.01 prints them: six significant
+//! digits, ties rounded away from zero, trailing zeros dropped, exponent form below `1e-5` and
+//! from `1e6` on (`1e+6`, `1.5e-7`).
 
 use std::fmt::Write as _;
 use std::rc::Rc;
 
 use crate::env::FunctionDef;
-use crate::printer;
 
 /// A run-time value.
 #[derive(Clone, Debug)]
@@ -27,6 +28,32 @@ pub enum Value<'a> {
     Range(Range),
     /// A function value (a function literal and the scope it closes over).
     Function(Rc<FunctionDef<'a>>),
+}
+
+/// Takes a vector apart without recursion: dropping a value nested a million deep (which tail
+/// recursion builds in a second) would otherwise overflow the stack, one frame per level.
+impl Drop for Value<'_> {
+    fn drop(&mut self) {
+        let Value::Vector(items) = self else {
+            return;
+        };
+        // Elements still shared elsewhere are not dropped now; nor are those of a vector with
+        // no vector among them, which the ordinary drop handles in one level.
+        let Some(elements) = Rc::get_mut(items) else {
+            return;
+        };
+        if !elements.iter().any(|e| matches!(e, Value::Vector(_))) {
+            return;
+        }
+        let mut pending = std::mem::take(elements);
+        while let Some(mut value) = pending.pop() {
+            if let Value::Vector(items) = &mut value
+                && let Some(elements) = Rc::get_mut(items)
+            {
+                pending.append(elements);
+            }
+        }
+    }
 }
 
 /// A numeric range as OpenSCAD 2021.01 iterates it.
@@ -165,56 +192,13 @@ impl<'a> Value<'a> {
         }
     }
 
-    /// The text `echo` prints for the value (strings in quotes).
-    pub fn to_echo_string(&self) -> String {
-        let mut out = String::new();
-        self.write(&mut out, true);
-        out
-    }
-
-    /// The text `str` makes of the value (a top-level string without quotes).
-    pub fn to_str_string(&self) -> String {
-        match self {
-            Value::String(s) => s.to_string(),
-            other => other.to_echo_string(),
-        }
-    }
-
-    fn write(&self, out: &mut String, quote: bool) {
-        match self {
-            Value::Undef => out.push_str("undef"),
-            Value::Bool(b) => out.push_str(if *b { "true" } else { "false" }),
-            Value::Number(x) => out.push_str(&format_number(*x)),
-            Value::String(s) => {
-                if quote {
-                    out.push('"');
-                    out.push_str(s);
-                    out.push('"');
-                } else {
-                    out.push_str(s);
-                }
-            }
-            Value::Vector(v) => {
-                out.push('[');
-                for (i, e) in v.iter().enumerate() {
-                    if i > 0 {
-                        out.push_str(", ");
-                    }
-                    e.write(out, true);
-                }
-                out.push(']');
-            }
-            Value::Range(r) => {
-                let _ = write!(
-                    out,
-                    "[{} : {} : {}]",
-                    format_number(r.begin),
-                    format_number(r.step),
-                    format_number(r.end)
-                );
-            }
-            Value::Function(c) => out.push_str(&printer::function_literal(c.params, c.body)),
-        }
+    /// The text `echo` prints for the value, whole: for tests, whose values are small. Evaluation
+    /// prints through [`BoundedText`](crate::text::BoundedText), which stops at a limit.
+    #[cfg(test)]
+    pub(crate) fn to_echo_string(&self) -> String {
+        let mut text = crate::text::BoundedText::new(u64::MAX);
+        let _ = text.push_echo(self);
+        text.into_string()
     }
 }
 
@@ -245,6 +229,11 @@ pub fn format_number(x: f64) -> String {
     }
     if x == 0.0 {
         return "0".into();
+    }
+    // An integer of at most six digits prints as itself: the common case, without the slow
+    // 40-digit expansion below.
+    if x.fract() == 0.0 && x.abs() < 1e6 {
+        return (x as i64).to_string();
     }
     const PRECISION: usize = 6;
     // Far more digits than the tie decision needs: an f64 differs from a decimal tie within 17.
@@ -356,6 +345,25 @@ mod tests {
     }
 
     #[test]
+    fn dropping_a_deeply_nested_value_does_not_overflow_the_stack() {
+        // A thread with a small stack, so that recursion a frame per level would overflow it.
+        std::thread::Builder::new()
+            .stack_size(256 * 1024)
+            .spawn(|| {
+                let mut v = Value::Number(1.0);
+                for _ in 0..1_000_000 {
+                    v = Value::vector(vec![v, Value::Undef]);
+                }
+                let shared = v.clone();
+                drop(v);
+                assert_eq!(shared.as_vector().map(<[_]>::len), Some(2));
+            })
+            .expect("a thread starts")
+            .join()
+            .expect("the value is dropped without overflowing the stack");
+    }
+
+    #[test]
     fn ranges_count_like_openscad() {
         let r = |b, s, e| Range {
             begin: b,
@@ -381,7 +389,6 @@ mod tests {
             Value::vector(vec![Value::Number(2.0), Value::Undef]),
         ]);
         assert_eq!(v.to_echo_string(), "[1, \"a\", [2, undef]]");
-        assert_eq!(Value::string("s").to_str_string(), "s");
         assert_eq!(Value::string("s").to_echo_string(), "\"s\"");
         let r = Value::Range(Range {
             begin: 1.0,

@@ -36,6 +36,7 @@ pub fn editor_limits() -> EvalOptions {
         max_iterations: 1_000_000,
         max_vector_len: 1_000_000,
         max_instances: 100_000,
+        ..EvalOptions::default()
     }
 }
 
