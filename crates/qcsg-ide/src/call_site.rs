@@ -7,8 +7,11 @@
 //! A statement never nests inside `(` or `[`, and `;`, `{` and `}` never appear inside them, so
 //! the innermost unmatched opener before the cursor, looked for back to the nearest of those
 //! three, is the bracket the cursor is in, and the same three end an argument list that was
-//! never closed.
+//! never closed. For the same reason only the text between the top-level statements that end
+//! with `;` or `}` around the cursor is lexed, so that the cost follows the statement being
+//! edited rather than the file.
 
+use qcsg_syntax::SourceFile;
 use qcsg_syntax::lexer::{Tok, lex};
 
 use crate::{FileId, Span};
@@ -54,8 +57,45 @@ pub(crate) struct CallSite {
     pub positional: usize,
 }
 
-/// What surrounds byte `offset` of `text`; nothing inside a comment or a string.
-pub(crate) fn surroundings(text: &str, file: FileId, offset: usize) -> Surroundings {
+/// What surrounds byte `offset` of `text` (whose tree is `tree`); nothing inside a comment or a
+/// string.
+pub(crate) fn surroundings(
+    text: &str,
+    tree: &SourceFile,
+    file: FileId,
+    offset: usize,
+) -> Surroundings {
+    let (start, end) = window(text, tree, offset);
+    let mut found = surroundings_in(&text[start..end], file, offset - start);
+    if let Some(call) = &mut found.call {
+        call.name_start += start;
+        call.open += start;
+    }
+    found
+}
+
+/// The part of `text` that decides what surrounds `offset`: from the end of the last top-level
+/// statement before it that ends with `;` or `}` to the end of the first one after it that
+/// does. Both scans of [`surroundings_in`] stop at those tokens anyway.
+fn window(text: &str, tree: &SourceFile, offset: usize) -> (usize, usize) {
+    let closes = |span: Span| text[..span.end as usize].ends_with([';', '}']);
+    let first_after = tree
+        .stmts
+        .partition_point(|stmt| stmt.span.end as usize <= offset);
+    let start = tree.stmts[..first_after]
+        .iter()
+        .rev()
+        .find(|stmt| closes(stmt.span))
+        .map_or(0, |stmt| stmt.span.end as usize);
+    let end = tree.stmts[first_after..]
+        .iter()
+        .find(|stmt| closes(stmt.span))
+        .map_or(text.len(), |stmt| stmt.span.end as usize);
+    (start.min(offset), end.max(offset))
+}
+
+/// What surrounds byte `offset` of `text`, a window of the document.
+fn surroundings_in(text: &str, file: FileId, offset: usize) -> Surroundings {
     let lexed = lex(text, file);
     let inside = |span: Span| (span.start as usize) < offset && offset < span.end as usize;
     let in_comment = lexed.comments.iter().any(|comment| {

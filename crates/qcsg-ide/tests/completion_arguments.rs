@@ -69,19 +69,26 @@ fn labels(items: &[CompletionItem]) -> Vec<&str> {
     items.iter().map(|item| item.label.as_str()).collect()
 }
 
-/// Argument names come first, and the list is in the order of its sort keys.
+/// Argument names come first, in the list and by their sort keys (in their own order), before
+/// everything else.
 fn assert_ranked(items: &[CompletionItem]) {
     let names = argument_names(items).len();
     assert!(
-        items[..names]
-            .iter()
-            .all(|item| item.kind == CompletionKind::Parameter),
+        names > 0
+            && items[..names]
+                .iter()
+                .all(|item| item.kind == CompletionKind::Parameter),
         "{:?}",
         labels(items)
     );
     let keys: Vec<_> = items.iter().map(|item| item.sort_text.clone()).collect();
     assert!(keys.iter().all(Option::is_some), "{keys:?}");
-    assert!(keys.windows(2).all(|pair| pair[0] < pair[1]), "{keys:?}");
+    assert!(
+        keys[..names].windows(2).all(|pair| pair[0] < pair[1]),
+        "{keys:?}"
+    );
+    let last_name = &keys[names - 1];
+    assert!(keys[names..].iter().all(|key| key > last_name), "{keys:?}");
 }
 
 #[test]
@@ -318,6 +325,13 @@ fn unfinished_text_still_offers_argument_names() {
     assert!(
         !translate.contains(&"v =") && translate.contains(&"$fn ="),
         "{translate:?}"
+    );
+    // Inside a module's body between finished statements, and with `;` in strings around.
+    assert_eq!(
+        parameters(&complete(
+            "a = \"x;}\";\nmodule m() {\n    cube(1);\n    cylinder(h = 1, r1 = 2, |\n}\nb = \"{\";\n"
+        )),
+        ["r2 =", "center =", "r =", "d =", "d1 =", "d2 ="]
     );
     // Nested calls: the innermost one around the cursor.
     assert_eq!(
