@@ -20,5 +20,5 @@ pub mod options;
 pub mod pipeline;
 
 pub use options::{Options, search_path_from_env};
-pub use pipeline::{Compilation, Stage, compile, compile_source};
+pub use pipeline::{Built, Compilation, Stage, build, compile, compile_source};
 pub use qcsg_csg::Layers;

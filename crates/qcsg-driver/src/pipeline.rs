@@ -4,6 +4,8 @@
 //! up to its own would report.
 
 use qcsg_csg::{Dag, Dnf, Layers, build_layers};
+use qcsg_diag::Diagnostic;
+use qcsg_eval::Evaluation;
 use qcsg_sema::{Analysis, FileLoader, SourceText, check_source};
 
 use crate::options::Options;
@@ -63,36 +65,53 @@ pub fn compile_source(
     loader: &dyn FileLoader,
     stage: Stage,
 ) -> Compilation {
-    let analysis = check_source(name, source, &options.check_options(), loader);
-    let mut compilation = Compilation {
-        analysis,
-        dag: None,
-        layers: None,
-    };
-    if stage >= Stage::Evaluate && !compilation.has_errors() {
-        let evaluation = qcsg_eval::evaluate(&compilation.analysis, &options.eval_options());
+    let mut analysis = check_source(name, source, &options.check_options(), loader);
+    let built = build(&analysis, options, stage);
+    let dag = built.evaluation.and_then(|evaluation| {
         let failed = evaluation.has_errors();
-        compilation
-            .analysis
-            .diagnostics
-            .extend(evaluation.diagnostics);
-        compilation.dag = (!failed).then_some(evaluation.dag);
+        analysis.diagnostics.extend(evaluation.diagnostics);
+        (!failed).then_some(evaluation.dag)
+    });
+    analysis.diagnostics.extend(built.diagnostics);
+    Compilation {
+        analysis,
+        dag,
+        layers: built.layers,
     }
-    if stage >= Stage::Dnf
-        && let Some(dag) = &mut compilation.dag
-    {
-        match build_layers(dag, &options.dnf) {
+}
+
+/// What the stages after the static check produced for one analysis.
+#[derive(Debug, Default)]
+pub struct Built {
+    /// The evaluation (its DAG, diagnostics and what each call produced), when it ran: the
+    /// analysis had no error and the stage asked for it.
+    pub evaluation: Option<Evaluation>,
+    /// The DNF layers, when they were built without error.
+    pub layers: Option<Layers>,
+    /// The DNF stage's diagnostics: its errors, or the solid's warnings.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Runs the stages after the static check on `analysis`, as far as `stage`: evaluation when
+/// the analysis has no error, then the DNF layers when evaluation had none. For callers that
+/// keep the analysis apart, such as the language server; [`compile`] is this after a check.
+pub fn build(analysis: &Analysis, options: &Options, stage: Stage) -> Built {
+    let mut built = Built::default();
+    if stage < Stage::Evaluate || analysis.has_errors() {
+        return built;
+    }
+    let mut evaluation = qcsg_eval::evaluate(analysis, &options.eval_options());
+    if stage >= Stage::Dnf && !evaluation.has_errors() {
+        match build_layers(&mut evaluation.dag, &options.dnf) {
             Ok(layers) => {
                 if let Some(solid) = &layers.solid {
-                    compilation
-                        .analysis
-                        .diagnostics
-                        .extend(solid.warnings.iter().cloned());
+                    built.diagnostics.extend(solid.warnings.iter().cloned());
                 }
-                compilation.layers = Some(layers);
+                built.layers = Some(layers);
             }
-            Err(errors) => compilation.analysis.diagnostics.extend(errors),
+            Err(errors) => built.diagnostics = errors,
         }
     }
-    compilation
+    built.evaluation = Some(evaluation);
+    built
 }
