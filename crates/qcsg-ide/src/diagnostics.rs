@@ -55,8 +55,9 @@ impl Analysis {
             .collect()
     }
 
-    /// `diagnostics` as the main document shows them (see [`Analysis::diagnostics`]).
-    pub(crate) fn present<'d>(
+    /// `diagnostics` as the main document shows them (see [`Analysis::diagnostics`]): for the
+    /// diagnostics of later stages (evaluation, the DNF), which the language server computes.
+    pub fn present<'d>(
         &self,
         diagnostics: impl Iterator<Item = &'d Diagnostic>,
     ) -> Vec<IdeDiagnostic> {
@@ -74,7 +75,7 @@ impl Analysis {
     }
 
     /// The errors and warnings of `diagnostics` located in the file named `path`.
-    pub(crate) fn diagnostics_located_in<'d>(
+    pub fn diagnostics_located_in<'d>(
         &self,
         diagnostics: impl Iterator<Item = &'d Diagnostic>,
         path: &str,

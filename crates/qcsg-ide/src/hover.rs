@@ -1,8 +1,12 @@
 //! Hover: what a name is (kind, type, value, documentation) and what a call's callee accepts.
 
+use std::collections::HashMap;
+
 use qcsg_sema::builtins::{self, ModuleKind};
 use qcsg_sema::{DefId, DefKind, Namespace, Target, Ty};
+use qcsg_syntax::ast::StmtKind;
 
+use crate::walk::{Node, walk};
 use crate::{Analysis, FileId, LineCol, Span, TextRange};
 
 /// Hover contents for the name under the cursor.
@@ -16,7 +20,7 @@ pub struct Hover {
 
 /// Extra hover contents from later stages, such as the geometry a primitive becomes.
 ///
-/// The evaluator implements this to show, for a primitive instantiation, the quadrics it turns
+/// The language server implements this with the evaluated scene to show, for a primitive instantiation, the quadrics it turns
 /// into with their classification, centre and axes; [`Analysis::hover_with`] appends its
 /// markdown below the name's own description.
 pub trait HoverExtension {
@@ -25,6 +29,21 @@ pub trait HoverExtension {
 }
 
 impl Analysis {
+    /// The module instantiation statements of the main document, each by the start of its
+    /// called name (the span a [`HoverExtension`] is given): what a later stage recorded per
+    /// statement is found from them.
+    pub fn instantiation_statements(&self) -> HashMap<u32, Span> {
+        let mut statements = HashMap::new();
+        walk(self.tree(), &mut |node| {
+            if let Node::Stmt(stmt) = node
+                && let StmtKind::Instantiate { name, .. } = &stmt.kind
+            {
+                statements.insert(name.span.start, stmt.span);
+            }
+        });
+        statements
+    }
+
     /// Hover for the name at `position` of the main document.
     pub fn hover(&self, position: LineCol) -> Option<Hover> {
         self.hover_with(position, None)

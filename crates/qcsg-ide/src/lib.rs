@@ -5,8 +5,9 @@
 //! [`LineCol`]); the language server (`qcsg-lsp`) only converts these structs to LSP types, and
 //! no LSP type appears in this crate. An [`Analysis`] is one checked snapshot of a document: it is
 //! immutable, cheap to share between requests, and every query on it is a pure function.
-//! [`Analysis::evaluate`] adds the evaluated solid ([`Geometry`]): runtime diagnostics and the
-//! quadrics a call becomes, for hover.
+//! What needs evaluation (runtime diagnostics, the quadrics a call becomes) comes from the
+//! language server through [`HoverExtension`] and [`Analysis::present`]: this crate depends on
+//! the syntax and the checker only.
 
 mod actions;
 mod arguments;
@@ -16,7 +17,6 @@ mod consteval;
 mod diagnostics;
 mod folding;
 pub mod format;
-mod geometry;
 mod hover;
 mod inlay;
 mod navigation;
@@ -31,12 +31,10 @@ pub use actions::{CodeAction, TextEdit};
 pub use completion::{CompletionItem, CompletionKind};
 pub use diagnostics::{IdeDiagnostic, RelatedInfo};
 pub use folding::{FoldKind, FoldingRange};
-pub use geometry::{Geometry, editor_limits};
 pub use hover::{Hover, HoverExtension};
 pub use inlay::{InlayHint, InlayKind};
 pub use navigation::{RenameError, RenameTarget};
 pub use qcsg_diag::{FileId, LineCol, Severity, Span};
-pub use qcsg_eval::EvalOptions;
 pub use qcsg_sema::{CheckOptions, FileLoader, FsLoader};
 pub use signature::{SignatureHelp, SignatureParam};
 pub use symbols::{Symbol, SymbolKind};

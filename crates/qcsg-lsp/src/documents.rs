@@ -11,8 +11,10 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 
 use qcsg_diag::{LineCol, LineIndex, Span};
-use qcsg_ide::{Analysis, CheckOptions, FileId, FileLoader, Geometry, HoverExtension};
+use qcsg_ide::{Analysis, CheckOptions, FileId, FileLoader, HoverExtension};
 use tower_lsp_server::ls_types::{Range, TextDocumentContentChangeEvent, Uri};
+
+use crate::geometry::{Geometry, editor_limits};
 
 /// One open document.
 #[derive(Debug)]
@@ -63,7 +65,7 @@ impl Analyzed {
     /// when the program has static errors.
     pub fn geometry(&self) -> Option<&Geometry> {
         self.geometry
-            .get_or_init(|| self.analysis.evaluate(&qcsg_ide::editor_limits()))
+            .get_or_init(|| Geometry::evaluate(&self.analysis, &editor_limits()))
             .as_ref()
     }
 }

@@ -5,7 +5,8 @@
 //! exactly in the workspace because a language server's behaviour under concurrency depends on
 //! them, and pre-releases of the next `tower-lsp-server` change its API.
 //!
-//! Every analysis comes from `qcsg-ide` as plain data; this crate keeps the open documents
+//! Every analysis comes from `qcsg-ide` as plain data, and the stages after the check (evaluation
+//! and the DNF, through `qcsg-driver`) from [`geometry`]; this crate keeps the open documents
 //! ([`documents`]), converts positions and results to LSP types ([`convert`]) and answers
 //! requests ([`server`]). The client's bytes reach the server only through [`transport`],
 //! which frames and checks them and answers what is malformed. [`run_stdio`] is what `qcsg lsp`
@@ -13,6 +14,7 @@
 
 pub mod convert;
 pub mod documents;
+pub mod geometry;
 pub mod server;
 pub mod transport;
 

@@ -1,8 +1,9 @@
-//! The geometry of a program: evaluation for the editor, and hover on a module instantiation
-//! listing the world-space quadrics it becomes.
+//! The geometry of a document: the stages after the static check (evaluation and the DNF, run by
+//! `qcsg-driver` as every command runs them) under the editor's limits, their diagnostics, and
+//! hover on a module instantiation listing the world-space quadrics it becomes.
 //!
-//! [`Analysis::evaluate`] runs the evaluator under [`editor_limits`] and indexes the resulting
-//! DAG once: how many root-to-node paths reach every node (its instances in the solid), the
+//! [`Geometry::evaluate`] runs those stages under [`editor_limits`], so the editor reports what
+//! `qcsg check` would (an unbounded solid, the term limit), and indexes the resulting DAG once: how many root-to-node paths reach every node (its instances in the solid), the
 //! world transforms of the first few of them, and the DAG nodes each instantiation statement
 //! produced (from [`qcsg_eval::Evaluation::instantiations`]). A hover then only walks the leaves
 //! below the hovered call's nodes.
@@ -14,13 +15,11 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use qcsg_csg::{Dag, Edge, NodeId, NodeKind, Source};
-use qcsg_diag::Diagnostic;
+use qcsg_diag::{Diagnostic, Span};
+use qcsg_driver::{Options, Stage};
 use qcsg_eval::{EvalOptions, Evaluation};
+use qcsg_ide::{Analysis, FileId, HoverExtension, IdeDiagnostic};
 use qcsg_quadric::{DMat4, DVec3, Quadric, QuadricKind};
-use qcsg_syntax::ast::{Span, StmtKind};
-
-use crate::walk::{Node, walk};
-use crate::{Analysis, FileId, HoverExtension, IdeDiagnostic};
 
 /// How many instances a hover lists in full.
 const SHOWN_INSTANCES: usize = 3;
@@ -44,6 +43,8 @@ pub fn editor_limits() -> EvalOptions {
 #[derive(Debug)]
 pub struct Geometry {
     evaluation: Evaluation,
+    /// The DNF stage's errors and warnings (empty when evaluation failed).
+    dnf_diagnostics: Vec<Diagnostic>,
     /// The evaluator's limits, to tell the editor's limits from the program's own errors.
     limits: EvalOptions,
     /// Number of root-to-node paths per node (f64: it can overflow any integer).
@@ -58,20 +59,30 @@ pub struct Geometry {
     statements: HashMap<u32, Span>,
 }
 
-impl Analysis {
-    /// Evaluates the program under `limits`; `None` when it has static errors (the evaluator
-    /// needs a correct program).
-    pub fn evaluate(&self, limits: &EvalOptions) -> Option<Geometry> {
-        if self.sema.has_errors() {
-            return None;
-        }
-        let evaluation = qcsg_eval::evaluate(&self.sema, limits);
-        Some(Geometry::new(self, evaluation, limits.clone()))
-    }
-}
-
 impl Geometry {
-    fn new(analysis: &Analysis, evaluation: Evaluation, limits: EvalOptions) -> Self {
+    /// Evaluates the program under `limits` and builds its DNF; `None` when it has static
+    /// errors (the evaluator needs a correct program).
+    pub fn evaluate(analysis: &Analysis, limits: &EvalOptions) -> Option<Geometry> {
+        let options = Options {
+            eval: limits.clone(),
+            ..Options::default()
+        };
+        let built = qcsg_driver::build(analysis.sema(), &options, Stage::Dnf);
+        let evaluation = built.evaluation?;
+        Some(Geometry::new(
+            analysis,
+            evaluation,
+            built.diagnostics,
+            limits.clone(),
+        ))
+    }
+
+    fn new(
+        analysis: &Analysis,
+        evaluation: Evaluation,
+        dnf_diagnostics: Vec<Diagnostic>,
+        limits: EvalOptions,
+    ) -> Self {
         let dag = &evaluation.dag;
         let count = dag.len();
         let mut paths = vec![0.0; count];
@@ -127,22 +138,15 @@ impl Geometry {
         for (source, node) in &evaluation.instantiations {
             by_statement.entry(*source).or_default().push(*node);
         }
-        let mut statements = HashMap::new();
-        walk(analysis.tree(), &mut |node| {
-            if let Node::Stmt(stmt) = node
-                && let StmtKind::Instantiate { name, .. } = &stmt.kind
-            {
-                statements.insert(name.span.start, stmt.span);
-            }
-        });
         Self {
+            statements: analysis.instantiation_statements(),
             evaluation,
+            dnf_diagnostics,
             limits,
             paths,
             placements,
             leaves_below,
             by_statement,
-            statements,
         }
     }
 
@@ -151,15 +155,15 @@ impl Geometry {
         &self.evaluation
     }
 
-    /// The evaluator's diagnostics for the main document (runtime errors, warnings, `echo`
-    /// output), with those located in included or used files shown at the `include`/`use`
+    /// The diagnostics of evaluation and the DNF for the main document (runtime errors,
+    /// warnings, `echo` output, an unbounded solid), with those located in included or used files shown at the `include`/`use`
     /// line. A limit reached under the editor's limits is information, not an error: the
     /// program may well be correct under `qcsg check`'s larger ones.
     pub fn diagnostics(&self, analysis: &Analysis) -> Vec<IdeDiagnostic> {
         analysis.present(self.softened().iter())
     }
 
-    /// The evaluator's diagnostics located in the file `path` (an included or used file).
+    /// The diagnostics of evaluation and the DNF located in the file `path` (an included or used file).
     pub fn diagnostics_in(&self, analysis: &Analysis, path: &str) -> Vec<IdeDiagnostic> {
         analysis.diagnostics_located_in(self.softened().iter(), path)
     }
@@ -187,6 +191,7 @@ impl Geometry {
         self.evaluation
             .diagnostics
             .iter()
+            .chain(&self.dnf_diagnostics)
             .map(|d| {
                 let mut d = d.clone();
                 if lowered.iter().any(|(code, lower)| *lower && d.code == *code) {

@@ -8,7 +8,8 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use qcsg_diag::LineIndex;
-use qcsg_ide::{Analysis, CheckOptions, FsLoader, HoverExtension, editor_limits};
+use qcsg_ide::{Analysis, CheckOptions, FsLoader, HoverExtension};
+use qcsg_lsp::geometry::{Geometry, editor_limits};
 
 /// A program of about `lines` lines: parameters, functions, modules and their instantiations.
 fn program(lines: usize) -> String {
@@ -75,12 +76,11 @@ fn main() {
         black_box(analysis.hover(black_box(hover_at)));
     });
     let evaluation = time(15, || {
-        let geometry = analysis
-            .evaluate(black_box(&editor_limits()))
-            .expect("evaluates");
+        let geometry =
+            Geometry::evaluate(&analysis, black_box(&editor_limits())).expect("evaluates");
         black_box(geometry.diagnostics(&analysis));
     });
-    let geometry = analysis.evaluate(&editor_limits()).expect("evaluates");
+    let geometry = Geometry::evaluate(&analysis, &editor_limits()).expect("evaluates");
     let call_at = index.line_col(
         &edited,
         edited[middle..]

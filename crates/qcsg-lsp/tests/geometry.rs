@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use qcsg_diag::LineIndex;
 use qcsg_ide::*;
+use qcsg_lsp::geometry::{Geometry, editor_limits};
 
 #[derive(Default)]
 struct Files(HashMap<PathBuf, String>);
@@ -47,9 +48,7 @@ fn at(text: &str, needle: &str, nth: usize) -> LineCol {
 /// The hover at the `nth` occurrence of `needle`, with the geometry.
 fn geometry_hover(text: &str, needle: &str, nth: usize) -> String {
     let analysis = analyze(text);
-    let geometry = analysis
-        .evaluate(&editor_limits())
-        .expect("no static errors");
+    let geometry = Geometry::evaluate(&analysis, &editor_limits()).expect("no static errors");
     analysis
         .hover_with(at(text, needle, nth), Some(&geometry))
         .expect("hover")
@@ -136,7 +135,7 @@ fn runtime_diagnostics_and_echo_are_reported() {
     let text = "echo(\"hello\", 1 + 2);\nassert(1 > 2, \"too small\");\n";
     let analysis = analyze(text);
     assert!(analysis.diagnostics().is_empty());
-    let geometry = analysis.evaluate(&editor_limits()).expect("evaluates");
+    let geometry = Geometry::evaluate(&analysis, &editor_limits()).expect("evaluates");
     let diagnostics = geometry.diagnostics(&analysis);
     let echo = diagnostics
         .iter()
@@ -156,7 +155,7 @@ fn runtime_diagnostics_and_echo_are_reported() {
 fn the_editors_limits_stop_runaway_programs_with_information() {
     let text = "module r(n) r(n + 1);\nr(0);\n";
     let analysis = analyze(text);
-    let geometry = analysis.evaluate(&editor_limits()).expect("evaluates");
+    let geometry = Geometry::evaluate(&analysis, &editor_limits()).expect("evaluates");
     let diagnostics = geometry.diagnostics(&analysis);
     let stopped = diagnostics
         .iter()
@@ -219,7 +218,7 @@ fn a_runtime_error_in_a_used_file_shows_at_the_use_line() {
     let library = "module check(n) assert(n < 3, \"n too big\");\n";
     let text = "use <lib.scad>\ncheck(5);\n";
     let analysis = analyze_with(text, &[("dir/lib.scad", library)]);
-    let geometry = analysis.evaluate(&editor_limits()).expect("evaluates");
+    let geometry = Geometry::evaluate(&analysis, &editor_limits()).expect("evaluates");
     let diagnostics = geometry.diagnostics(&analysis);
     let shown = diagnostics
         .iter()
@@ -242,4 +241,20 @@ fn hover_on_a_scene_snapshot() {
         geometry_part(&wheel),
         geometry_part(&scaled)
     ));
+}
+
+/// What only the DNF finds (here an unbounded solid) reaches the editor as `qcsg check` reports
+/// it, at the unbounded part.
+#[test]
+fn the_dnf_stage_reports_an_unbounded_solid() {
+    let text = "union() { sphere(3); halfspace([0, 0, 1], 0); }\n";
+    let analysis = analyze(text);
+    let geometry = Geometry::evaluate(&analysis, &editor_limits()).expect("evaluates");
+    let diagnostics = geometry.diagnostics(&analysis);
+    let unbounded = diagnostics
+        .iter()
+        .find(|d| d.code == "E0600")
+        .unwrap_or_else(|| panic!("{diagnostics:?}"));
+    assert_eq!(unbounded.severity, Severity::Error);
+    assert_eq!(unbounded.range.start, at(text, "halfspace", 0));
 }
