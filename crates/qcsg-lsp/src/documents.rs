@@ -228,23 +228,12 @@ impl Snapshot {
             &self.path,
             self.text.clone(),
             &CheckOptions {
-                search_path: search_path(),
+                search_path: qcsg_driver::search_path_from_env(),
                 defines: Vec::new(),
             },
             self,
         ))
     }
-}
-
-/// The directories of `QCSG_PATH`, as `qcsg check` uses them.
-fn search_path() -> Vec<PathBuf> {
-    std::env::var_os("QCSG_PATH")
-        .map(|paths| {
-            std::env::split_paths(&paths)
-                .filter(|p| !p.as_os_str().is_empty())
-                .collect()
-        })
-        .unwrap_or_default()
 }
 
 impl FileLoader for Snapshot {
