@@ -8,22 +8,14 @@ use std::num::NonZeroUsize;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use qcsg_diag::Diagnostic;
-use qcsg_sema::{Analysis, CheckOptions, FsLoader};
+use qcsg_diag::{Diagnostic, SourceMap};
+use qcsg_sema::{Analysis, CheckOptions, FsLoader, SourceText};
 
-use crate::human::{HumanRenderer, summary_line};
+use crate::human::{HumanRenderer, report};
 use crate::{CheckArgs, DiagnosticFormat, EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
 
 /// The name standard input goes by in diagnostics.
 pub const STDIN_NAME: &str = "<stdin>";
-
-/// One input as read from the command line.
-enum Input {
-    /// Its name (the path as given, or `<stdin>`) and text.
-    Read { name: String, text: String },
-    /// It could not be read; the message says why.
-    Unreadable(String),
-}
 
 /// Runs `qcsg check` and returns the process exit status.
 pub fn run(args: CheckArgs) -> u8 {
@@ -31,21 +23,23 @@ pub fn run(args: CheckArgs) -> u8 {
         search_path: crate::search_path_from_env(),
         defines: args.common.defines.clone(),
     };
-    let inputs: Vec<Input> = args.files.iter().map(|file| read_input(file)).collect();
+    // Each readable input's name and text; why each other one could not be read.
+    let (inputs, unreadable): (Vec<_>, Vec<_>) = args
+        .files
+        .iter()
+        .map(|file| crate::program::read(file))
+        .partition(Result::is_ok);
+    let inputs: Vec<(String, SourceText)> = inputs.into_iter().flatten().collect();
     let threads = args
         .common
         .threads
         .or_else(|| std::thread::available_parallelism().ok())
         .unwrap_or(NonZeroUsize::MIN);
     let eval_options = args.limits.eval_options(&args.common.defines);
-    let analyses = check_all(&inputs, &options, &eval_options, threads);
+    let analyses = check_all(inputs, &options, &eval_options, threads);
 
-    let mut unreadable = false;
-    for input in &inputs {
-        if let Input::Unreadable(message) = input {
-            unreadable = true;
-            eprintln!("error: {message}");
-        }
+    for message in unreadable.iter().filter_map(|r| r.as_ref().err()) {
+        eprintln!("error: {message}");
     }
 
     let has_errors = analyses
@@ -69,24 +63,17 @@ pub fn run(args: CheckArgs) -> u8 {
             let stderr = std::io::stderr();
             let colour = wants_colour(stderr.is_terminal(), std::env::var_os("NO_COLOR"));
             let renderer = HumanRenderer::for_terminal(colour);
-            let mut out = String::new();
-            let mut counts = [0usize; 4];
-            for analysis in &analyses {
-                for diagnostic in analysis.diagnostics.iter().filter(shown) {
-                    counts[diagnostic.severity as usize] += 1;
-                    out.push_str(&renderer.render(&analysis.sources, diagnostic));
-                }
-            }
-            if !args.common.quiet {
-                out.push_str(&summary_line(counts));
-                out.push('\n');
-            }
+            let diagnostics: Vec<(&SourceMap, &Diagnostic)> = analyses
+                .iter()
+                .flat_map(|a| a.diagnostics.iter().filter(shown).map(|d| (&a.sources, d)))
+                .collect();
+            let out = report(&renderer, &diagnostics, !args.common.quiet);
             // A closed standard error is no reason to change the verdict on the input.
             let _ = stderr.lock().write_all(out.as_bytes());
         }
     }
 
-    if unreadable {
+    if !unreadable.is_empty() {
         EXIT_USAGE
     } else if has_errors {
         EXIT_INPUT_ERRORS
@@ -101,30 +88,15 @@ fn wants_colour(is_terminal: bool, no_color: Option<std::ffi::OsString>) -> bool
     is_terminal && no_color.is_none_or(|value| value.is_empty())
 }
 
-/// Reads one FILE argument; `-` is standard input.
-fn read_input(file: &str) -> Input {
-    match crate::program::read(file) {
-        Ok((name, text)) => Input::Read { name, text },
-        Err(message) => Input::Unreadable(message),
-    }
-}
-
 /// Checks every readable input on up to `threads` threads; the result is in input order.
 fn check_all(
-    inputs: &[Input],
+    jobs: Vec<(String, SourceText)>,
     options: &CheckOptions,
     eval_options: &qcsg_eval::EvalOptions,
     threads: NonZeroUsize,
 ) -> Vec<Analysis> {
-    let jobs: Vec<(&str, &str)> = inputs
-        .iter()
-        .filter_map(|input| match input {
-            Input::Read { name, text } => Some((name.as_str(), text.as_str())),
-            Input::Unreadable(_) => None,
-        })
-        .collect();
-    let check = |(name, text): (&str, &str)| {
-        let mut analysis = qcsg_sema::check_file(name, text.to_owned(), options, &FsLoader);
+    let check = |(name, source): (String, SourceText)| {
+        let mut analysis = qcsg_sema::check_source(&name, source, options, &FsLoader);
         crate::program::evaluate_checked(&mut analysis, eval_options);
         analysis
     };
@@ -133,6 +105,9 @@ fn check_all(
         return jobs.into_iter().map(check).collect();
     }
 
+    // Each worker takes the next job out of its slot.
+    let jobs: Vec<Mutex<Option<(String, SourceText)>>> =
+        jobs.into_iter().map(|job| Mutex::new(Some(job))).collect();
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<Analysis>>> = Mutex::new(jobs.iter().map(|_| None).collect());
     std::thread::scope(|scope| {
@@ -140,7 +115,9 @@ fn check_all(
             scope.spawn(|| {
                 loop {
                     let i = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(&job) = jobs.get(i) else { break };
+                    let Some(slot) = jobs.get(i) else { break };
+                    let job = slot.lock().unwrap_or_else(|e| e.into_inner()).take();
+                    let Some(job) = job else { continue };
                     let analysis = check(job);
                     results.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(analysis);
                 }

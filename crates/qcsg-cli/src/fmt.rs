@@ -1,9 +1,10 @@
 //! `qcsg fmt FILE... [--check]`: format files in place, or report which would change.
 //!
-//! `-` formats standard input to standard output. A file with syntax errors is left untouched
-//! and reported; the run then exits 1, as does `--check` when any file would change.
+//! `-` formats standard input to standard output. A file with syntax errors, or that is not valid
+//! UTF-8, is left untouched and reported; the run then exits 1, as does `--check` when any file
+//! would change. Files are read as every source is ([`crate::program::read`]).
 
-use std::io::{Read, Write};
+use std::io::Write;
 
 use clap::Args;
 
@@ -26,19 +27,24 @@ pub struct FmtArgs {
 pub fn run(args: FmtArgs) -> u8 {
     let mut status = EXIT_OK;
     for file in &args.files {
-        let text = if file == "-" {
-            let mut text = String::new();
-            std::io::stdin().read_to_string(&mut text).map(|_| text)
-        } else {
-            std::fs::read_to_string(file)
-        };
-        let text = match text {
-            Ok(text) => text,
-            Err(error) => {
-                eprintln!("error: cannot read {file}: {error}");
+        let (_, source) = match crate::program::read(file) {
+            Ok(input) => input,
+            Err(message) => {
+                eprintln!("error: {message}");
                 return EXIT_USAGE;
             }
         };
+        // Formatting would write the replacement characters back in place of the bytes.
+        if let Some(invalid) = &source.invalid_utf8 {
+            let line = qcsg_diag::LineIndex::new(&source.text).line_of(invalid.span.start as usize);
+            eprintln!(
+                "error: {file}:{}: not valid UTF-8; the file is left as it is",
+                line + 1
+            );
+            status = status.max(EXIT_INPUT_ERRORS);
+            continue;
+        }
+        let text = source.text;
         let formatted = match qcsg_ide::format::format(&text) {
             Ok(formatted) => formatted,
             Err(error) => {

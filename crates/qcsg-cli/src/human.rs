@@ -2,17 +2,21 @@
 //!
 //! miette draws one source per report, so a label that points into another file (say, "defined
 //! here" in an included library) becomes a note of its own, with its own excerpt, drawn under the
-//! main report.
+//! main report. miette sees only an [`Excerpt`] of each file: the lines the diagnostic points at,
+//! long lines cut to windows around the spans, so a diagnostic costs the same to draw however
+//! large its file; and [`report`] prints at most [`limits::MAX_SHOWN`] diagnostics of a run, so a file
+//! that breaks everywhere gives a page of errors, not megabytes.
 //! Without a terminal the output is fixed-width and colourless, so it can be snapshot-tested.
 
-use std::fmt;
-use std::sync::Arc;
+mod excerpt;
+mod limits;
 
-use miette::{
-    GraphicalReportHandler, GraphicalTheme, LabeledSpan, MietteError, MietteSpanContents,
-    SourceCode, SourceSpan, SpanContents,
-};
-use qcsg_diag::{Diagnostic, FileId, Severity, SourceMap, Span};
+use std::fmt;
+
+use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, SourceCode};
+use qcsg_diag::{Diagnostic, Severity, SourceMap, Span};
+
+use excerpt::Excerpt;
 
 /// Width of the output when it is not a terminal (or the terminal's width is unknown).
 const FIXED_WIDTH: usize = 80;
@@ -67,6 +71,34 @@ impl HumanRenderer {
     }
 }
 
+/// What is printed for a run's diagnostics (those `-q` leaves): the ones [`limits::select`]
+/// picks, in order, a line for those left out, and the summary line (counting every one) when
+/// `summary` is set.
+pub fn report(
+    renderer: &HumanRenderer,
+    diagnostics: &[(&SourceMap, &Diagnostic)],
+    summary: bool,
+) -> String {
+    let selection = limits::select(diagnostics);
+    let mut out = String::new();
+    let mut counts = [0usize; 4];
+    for (&(sources, diagnostic), &shown) in diagnostics.iter().zip(&selection.shown) {
+        counts[diagnostic.severity as usize] += 1;
+        if shown {
+            out.push_str(&renderer.render(sources, diagnostic));
+        }
+    }
+    if let Some(line) = limits::omitted_line(selection.omitted) {
+        out.push_str(&line);
+        out.push('\n');
+    }
+    if summary {
+        out.push_str(&summary_line(counts));
+        out.push('\n');
+    }
+    out
+}
+
 /// `"2 errors, 1 warning"`; infos and hints are mentioned only when there are some.
 /// `counts` is indexed by [`Severity`] (error, warning, info, hint).
 pub fn summary_line(counts: [usize; 4]) -> String {
@@ -89,7 +121,7 @@ struct Report {
     message: String,
     severity: miette::Severity,
     help: Option<String>,
-    source: FileSource,
+    source: Excerpt,
     labels: Vec<LabeledSpan>,
     /// Labels in other files, as reports of their own. (miette's "related" reports would do, but
     /// it heads each with a bare "Advice:".)
@@ -98,40 +130,38 @@ struct Report {
 
 impl Report {
     fn new(sources: &SourceMap, diagnostic: &Diagnostic) -> Self {
-        let mut labels = vec![LabeledSpan::new_primary_with_span(
-            None,
-            source_span(diagnostic.span),
-        )];
-        let mut notes = Vec::new();
-        for label in &diagnostic.labels {
-            if label.file == diagnostic.file {
-                labels.push(LabeledSpan::new_with_span(
-                    Some(label.message.clone()),
-                    source_span(label.span),
-                ));
-            } else {
-                notes.push(Report {
+        let local = || {
+            diagnostic
+                .labels
+                .iter()
+                .filter(|label| label.file == diagnostic.file)
+        };
+        let local_spans: Vec<Span> = std::iter::once(diagnostic.span)
+            .chain(local().map(|label| label.span))
+            .collect();
+        let (source, spans) = Excerpt::new(sources.get(diagnostic.file), &local_spans);
+        let mut labels = vec![LabeledSpan::new_primary_with_span(None, spans[0])];
+        labels.extend(
+            local().zip(&spans[1..]).map(|(label, &span)| {
+                LabeledSpan::new_with_span(Some(label.message.clone()), span)
+            }),
+        );
+        let notes = diagnostic
+            .labels
+            .iter()
+            .filter(|label| label.file != diagnostic.file)
+            .map(|label| {
+                let (source, spans) = Excerpt::new(sources.get(label.file), &[label.span]);
+                Report {
                     header: String::new(),
                     message: format!("note: {}", label.message),
                     severity: miette::Severity::Advice,
                     help: None,
-                    source: file_source(sources, label.file, &[label.span]),
-                    labels: vec![LabeledSpan::new_primary_with_span(
-                        None,
-                        source_span(label.span),
-                    )],
+                    source,
+                    labels: vec![LabeledSpan::new_primary_with_span(None, spans[0])],
                     notes: Vec::new(),
-                });
-            }
-        }
-        let local_spans: Vec<Span> = std::iter::once(diagnostic.span)
-            .chain(
-                diagnostic
-                    .labels
-                    .iter()
-                    .filter(|l| l.file == diagnostic.file)
-                    .map(|l| l.span),
-            )
+                }
+            })
             .collect();
         Report {
             header: format!("{}[{}]", diagnostic.severity.as_str(), diagnostic.code),
@@ -142,77 +172,11 @@ impl Report {
                 Severity::Info | Severity::Hint => miette::Severity::Advice,
             },
             help: diagnostic.help.clone(),
-            source: file_source(sources, diagnostic.file, &local_spans),
+            source,
             labels,
             notes,
         }
     }
-}
-
-/// A source file as miette reads it.
-///
-/// Two differences from miette's `NamedSource`: the `file:line:column` header counts the column
-/// in characters (miette counts bytes, which puts `größe` columns off), and a newline is added
-/// where needed, without which miette draws no marker for an empty span at the very end of the
-/// file ("unexpected end of file").
-#[derive(Debug)]
-struct FileSource {
-    name: String,
-    text: Arc<str>,
-}
-
-impl SourceCode for FileSource {
-    fn read_span<'a>(
-        &'a self,
-        span: &SourceSpan,
-        context_lines_before: usize,
-        context_lines_after: usize,
-    ) -> Result<Box<dyn SpanContents<'a> + 'a>, MietteError> {
-        let text: &'a str = &self.text;
-        let contents = text.read_span(span, context_lines_before, context_lines_after)?;
-        // Byte-level: a span may (wrongly) start inside a character, and that must not panic.
-        let start = contents.span().offset().min(text.len());
-        let before = &text.as_bytes()[..start];
-        let line_start = before
-            .iter()
-            .rposition(|&b| b == b'\n')
-            .map_or(0, |i| i + 1);
-        // Count characters as the bytes that do not continue a UTF-8 sequence.
-        let column = before[line_start..]
-            .iter()
-            .filter(|&&b| b & 0xC0 != 0x80)
-            .count();
-        Ok(Box::new(MietteSpanContents::new_named(
-            self.name.clone(),
-            contents.data(),
-            *contents.span(),
-            contents.line(),
-            column,
-            contents.line_count(),
-        )))
-    }
-}
-
-fn file_source(sources: &SourceMap, file: FileId, spans: &[Span]) -> FileSource {
-    let file = sources.get(file);
-    let at_end = spans
-        .iter()
-        .any(|span| span.start as usize >= file.text.len());
-    // A span at the very end needs a character there to be drawn under: after a final newline
-    // that is an (empty) extra line, otherwise a newline ending the last line.
-    let text = if at_end || !file.text.ends_with('\n') {
-        format!("{}\n", file.text)
-    } else {
-        file.text.clone()
-    };
-    FileSource {
-        name: file.name.clone(),
-        text: Arc::from(text),
-    }
-}
-
-fn source_span(span: Span) -> SourceSpan {
-    SourceSpan::from(span.range())
 }
 
 impl fmt::Display for Report {
@@ -250,6 +214,7 @@ impl miette::Diagnostic for Report {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use qcsg_diag::FileId;
 
     /// A map with a main file and a library, and the main file's id.
     fn sources() -> (SourceMap, FileId, FileId) {

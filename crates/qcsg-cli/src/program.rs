@@ -1,36 +1,37 @@
 //! What the commands share: reading a program, checking and evaluating it, and printing its
 //! diagnostics.
 
-use std::io::{IsTerminal, Read, Write};
+use std::io::{IsTerminal, Write};
+use std::path::Path;
 
 use qcsg_csg::Dag;
-use qcsg_diag::Diagnostic;
+use qcsg_diag::{Diagnostic, SourceMap};
 use qcsg_eval::{EvalOptions, evaluate};
-use qcsg_sema::{Analysis, CheckOptions, FsLoader};
+use qcsg_sema::{Analysis, CheckOptions, FsLoader, MAX_SOURCE_BYTES, SourceText};
 
-use crate::human::{HumanRenderer, summary_line};
+use crate::human::{HumanRenderer, report};
 
-/// The name and text of FILE (`-`: standard input, named `<stdin>`).
-pub fn read(file: &str) -> Result<(String, String), String> {
+/// The name and text of FILE (`-`: standard input, named `<stdin>`), read as every source file is
+/// ([`qcsg_sema::read_source`]): a regular file of at most [`MAX_SOURCE_BYTES`]. Text that is not
+/// valid UTF-8 is read, and the check reports it.
+pub fn read(file: &str) -> Result<(String, SourceText), String> {
     if file == "-" {
-        let mut text = String::new();
-        std::io::stdin()
-            .read_to_string(&mut text)
+        let source = qcsg_sema::read_source_from(std::io::stdin().lock(), MAX_SOURCE_BYTES)
             .map_err(|err| format!("cannot read standard input: {err}"))?;
-        return Ok((crate::check::STDIN_NAME.to_owned(), text));
+        return Ok((crate::check::STDIN_NAME.to_owned(), source));
     }
-    std::fs::read_to_string(file)
-        .map(|text| (file.to_owned(), text))
+    qcsg_sema::read_source(Path::new(file))
+        .map(|source| (file.to_owned(), source))
         .map_err(|err| format!("cannot read `{file}`: {err}"))
 }
 
 /// Statically checks a program, with `-D` overrides and `QCSG_PATH`.
-pub fn check(name: &str, text: String, defines: &[(String, String)]) -> Analysis {
+pub fn check(name: &str, source: SourceText, defines: &[(String, String)]) -> Analysis {
     let options = CheckOptions {
         search_path: crate::search_path_from_env(),
         defines: defines.to_vec(),
     };
-    qcsg_sema::check_file(name, text, &options, &FsLoader)
+    qcsg_sema::check_source(name, source, &options, &FsLoader)
 }
 
 /// Evaluates a program whose static check found no errors, appending the evaluation's
@@ -48,24 +49,18 @@ pub fn evaluate_checked(analysis: &mut Analysis, options: &EvalOptions) -> Optio
 
 /// Prints the diagnostics on standard error with source excerpts (colour on a terminal unless
 /// `NO_COLOR` is set), then a summary line when anything was shown; `quiet` shows errors only.
+/// A flood is cut short ([`crate::human::report`]).
 pub fn print_human(analysis: &Analysis, quiet: bool) {
     let stderr = std::io::stderr();
     let colour = stderr.is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty());
     let renderer = HumanRenderer::for_terminal(colour);
-    let mut out = String::new();
-    let mut counts = [0usize; 4];
-    for diagnostic in analysis
+    let diagnostics: Vec<(&SourceMap, &Diagnostic)> = analysis
         .diagnostics
         .iter()
-        .filter(|d| !quiet || Diagnostic::is_error(d))
-    {
-        counts[diagnostic.severity as usize] += 1;
-        out.push_str(&renderer.render(&analysis.sources, diagnostic));
-    }
-    if !quiet && counts.iter().sum::<usize>() > 0 {
-        out.push_str(&summary_line(counts));
-        out.push('\n');
-    }
+        .filter(|d| !quiet || d.is_error())
+        .map(|d| (&analysis.sources, d))
+        .collect();
+    let out = report(&renderer, &diagnostics, !quiet && !diagnostics.is_empty());
     let _ = stderr.lock().write_all(out.as_bytes());
 }
 

@@ -275,7 +275,9 @@ fn read_bounded(
     limit: u64,
     size_hint: Option<u64>,
 ) -> Result<SourceText, SourceError> {
-    let capacity = size_hint.unwrap_or(0).min(limit) as usize + 1;
+    // Without a size, room for the limit: untouched pages cost no memory, and the buffer never
+    // grows past the limit by doubling.
+    let capacity = size_hint.unwrap_or(limit).min(limit).min(MAX_SOURCE_BYTES) as usize + 1;
     let mut bytes = Vec::with_capacity(capacity);
     reader
         .take(limit.saturating_add(1))
