@@ -328,6 +328,35 @@ mod tests {
         insta::assert_snapshot!(HumanRenderer::plain().render(&sources, &diagnostic));
     }
 
+    /// Spans and labels starting and ending everywhere in a text of long lines of tabs, wide and
+    /// astral characters, CRLF endings and control characters: each renders, in short lines.
+    #[test]
+    fn any_span_over_long_lines_renders_in_short_lines() {
+        let long = "\tab 日本 😀 x = 1; \u{1b}[31m ".repeat(20);
+        let text = format!("{long}\r\nshort\n\n{long}\n{}\nend", "y".repeat(70_000));
+        let mut sources = SourceMap::new();
+        let file = sources.add("long.qcsg", text.as_str());
+        let renderer = HumanRenderer::plain();
+        let step = 53;
+        for start in (0..=text.len() + 1).step_by(step) {
+            for end in (start..=text.len() + 1).step_by(step * 61) {
+                let diagnostic =
+                    Diagnostic::error("E0001", "somewhere", file, Span::new(start, end))
+                        .with_label(file, Span::new(end / 2, end), "half")
+                        .with_label(
+                            file,
+                            Span::empty(text.len() - start.min(text.len())),
+                            "mirror",
+                        );
+                let out = renderer.render(&sources, &diagnostic);
+                assert!(out.contains("somewhere"), "{out}");
+                assert!(!out.contains('\u{1b}'), "{out}");
+                let longest = out.lines().map(|l| l.chars().count()).max().unwrap_or(0);
+                assert!(longest < 800, "{start}..{end}: a line of {longest}");
+            }
+        }
+    }
+
     #[test]
     fn odd_spans_render_without_panicking() {
         let mut sources = SourceMap::new();
