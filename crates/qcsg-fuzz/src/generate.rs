@@ -140,6 +140,13 @@ impl Generator<'_> {
             return self.primitive();
         }
         self.budget -= 1;
+        // What a nested statement defines is not visible after it (bodies are scopes).
+        let nested = self.depth > 0;
+        let marks = (
+            self.scope.vars.len(),
+            self.scope.functions.len(),
+            self.scope.modules.len(),
+        );
         self.depth += 1;
         let text = match self.dice.below(24) {
             0..=3 => self.assignment(),
@@ -155,14 +162,25 @@ impl Generator<'_> {
                 self.statement()
             ),
             13 => format!("echo({}, {});", self.expr(Kind::Any), self.expr(Kind::Any)),
-            14 => format!(
-                "assert({}, {});",
-                self.expr(Kind::Bool),
-                self.expr(Kind::Str)
-            ),
+            14 => {
+                let condition = if self.dice.chance(0.9) {
+                    "true"
+                } else {
+                    "false"
+                };
+                format!(
+                    "assert({condition} || {}, {});",
+                    self.expr(Kind::Bool),
+                    self.expr(Kind::Str)
+                )
+            }
             15 => {
                 let keyword = *self.dice.pick(&["include", "use"]);
-                let path = *self.dice.pick(INCLUDE_PATHS);
+                let path = if self.dice.chance(0.8) {
+                    *self.dice.pick(&["lib.qcsg", "shapes.scad"])
+                } else {
+                    *self.dice.pick(INCLUDE_PATHS)
+                };
                 format!("{keyword} <{path}>")
             }
             16 => {
@@ -184,6 +202,11 @@ impl Generator<'_> {
             _ => self.solid(),
         };
         self.depth -= 1;
+        if nested {
+            self.scope.vars.truncate(marks.0);
+            self.scope.functions.truncate(marks.1);
+            self.scope.modules.truncate(marks.2);
+        }
         text
     }
 
@@ -200,7 +223,8 @@ impl Generator<'_> {
         let value = self.expr(kind);
         let name = match self.dice.below(10) {
             0 => (*self.dice.pick(&["$fn", "$fa", "$fs", "$t", "$my_special"])).to_owned(),
-            1 => self.scope_var(Kind::Any).unwrap_or_else(|| "x".to_owned()),
+            // A reassignment, of the same kind so that uses still check.
+            1 => self.scope_var(kind).unwrap_or_else(|| self.fresh_name("v")),
             _ => self.fresh_name("v"),
         };
         self.push_var(&name, kind);
@@ -381,12 +405,18 @@ impl Generator<'_> {
     fn arguments(&mut self, module: &builtins::BuiltinModule) -> String {
         let mut args = Vec::new();
         let mut positional = true;
-        for param in module.params {
-            if !param.required && self.dice.chance(0.45) {
+        for (i, param) in module.params.iter().enumerate() {
+            // The first parameter is what most calls give (`translate(v)`); the others vary.
+            let leave_out = if i == 0 { 0.05 } else { 0.45 };
+            if !param.required && self.dice.chance(leave_out) {
                 positional = false;
                 continue;
             }
-            let value = self.argument_of(param.ty);
+            let value = match param.name {
+                // Values outside a parameter's domain are errors at run time: mostly valid ones.
+                "sheets" if self.dice.chance(0.95) => self.dice.pick(&["1", "2"]).to_string(),
+                _ => self.argument_of(param.ty),
+            };
             if positional && param.positional && self.dice.chance(0.6) {
                 args.push(value);
             } else {
@@ -397,7 +427,7 @@ impl Generator<'_> {
         if self.dice.chance(0.1) {
             args.push(format!("$fn = {}", self.dice.between(0, 64)));
         }
-        if self.dice.chance(0.02) {
+        if self.dice.chance(0.003) {
             args.push(format!("bogus = {}", self.number()));
         }
         args.join(", ")

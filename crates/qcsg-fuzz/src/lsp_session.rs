@@ -1,7 +1,7 @@
 //! A random edit session with the real language server, in process.
 //!
-//! The server is `qcsg_lsp`'s backend behind tower-lsp-server's JSON-RPC transport, as
-//! `qcsg lsp` runs it ([`serve`] mirrors `qcsg_lsp::run_stdio`), talking over a
+//! The server is `qcsg_lsp`'s backend behind its transport layer, as `qcsg lsp` runs it
+//! ([`serve`] mirrors `qcsg_lsp::run_stdio`), talking over a
 //! `tokio::io::duplex` pipe to a small client here that frames messages itself. A session opens
 //! the input as a document, then makes a random series of incremental edits (UTF-16 ranges, as
 //! editors send them; now and then a whole-text change, a range past the end, or a malformed
@@ -105,12 +105,9 @@ impl Runtime {
 }
 
 /// Serves LSP on `input` and `output` until the client exits, as `qcsg lsp` does on standard
-/// input and output.
-async fn serve(input: impl AsyncRead + Unpin, output: impl AsyncWrite) {
-    let (service, socket) = tower_lsp_server::LspService::new(qcsg_lsp::server::Backend::new);
-    tower_lsp_server::Server::new(input, output, socket)
-        .serve(service)
-        .await;
+/// input and output: the server behind its transport layer, which frames and checks messages.
+async fn serve(input: impl AsyncRead + Unpin, output: impl AsyncWrite + Unpin) {
+    qcsg_lsp::transport::serve(input, output, qcsg_lsp::transport::Options::default()).await;
 }
 
 /// Runs one session on `text`, opened as the file `path`.

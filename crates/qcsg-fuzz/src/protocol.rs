@@ -170,8 +170,9 @@ pub enum Radius {
     Absolute(f64),
 }
 
-/// A fault a worker injects instead of running the parse stage: the harness's own tests use it
-/// to check that each kind of failure is caught and classified.
+/// A fault a worker injects instead of running the stages, on inputs that contain
+/// [`crate::stages::FAULT_MARKER`]: the harness's own tests use it to check that each kind of
+/// failure is caught, classified and minimised.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Fault {

@@ -25,7 +25,7 @@ use qcsg_diag::{Diagnostic, FileId, SourceMap};
 use qcsg_eval::{EvalOptions, evaluate};
 use qcsg_render::{Camera, ImageSize, Projection, RenderOptions, Scene, View};
 use qcsg_sample::{SampleLimits, sample_with_limits};
-use qcsg_sema::{Analysis, CheckOptions, FsLoader, check_file};
+use qcsg_sema::{Analysis, CheckOptions, FsLoader, SourceText, check_source};
 
 use crate::protocol::{Event, Failure, FailureKind, Fault, Radius, Request, Stage};
 use crate::{cli_stage, lsp_session, panics};
@@ -34,6 +34,9 @@ use crate::{cli_stage, lsp_session, panics};
 pub const MAX_SAMPLES: u64 = 200_000;
 /// Most distance queries a run may make.
 pub const MAX_QUERIES: u64 = 5_000_000;
+/// An injected fault fires only on inputs containing this, so that minimisation can be tested
+/// on it too.
+pub const FAULT_MARKER: &[u8] = b"qcsg-fuzz-fault";
 /// The ray-traced image's size.
 pub const IMAGE: (u32, u32) = (64, 48);
 
@@ -80,7 +83,7 @@ pub struct Context {
 /// The evaluator's limits: the editor's, small enough that a runaway loop ends in well under a
 /// second, so that time over the stage budget is a real problem, not a legitimately long run.
 pub fn eval_options() -> EvalOptions {
-    qcsg_ide::editor_limits()
+    qcsg_lsp::geometry::editor_limits()
 }
 
 /// Runs the stages `request` asks for (and what they need) on `bytes`, reporting each through
@@ -93,11 +96,13 @@ pub fn run(context: &Context, request: &Request, bytes: &[u8], emit: &mut dyn Fn
             .any(|s| s.with_prerequisites().contains(&stage))
     };
     let budget = context.memory_budget;
-    // The in-process stages see what an editor would send: the text decoded, invalid UTF-8
-    // replaced. The binary gets the bytes themselves.
+    // The parser, the formatter and the language server see what an editor would send: the
+    // text decoded, invalid UTF-8 replaced. The checker and the binary get the bytes.
     let text = String::from_utf8_lossy(bytes).into_owned();
 
-    if let Some(fault) = request.fault {
+    if let Some(fault) = request.fault
+        && bytes.windows(FAULT_MARKER.len()).any(|w| w == FAULT_MARKER)
+    {
         run_stage(Stage::Parse, emit, budget, || inject(fault));
         emit(Event::Done);
         return;
@@ -109,7 +114,7 @@ pub fn run(context: &Context, request: &Request, bytes: &[u8], emit: &mut dyn Fn
         run_stage(Stage::Format, emit, budget, || format(&text));
     }
     let analysis = if wanted(Stage::Check) {
-        run_stage(Stage::Check, emit, budget, || check(&request.name, &text))
+        run_stage(Stage::Check, emit, budget, || check(&request.name, bytes))
     } else {
         None
     };
@@ -329,8 +334,11 @@ fn first_difference(a: &str, b: &str) -> String {
     format!("at byte {at}: {} became {}", excerpt(a), excerpt(b))
 }
 
-fn check(name: &str, text: &str) -> StageResult<Analysis> {
-    let analysis = check_file(name, text.to_owned(), &CheckOptions::default(), &FsLoader);
+/// As `qcsg check`: the bytes decoded by the source reader (invalid UTF-8 is a diagnostic),
+/// then checked with includes read from the file system.
+fn check(name: &str, bytes: &[u8]) -> StageResult<Analysis> {
+    let source = SourceText::decode(bytes.to_vec());
+    let analysis = check_source(name, source, &CheckOptions::default(), &FsLoader);
     check_spans("diagnostic", &analysis.sources, &analysis.diagnostics)?;
     Ok((!analysis.has_errors()).then_some(analysis))
 }

@@ -85,15 +85,19 @@ const STRINGS: &[&str] = &[
     "\"quote \\\" and backslash \\\\\"",
     "\"\\x41\\x7f\"",
     "\"\\u263A \\u00e9\"",
-    "\"\\u10FFFF\"",
     "\"ünïcödé ✓ 😀 𝔘\"",
     "\"line\\nbreak\\r\"",
-    "\"\\u0000\"",
-    "\"\\x00\"",
-    "\"\\q unknown escape\"",
     "\"\u{202e}rtl\u{202c}\"",
     "\"\u{feff}bom\"",
     "\"%s {} $fn\"",
+];
+
+/// Strings the lexer must reject (invalid escapes), drawn rarely.
+const BAD_STRINGS: &[&str] = &[
+    "\"\\u10FFFF\"",
+    "\"\\u0000\"",
+    "\"\\x00\"",
+    "\"\\q unknown escape\"",
 ];
 
 impl Generator<'_> {
@@ -113,18 +117,18 @@ impl Generator<'_> {
     fn leaf(&mut self, kind: Kind) -> String {
         match kind {
             Kind::Num => {
-                if let Some(name) = self.scope_var(Kind::Num) {
-                    if self.dice.chance(0.4) {
-                        return name;
-                    }
+                if let Some(name) = self.scope_var(Kind::Num)
+                    && self.dice.chance(0.4)
+                {
+                    return name;
                 }
                 self.number()
             }
             Kind::Vec3 => {
-                if let Some(name) = self.scope_var(Kind::Vec3) {
-                    if self.dice.chance(0.4) {
-                        return name;
-                    }
+                if let Some(name) = self.scope_var(Kind::Vec3)
+                    && self.dice.chance(0.4)
+                {
+                    return name;
                 }
                 format!("[{}, {}, {}]", self.number(), self.number(), self.number())
             }
@@ -134,6 +138,7 @@ impl Generator<'_> {
                 format!("[{}]", items.join(", "))
             }
             Kind::Bool => (*self.dice.pick(&["true", "false"])).to_owned(),
+            Kind::Str if self.dice.chance(0.01) => (*self.dice.pick(BAD_STRINGS)).to_owned(),
             Kind::Str => (*self.dice.pick(STRINGS)).to_owned(),
             Kind::Any => match self.dice.below(9) {
                 0 => "undef".to_owned(),
@@ -155,12 +160,12 @@ impl Generator<'_> {
 
     /// A number literal: mostly a size a scene would use, sometimes an extreme one.
     pub(super) fn number(&mut self) -> String {
-        match self.dice.below(20) {
+        match self.dice.below(80) {
             0 => (*self.dice.pick(EXTREME_NUMBERS)).to_owned(),
             1 => format!("({})", self.dice.pick(NON_FINITE)),
-            2 => format!("-{}", self.dice.between(0, 20)),
-            3 => format!("{:.3}", self.dice.unit() * 2.0),
-            4..=9 => format!("{}", self.dice.between(1, 20)),
+            2..=4 => format!("-{}", self.dice.between(0, 20)),
+            5..=8 => format!("{:.3}", self.dice.unit() * 2.0),
+            9..=20 => format!("{}", self.dice.between(1, 20)),
             _ => format!("{:.2}", 0.5 + self.dice.unit() * 15.0),
         }
     }
@@ -171,37 +176,42 @@ impl Generator<'_> {
             Kind::Num => match self.dice.below(14) {
                 0..=2 => {
                     let op = *self.dice.pick(&["+", "-", "*", "/", "%", "^"]);
-                    format!("{} {op} {}", self.expr(Kind::Num), self.expr(Kind::Num))
+                    format!("({} {op} {})", self.expr(Kind::Num), self.expr(Kind::Num))
                 }
-                3 => format!("-{}", self.expr(Kind::Num)),
+                3 => format!("-({})", self.expr(Kind::Num)),
                 4 => format!("({})", self.expr(Kind::Num)),
                 5 => format!(
-                    "{} ? {} : {}",
+                    "({} ? {} : {})",
                     self.expr(Kind::Bool),
                     self.expr(Kind::Num),
                     self.expr(Kind::Num)
                 ),
                 6 | 7 => self.builtin_call(Returns::Number),
                 8 => self.user_call(),
-                9 => format!(
-                    "{}[{}]",
-                    self.expr(Kind::Vec3),
-                    self.dice
-                        .pick(&["0", "1", "2", "3", "-1", "0.5", "1e9", "\"x\""])
-                ),
-                10 => format!(
-                    "{}.{}",
-                    self.expr(Kind::Vec3),
-                    self.dice.pick(&["x", "y", "z", "w", "a"])
-                ),
-                11 => self.let_expr(Kind::Num),
+                9 => {
+                    let index = if self.dice.chance(0.97) {
+                        *self.dice.pick(&["0", "1", "2"])
+                    } else {
+                        *self.dice.pick(&["3", "-1", "0.5", "1e9", "\"x\""])
+                    };
+                    format!("{}[{index}]", self.expr(Kind::Vec3))
+                }
+                10 => {
+                    let member = if self.dice.chance(0.98) {
+                        *self.dice.pick(&["x", "y", "z"])
+                    } else {
+                        *self.dice.pick(&["w", "a"])
+                    };
+                    format!("{}.{member}", self.expr(Kind::Vec3))
+                }
+                11 => format!("({})", self.let_expr(Kind::Num)),
                 12 => format!(
                     "(function ({p}) {p} * {}) ({})",
                     self.expr(Kind::Num),
                     self.expr(Kind::Num),
                     p = self.fresh_name("p")
                 ),
-                _ => self.assert_or_echo(Kind::Num),
+                _ => format!("({})", self.assert_or_echo(Kind::Num)),
             },
             Kind::Vec3 => match self.dice.below(8) {
                 0 | 1 => format!(
@@ -212,9 +222,9 @@ impl Generator<'_> {
                 ),
                 2 => {
                     let op = *self.dice.pick(&["+", "-"]);
-                    format!("{} {op} {}", self.expr(Kind::Vec3), self.expr(Kind::Vec3))
+                    format!("({} {op} {})", self.expr(Kind::Vec3), self.expr(Kind::Vec3))
                 }
-                3 => format!("{} * {}", self.expr(Kind::Num), self.expr(Kind::Vec3)),
+                3 => format!("({} * {})", self.expr(Kind::Num), self.expr(Kind::Vec3)),
                 4 => format!(
                     "cross({}, {})",
                     self.expr(Kind::Vec3),
@@ -225,9 +235,9 @@ impl Generator<'_> {
                     self.expr(Kind::Num),
                     v = self.fresh_name("i")
                 ),
-                6 => self.let_expr(Kind::Vec3),
+                6 => format!("({})", self.let_expr(Kind::Vec3)),
                 _ => format!(
-                    "{} ? {} : {}",
+                    "({} ? {} : {})",
                     self.expr(Kind::Bool),
                     self.expr(Kind::Vec3),
                     self.expr(Kind::Vec3)
@@ -248,13 +258,13 @@ impl Generator<'_> {
             Kind::Bool => match self.dice.below(6) {
                 0 | 1 => {
                     let op = *self.dice.pick(&["<", "<=", ">", ">=", "==", "!="]);
-                    format!("{} {op} {}", self.expr(Kind::Num), self.expr(Kind::Num))
+                    format!("({} {op} {})", self.expr(Kind::Num), self.expr(Kind::Num))
                 }
                 2 => {
                     let op = *self.dice.pick(&["&&", "||"]);
-                    format!("{} {op} {}", self.expr(Kind::Bool), self.expr(Kind::Bool))
+                    format!("({} {op} {})", self.expr(Kind::Bool), self.expr(Kind::Bool))
                 }
-                3 => format!("!{}", self.expr(Kind::Bool)),
+                3 => format!("!({})", self.expr(Kind::Bool)),
                 4 => format!(
                     "{}({})",
                     self.dice.pick(&[
@@ -372,17 +382,25 @@ impl Generator<'_> {
                 self.expr(Kind::Any)
             )
         } else {
-            format!(
-                "assert({}, {}) {body}",
-                self.expr(Kind::Bool),
-                self.leaf(Kind::Str)
-            )
+            let condition = if self.dice.chance(0.9) {
+                format!("true || {}", self.expr(Kind::Bool))
+            } else {
+                self.expr(Kind::Bool)
+            };
+            format!("assert({condition}, {}) {body}", self.leaf(Kind::Str))
         }
     }
 
     /// A call of a built-in function returning roughly `returns`, its arguments of the
     /// parameters' types (a wrong one now and then).
     fn builtin_call(&mut self, returns: Returns) -> String {
+        if returns == Returns::Number && self.dice.chance(0.7) {
+            // Mostly functions defined everywhere, so that the program evaluates.
+            let name = *self
+                .dice
+                .pick(&["abs", "sin", "cos", "floor", "ceil", "round", "atan"]);
+            return format!("{name}({})", self.expr(Kind::Num));
+        }
         let candidates: Vec<&BuiltinFunction> = builtins::FUNCTIONS
             .iter()
             .filter(|f| f.returns == returns || returns == Returns::Any)
@@ -402,7 +420,7 @@ impl Generator<'_> {
                 args.push(self.argument_of(rest));
             }
         }
-        if self.dice.chance(0.03) {
+        if self.dice.chance(0.005) {
             args.push(self.expr(Kind::Any));
         }
         format!("{}({})", function.name, args.join(", "))
@@ -410,10 +428,14 @@ impl Generator<'_> {
 
     /// A value for a parameter of type `ty`.
     pub(super) fn argument_of(&mut self, ty: ParamTy) -> String {
-        if self.dice.chance(0.03) {
+        if self.dice.chance(0.005) {
             return self.expr(Kind::Any);
         }
+        // Mostly literals: arbitrary arithmetic overflows or divides by zero often enough to
+        // keep most programs from evaluating.
+        let literal = self.dice.chance(0.7);
         match ty {
+            ParamTy::Number if literal => self.number(),
             ParamTy::Number => self.expr(Kind::Num),
             ParamTy::Bool | ParamTy::BoolOrVector => self.expr(Kind::Bool),
             ParamTy::String => self.expr(Kind::Str),
@@ -424,6 +446,9 @@ impl Generator<'_> {
                     return self.expr(Kind::Num);
                 }
                 match lengths.get(self.dice.below(lengths.len())) {
+                    Some(3) if literal => {
+                        format!("[{}, {}, {}]", self.number(), self.number(), self.number())
+                    }
                     Some(3) => self.expr(Kind::Vec3),
                     Some(&n) if matches!(ty, ParamTy::List(_)) && n <= 4 => {
                         // A matrix given by its rows.
@@ -436,8 +461,15 @@ impl Generator<'_> {
                         format!("[{}]", rows.join(", "))
                     }
                     Some(&n) => {
-                        let items: Vec<String> =
-                            (0..n.min(16)).map(|_| self.expr(Kind::Num)).collect();
+                        let items: Vec<String> = (0..n.min(16))
+                            .map(|_| {
+                                if literal {
+                                    self.number()
+                                } else {
+                                    self.expr(Kind::Num)
+                                }
+                            })
+                            .collect();
                         format!("[{}]", items.join(", "))
                     }
                     None => self.expr(Kind::NumList),
