@@ -8,7 +8,9 @@
 //! Workers charge their counts to a shared [`Budget`] every few thousand samples or queries
 //! and when they finish, and stop once a limit is crossed. Whether a run crosses a limit does
 //! not depend on the thread count: every count is charged before the run ends, so the totals
-//! are those of a run without limits.
+//! are those of a run without limits. A fill of many samples asks first ([`Budget::admits`]),
+//! so that its samples do not grow a buffer past the limit, and a run that would cross the
+//! sample limit many times over is refused before it starts (`fewest_samples`).
 
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -19,8 +21,9 @@ pub const DEFAULT_MAX_SAMPLES: u64 = 20_000_000;
 /// Default [`SampleLimits::max_queries`]: about a minute of distance queries on one core.
 pub const DEFAULT_MAX_QUERIES: u64 = 1_000_000_000;
 
-/// Samples or queries a worker gathers before it charges them to the budget.
-const CHARGE_EVERY: u64 = 4096;
+/// Samples or queries a worker gathers before it charges them to the budget; a fill of more
+/// samples asks the budget first ([`Budget::admits`]).
+pub const CHARGE_EVERY: u64 = 4096;
 
 /// The most a sampling run may do.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -90,6 +93,19 @@ impl Budget {
         };
         if let Some(crossed) = crossed {
             let _ = self.crossed.set(crossed);
+            self.stopped.store(true, Ordering::Relaxed);
+        }
+        !self.stopped()
+    }
+
+    /// Whether `samples` more, about to be emitted at once while sampling `quadric` (a fill's,
+    /// before its buffer grows for them), keep the samples charged so far within the limit;
+    /// once they do not, the limit counts as crossed. Everything charged stays to the end of the
+    /// run, so a run without limits would cross it too.
+    pub fn admits(&self, samples: u64, quadric: u32) -> bool {
+        let charged = self.samples.load(Ordering::Relaxed);
+        if charged.saturating_add(samples) > self.limits.max_samples {
+            let _ = self.crossed.set(Crossed::Samples { quadric });
             self.stopped.store(true, Ordering::Relaxed);
         }
         !self.stopped()

@@ -95,7 +95,6 @@ impl FillGrid {
     }
 
     /// The samples it places.
-    #[cfg(test)]
     pub fn samples(&self) -> u64 {
         let (columns, rows) = (u64::from(self.columns), u64::from(self.rows));
         if self.staggered {

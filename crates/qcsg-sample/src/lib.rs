@@ -94,7 +94,9 @@
 //! A run is bounded ([`budget`]): past [`SampleLimits::max_samples`] samples or
 //! [`SampleLimits::max_queries`] distance queries it stops with an error instead of running out
 //! of memory or time, and the second pass refines each deferred rectangle only so far
-//! ([`subdivide`], "Two passes").
+//! ([`subdivide`], "Two passes"). A radius whose run would cross the sample limit many times
+//! over is refused before anything is sampled, from a lower bound of the samples the regions
+//! need (`fewest_samples`), and a large fill asks the budget before it emits.
 //!
 //! Every sample carries its clip list (§6): the other literals of its term that come within its
 //! radius, deduplicated into one indirection buffer ([`clip`]).
@@ -109,6 +111,7 @@ pub mod blocks;
 pub mod budget;
 pub mod clip;
 pub mod csg_distance;
+mod fewest_samples;
 mod fill_grid;
 mod in_order;
 mod lanes;
@@ -129,6 +132,7 @@ pub use crate::budget::{DEFAULT_MAX_QUERIES, DEFAULT_MAX_SAMPLES, SampleLimits};
 pub use crate::clip::ClipLists;
 use crate::csg_distance::NearDistance;
 use crate::csg_distance::{CsgDistance, Shapes};
+use crate::fewest_samples::RegionView;
 use crate::in_order::{InOrder, lock};
 use crate::memo::QueryMemo;
 use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
@@ -856,6 +860,18 @@ fn sample_on_pool(
     // Costs are finite (`region_cost`); the conversion saturates.
     let work = |region: usize| costs[region].round() as u64;
     let total = (0..costs.len()).fold(0u64, |sum, region| sum.saturating_add(work(region)));
+    // A radius far below the scene's size is refused before anything is sampled
+    // ([`fewest_samples`]); the bound is sought only where the estimate exceeds the limit.
+    if total > limits.max_samples {
+        let views: Vec<RegionView<'_>> = (0..regions.len())
+            .filter_map(|i| Some(RegionView::new(regions[i].0, &regions[i].1, &context(i)?)))
+            .collect();
+        let diagonal = (dnf.bounds.max - dnf.bounds.min).length();
+        let limit = limits.max_samples;
+        if let Some(quadric) = fewest_samples::first_crossing(&views, radius, diagonal, limit) {
+            return Err(SampleError::TooManySamples { limit, quadric });
+        }
+    }
     progress(Progress::Regions {
         count: stats.basic_regions,
         work: total,
@@ -895,6 +911,11 @@ fn sample_on_pool(
                             progress(Progress::RegionDone { work: work(index) });
                         }
                     }
+                }
+                // A run past a limit ends in an error: its output is not copied on.
+                if budget.stopped() {
+                    out.clear();
+                    deferred.clear();
                 }
                 first_pass.finish(run, (out, deferred, counters));
             }

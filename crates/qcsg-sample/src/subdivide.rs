@@ -94,7 +94,7 @@ use rustc_hash::FxHashMap;
 use qcsg_csg::Dnf;
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind};
 
-use crate::budget::{Budget, Meter};
+use crate::budget::{Budget, CHARGE_EVERY, Meter};
 use crate::csg_distance::NearDistance;
 use crate::fill_grid::{FillGrid, FillRow};
 use crate::in_order::lock;
@@ -808,6 +808,11 @@ fn split_in_parallel(
     if let Some(((mut more, mut more_deferred, memo), counters)) = own {
         let (out, deferred, (_, stats), _) =
             shared.into_inner().unwrap_or_else(PoisonError::into_inner);
+        // A run past a limit ends in an error: what the half holds is not copied on.
+        if task.0.budget.stopped() {
+            more.clear();
+            more_deferred.clear();
+        }
         out.append(&mut more);
         deferred.extend_from_slice(&more_deferred);
         more_deferred.clear();
@@ -2118,7 +2123,8 @@ fn query(
 /// staggered ([`FillGrid`]), so that every point of it lies within `r / δ` of a sample on the
 /// sampling plane (`δ` the largest distortion over it), hence within `r` on the surface.
 /// Returns `false` (nothing emitted) when the grid would be too large, so that the caller
-/// splits first.
+/// splits first; emits nothing either when its samples would cross the run's sample limit
+/// ([`Budget::admits`]), which stops the run.
 ///
 /// The spacing follows the largest distortion over the rectangle; where the distortion varies
 /// by more than [`FILL_SPREAD`] and the rectangle is at least [`FILL_SPLIT_CELLS`] cells across
@@ -2175,6 +2181,12 @@ fn fill(
             }
             return true;
         }
+    }
+    // A large fill asks the budget before its samples grow the buffer: they might cross the
+    // limit many times over (the run stops then, and none are emitted).
+    let count = grid.samples();
+    if count > CHARGE_EVERY && !ctx.budget.admits(count, region.quadric) {
+        return true;
     }
     let radius = (distortion * grid.reach).min(ctx.radius);
     let clipped = !owned && !region.owns_all_of(rect);

@@ -1,0 +1,135 @@
+//! A radius far below the scene's size is refused before the sampler allocates: the fewest
+//! samples the regions can hold are known up front, and a run past the sample limit stops with
+//! [`SampleError::TooManySamples`] instead of filling memory first (`examples/rocket.qcsg` at
+//! `1e-9` had reached 2.7 GB before it stopped). Radii that are no numbers, not positive or
+//! past any scale give an error or a plain run, never a panic or a hang.
+//!
+//! This test binary counts its heap (`peak_alloc`), and a watchdog aborts it once the heap
+//! passes [`HEAP_CAP`]: a sampler that regressed to filling memory fails the test instead of
+//! exhausting the machine.
+
+mod common;
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Mutex, Once};
+use std::time::Duration;
+
+use common::{compile_file, workspace_root};
+use peak_alloc::PeakAlloc;
+use qcsg_sample::{DEFAULT_MAX_SAMPLES, SampleError, SampleLimits, sample, sample_with_limits};
+
+#[global_allocator]
+static HEAP: PeakAlloc = PeakAlloc;
+
+/// The most heap this test binary may hold: past it the watchdog aborts the process.
+const HEAP_CAP: usize = 1 << 30;
+
+/// How often the watchdog looks at the heap: the old sampler took about a second to reach the
+/// cap, a gigabyte and a half later.
+const WATCH_EVERY: Duration = Duration::from_millis(1);
+
+/// Starts the watchdog, once.
+fn watch_heap() {
+    static STARTED: Once = Once::new();
+    static OVER: AtomicBool = AtomicBool::new(false);
+    STARTED.call_once(|| {
+        std::thread::spawn(|| {
+            loop {
+                let held = HEAP.current_usage();
+                if held > HEAP_CAP && !OVER.swap(true, Ordering::Relaxed) {
+                    eprintln!("the heap holds {} MB: aborting", held >> 20);
+                    std::process::abort();
+                }
+                std::thread::sleep(WATCH_EVERY);
+            }
+        });
+    });
+}
+
+/// One test at a time measures the peak: the others would add theirs.
+static MEASURING: Mutex<()> = Mutex::new(());
+
+/// The most heap held at once while `run` runs, beyond what was held before.
+fn peak_during<T>(run: impl FnOnce() -> T) -> (T, usize) {
+    watch_heap();
+    let _one = MEASURING.lock().unwrap_or_else(|e| e.into_inner());
+    let before = HEAP.current_usage();
+    HEAP.reset_peak_usage();
+    let out = run();
+    (out, HEAP.peak_usage().saturating_sub(before))
+}
+
+fn rocket() -> qcsg_csg::Dnf {
+    compile_file(&workspace_root().join("examples/rocket.qcsg")).expect("rocket compiles")
+}
+
+#[test]
+fn a_radius_far_below_the_scene_is_refused_before_sampling() {
+    let dnf = rocket();
+    // Bodies of about 60 units: `1e-9` asks for about 10²¹ samples.
+    let (sampled, peak) = peak_during(|| sample(&dnf, 1e-9));
+    match sampled {
+        Err(SampleError::TooManySamples { limit, .. }) => assert_eq!(limit, DEFAULT_MAX_SAMPLES),
+        other => panic!("expected the sample limit, got {other:?}"),
+    }
+    assert!(peak < 300 << 20, "{} MB held at once", peak >> 20);
+}
+
+#[test]
+fn radii_below_floating_point_resolution_are_refused_too() {
+    let dnf = rocket();
+    for radius in [1e-30, 1e-300, f64::MIN_POSITIVE, 5e-324] {
+        let (sampled, peak) = peak_during(|| sample(&dnf, radius));
+        assert!(
+            matches!(sampled, Err(SampleError::TooManySamples { .. })),
+            "{radius}: {sampled:?}"
+        );
+        assert!(peak < 300 << 20, "{radius}: {} MB", peak >> 20);
+    }
+}
+
+#[test]
+fn a_radius_that_is_not_a_positive_number_is_an_error() {
+    let dnf = rocket();
+    for radius in [0.0, -0.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let sampled = sample(&dnf, radius);
+        assert!(
+            matches!(sampled, Err(SampleError::InvalidRadius(_))),
+            "{radius}: {sampled:?}"
+        );
+    }
+}
+
+#[test]
+fn a_radius_far_above_the_scene_samples_each_part_once() {
+    let dnf = rocket();
+    for radius in [1e6, 1e300, f64::MAX] {
+        let sampling = sample(&dnf, radius).expect("samples");
+        assert!(!sampling.samples.is_empty(), "{radius}");
+        assert!(sampling.samples.len() < 10_000, "{radius}");
+    }
+}
+
+#[test]
+fn the_limit_stops_a_run_that_the_bound_lets_through() {
+    // At 1 % of the diagonal the rocket takes about 14 M samples, and the bound up front is
+    // below 1 M: a limit of 1 M stops the run while it samples, within the memory it implies.
+    let dnf = rocket();
+    let limits = SampleLimits {
+        max_samples: 1_000_000,
+        ..SampleLimits::default()
+    };
+    let (sampled, peak) = peak_during(|| sample_with_limits(&dnf, 0.01, limits, &|_| {}));
+    assert!(
+        matches!(
+            sampled,
+            Err(SampleError::TooManySamples {
+                limit: 1_000_000,
+                ..
+            })
+        ),
+        "{sampled:?}"
+    );
+    // A million samples of 72 bytes, or deferred rectangles of 112, and buffers that double.
+    assert!(peak < 400 << 20, "{} MB held at once", peak >> 20);
+}
