@@ -132,6 +132,15 @@ pub fn run(args: SampleArgs) -> u8 {
             return EXIT_USAGE;
         }
     };
+    // A percentage of a tiny or huge diagonal can round to no length at all.
+    if (!radius.is_finite() || radius <= 0.0) && !dnf.terms.is_empty() {
+        print(&analysis);
+        eprintln!(
+            "error: `--radius` as a percentage of the solid's diagonal ({diagonal}) comes to \
+             {radius}, not a positive finite length; give a length instead"
+        );
+        return EXIT_USAGE;
+    }
     let pool = match program::thread_pool(args.common.threads) {
         Ok(pool) => pool,
         Err(message) => {
