@@ -1,0 +1,146 @@
+//! User modules: a call's own scope (its parameters, `$children`, and its children kept with the
+//! caller's scope), and `children()`, which evaluates the chosen children where the module was
+//! instantiated while `$`-variables set by the module reach them.
+
+use std::rc::Rc;
+
+use qcsg_csg::{Edge, Source};
+use qcsg_diag::Span;
+use qcsg_syntax::ast::{Arg, Stmt};
+
+use crate::codes;
+use crate::env::{Children, Frame, ModuleDef};
+use crate::value::Value;
+
+use super::scopes::ScopeItems;
+use super::{ArgValue, Cx, Evaluator, R};
+
+impl<'a> Evaluator<'a> {
+    pub(super) fn call_module(
+        &mut self,
+        def: Rc<ModuleDef<'a>>,
+        args: &'a [Arg],
+        child: Option<&'a Stmt>,
+        span: Span,
+        cx: &Cx<'a>,
+    ) -> R<Option<Edge>> {
+        let values = self.eval_args(args, cx)?;
+        self.enter(cx.file, span)?;
+        let result = self.call_module_inner(&def, values, child, cx);
+        self.depth -= 1;
+        result
+    }
+
+    fn call_module_inner(
+        &mut self,
+        def: &Rc<ModuleDef<'a>>,
+        values: Vec<ArgValue<'a>>,
+        child: Option<&'a Stmt>,
+        cx: &Cx<'a>,
+    ) -> R<Option<Edge>> {
+        let child_items = self.collect_body(cx.file, child);
+        let children = Rc::new(Children {
+            assignments: child_items.assignments,
+            definitions: child_items.definitions,
+            items: child_items.items,
+            env: cx.frame.clone(),
+        });
+        let count = children.items.len();
+        let frame = Frame::module_instance(&def.env, &cx.frame, children);
+        self.bind_params(&frame, def.params, &def.env, def.file, values)?;
+        frame.set("$children", Value::Number(count as f64));
+        let items = self.collect_body(def.file, Some(def.body));
+        let edges = self.eval_scope(&items, &frame)?;
+        Ok(self.group(edges, Source::new(def.file, def.body.span)))
+    }
+
+    pub(super) fn children(&mut self, args: &'a [Arg], span: Span, cx: &Cx<'a>) -> R<Option<Edge>> {
+        let values = self.eval_args(args, cx)?;
+        let Some(children) = cx.frame.module_children() else {
+            return Ok(None);
+        };
+        let n = children.items.len();
+        let selection = values
+            .iter()
+            .find(|a| a.name.is_none() || a.name == Some("index"))
+            .map(|a| a.value.clone());
+        let mut indices = Vec::new();
+        let mut add = |this: &mut Self, x: f64| -> R<()> {
+            if !(x >= 0.0 && x < n as f64) {
+                return Err(this.error(
+                    codes::MODULE_ARGUMENT,
+                    format!(
+                        "children index {} out of bounds ({n} children)",
+                        crate::value::format_number(x)
+                    ),
+                    cx.file,
+                    span,
+                ));
+            }
+            indices.push(x as usize);
+            Ok(())
+        };
+        match &selection {
+            None | Some(Value::Undef) => indices.extend(0..n),
+            Some(Value::Number(x)) => add(self, *x)?,
+            Some(Value::Vector(v)) => {
+                for e in v.iter() {
+                    match e {
+                        Value::Number(x) => add(self, *x)?,
+                        _ => {
+                            return Err(self.error(
+                                codes::MODULE_ARGUMENT,
+                                "children([…]) needs numbers",
+                                cx.file,
+                                span,
+                            ));
+                        }
+                    }
+                }
+            }
+            Some(Value::Range(r)) => {
+                let count = r.len();
+                self.tick(count, cx.file, span)?;
+                for i in 0..count {
+                    add(self, r.at(i))?;
+                }
+            }
+            Some(other) => {
+                return Err(self.error(
+                    codes::MODULE_ARGUMENT,
+                    format!(
+                        "children() needs an index, a vector or a range, got {}",
+                        other.type_name()
+                    ),
+                    cx.file,
+                    span,
+                ));
+            }
+        }
+        // The children's own scope, entered from here so that `$`-variables set by the module
+        // reach them.
+        let frame = Frame::child(&children.env, &cx.frame);
+        let items = ScopeItems {
+            assignments: children.assignments.clone(),
+            definitions: children.definitions.clone(),
+            ..ScopeItems::default()
+        };
+        self.define(&items, &frame)?;
+        self.assign(&items, &frame)?;
+        let mut edges = Vec::new();
+        for i in indices {
+            let (file, stmt) = children.items[i];
+            let made = self.eval_stmt(
+                stmt,
+                &Cx {
+                    frame: frame.clone(),
+                    file,
+                },
+            );
+            if let Some(Some(edge)) = Self::recover(made)? {
+                edges.push(edge);
+            }
+        }
+        Ok(self.group(edges, Source::new(cx.file, span)))
+    }
+}
