@@ -1,6 +1,15 @@
 //! A fast, deterministic hasher for the checker's name tables (the multiply-rotate hash of
 //! rustc's `FxHasher`). Keys are identifiers and spans from local files, so resistance to
 //! adversarial collisions (SipHash's reason to be slow) is not needed.
+//!
+//! Kept instead of the `rustc-hash` crate, whose `FxHasher` has the same step, because the two
+//! hash bytes differently: this one in little-endian 64-bit words with the tail padded into one
+//! word, on every target; `rustc-hash` 1.1 in native-endian `usize` words followed by 4-, 2- and
+//! 1-byte tails. A scope's names are iterated in the order of their hashes, and the "did you
+//! mean" search looks at them in that order; once the check's suggestion budget runs out partway
+//! through a search (a program with tens of thousands of names and hundreds of misspellings),
+//! which reads get a suggestion, and which one, depends on it. So this hasher keeps the checker's
+//! output the same on every platform, and switching hashers would change it.
 
 use std::collections::{HashMap, HashSet};
 use std::hash::{BuildHasherDefault, Hasher};
