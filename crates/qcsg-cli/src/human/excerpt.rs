@@ -360,7 +360,7 @@ mod tests {
         Excerpt::new(sources.get(file), spans)
     }
 
-    fn spanned<'a>(excerpt: &'a Excerpt, span: SourceSpan) -> &'a str {
+    fn spanned(excerpt: &Excerpt, span: SourceSpan) -> &str {
         &excerpt.text[span.offset()..span.offset() + span.len()]
     }
 
