@@ -24,6 +24,7 @@ use qcsg_quadric::{DMat4, Quadric};
 
 use crate::bounds::Aabb;
 use crate::codes;
+use crate::coincident::{Rounding, Surfaces, find_surfaces};
 use crate::dag::{Dag, Edge, NodeId, NodeKind, Rgba, Source};
 use crate::polyhedron::{HalfSpace, half_spaces, polyhedron_bounds};
 use crate::prune;
@@ -75,6 +76,9 @@ pub struct DnfQuadric {
     pub color: Option<Rgba>,
     /// Whether the leaf lies below a highlight (`#`).
     pub highlight: bool,
+    /// The rounding its coefficients and origin carry from the transform that placed it, which
+    /// bounds how far it may be from the surface it stands for ([`crate::coincident`]).
+    pub rounding: Rounding,
 }
 
 /// One term: the intersection of its literals, contained in its box.
@@ -101,6 +105,9 @@ pub struct Dnf {
     pub stats: DnfStats,
     /// Warnings met on the way (e.g. parts dropped under singular transforms).
     pub warnings: Vec<Diagnostic>,
+    /// Which quadrics are the same surface: each quadric's sheets, with a surface id and
+    /// orientation ([`crate::coincident`]).
+    pub surfaces: Surfaces,
 }
 
 impl Dnf {
@@ -194,6 +201,7 @@ pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, 
             source: l.source,
             color: l.color,
             highlight: l.highlight,
+            rounding: l.rounding,
         })
         .collect();
     let own_boxes: Vec<Aabb> = builder.literals.iter().map(|l| l.own_box).collect();
@@ -204,6 +212,7 @@ pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, 
         region: options.region,
         stats: DnfStats::default(),
         warnings: builder.warnings,
+        surfaces: Surfaces::default(),
     };
     prune::finish(
         &mut dnf,
@@ -219,6 +228,7 @@ pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, 
             return Err(errors);
         }
     }
+    dnf.surfaces = surfaces_of(&dnf);
     dnf.bounds = dnf
         .terms
         .iter()
@@ -246,6 +256,11 @@ fn bound_by_planes(terms: &mut [Term], literals: &[Literal]) {
             term.bounds = term.bounds.intersection(&bounds);
         }
     }
+}
+
+/// The surfaces of a DNF's quadric table ([`crate::coincident`]).
+pub fn surfaces_of(dnf: &Dnf) -> Surfaces {
+    find_surfaces(dnf.quadrics.iter().map(|q| (&q.quadric, q.rounding)))
 }
 
 fn own_boxes_after(dnf: &Dnf) -> Vec<Aabb> {
@@ -337,6 +352,8 @@ struct Literal {
     own_box: Aabb,
     /// For the complement of an axis-aligned slab: the axis and the interval it excludes.
     excluded: Option<(usize, f64, f64)>,
+    /// What the transform that placed it may have rounded.
+    rounding: Rounding,
 }
 
 /// The exact identity of a literal before it is looked up among equal quadrics.
@@ -717,6 +734,7 @@ impl<'a> Builder<'a> {
             highlight: ctx.highlight,
             own_box: solid_bounds(&world),
             excluded: excluded_interval(&world),
+            rounding: Rounding::of_placement(&ctx.matrix, q.origin()),
         });
         self.stats.literals_interned += 1;
         self.literal_index.insert(key, Some(id));

@@ -62,10 +62,21 @@ struct QuadricJson {
     color: Option<[f64; 4]>,
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     highlight: bool,
+    sheets: Vec<SheetJson>,
+}
+
+/// One sheet of a quadric's surface: sheets with equal `surface` are one surface
+/// ([`crate::coincident`]); `orientation` is `1` or `-1`.
+#[derive(Serialize)]
+struct SheetJson {
+    surface: u32,
+    orientation: i8,
 }
 
 /// The DNF as pretty-printed JSON: `{"bounds", "quadrics", "terms", "stats"}` (and `"region"`
-/// when it was restricted to one).
+/// when it was restricted to one). Each quadric lists its `sheets` (one plane for a
+/// half-space, two for a slab, one curved sheet otherwise), each with the id of the surface it
+/// is and its orientation there.
 pub fn dnf_to_json(dnf: &Dnf, file_name: &dyn Fn(FileId) -> String) -> String {
     let json = DnfJson {
         bounds: dnf.bounds.to_arrays(),
@@ -82,6 +93,16 @@ pub fn dnf_to_json(dnf: &Dnf, file_name: &dyn Fn(FileId) -> String) -> String {
                 source: SourceJson::new(q.source, file_name),
                 color: q.color,
                 highlight: q.highlight,
+                sheets: dnf
+                    .surfaces
+                    .of(id as u32)
+                    .unwrap_or_default()
+                    .iter()
+                    .map(|s| SheetJson {
+                        surface: s.surface,
+                        orientation: s.orientation,
+                    })
+                    .collect(),
             })
             .collect(),
         terms: dnf.terms.iter().map(|t| t.literals.as_slice()).collect(),

@@ -7,7 +7,8 @@
 //! are propagated conservatively through transforms.
 //!
 //! [`build_dnf`] turns the DAG into a [`Dnf`] (a union of intersections of world-space
-//! quadrics) with per-term boxes, pruning as it goes and in passes afterwards ([`prune`]);
+//! quadrics) with per-term boxes, pruning as it goes and in passes afterwards ([`prune`]), and
+//! decides which of its quadrics are the same surface ([`coincident`]);
 //! [`json`] and [`text`] write both forms; [`unpruned_size`] counts what the DNF would be
 //! without any pruning.
 //!
@@ -44,6 +45,7 @@
 pub mod bounds;
 pub mod box_index;
 pub mod codes;
+pub mod coincident;
 pub mod dag;
 pub mod dnf;
 pub mod json;
@@ -57,6 +59,7 @@ pub mod unpruned;
 
 pub use bounds::Aabb;
 pub use box_index::BoxIndex;
+pub use coincident::{Rounding, Sheet, Surface, Surfaces, find_surfaces};
 pub use dag::{Dag, DagError, Edge, Node, NodeId, NodeKind, Rgba, Source, TransformId};
 pub use dnf::{DEFAULT_TERM_LIMIT, Dnf, DnfOptions, DnfQuadric, Term, build_dnf, build_dnf_of};
 pub use json::{dag_to_json, dnf_to_json, names_from_list};

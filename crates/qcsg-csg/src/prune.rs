@@ -8,10 +8,13 @@
 //! 2. `literal_bounds`: a literal provably false over its term's box removes the term; a literal
 //!    provably true over the box that the *other* literals (and the region) already imply is
 //!    removed from the term;
-//! 3. `duplicate_literals`: literals of one term equal up to a positive factor;
-//! 4. `duplicate_terms`: terms with the same literal set (their boxes are intersected);
-//! 5. `subsumed_terms`: terms whose literal set contains another term's (they lie inside it);
-//! 6. `unused_quadrics`: quadrics no term uses, with the rest renumbered in order.
+//! 3. `coincident_pairs`: terms holding two literals that meet only on a surface they share
+//!    with opposite orientations (`x ≤ 0` and `−x ≤ 0`, a ball and the complement of a turned
+//!    copy of it: [`crate::coincident`]), which have no volume;
+//! 4. `duplicate_literals`: literals of one term equal up to a positive factor;
+//! 5. `duplicate_terms`: terms with the same literal set (their boxes are intersected);
+//! 6. `subsumed_terms`: terms whose literal set contains another term's (they lie inside it);
+//! 7. `unused_quadrics`: quadrics no term uses, with the rest renumbered in order.
 //!
 //! Every rule but the renumbering can be turned off on its own through [`Pruning`] (in
 //! [`crate::DnfOptions::pruning`]), to measure what it saves; the DNF means the same solid
@@ -49,6 +52,8 @@ pub struct Pruning {
     pub final_empty_bounds: bool,
     /// Final pass `literal_bounds`.
     pub final_literal_bounds: bool,
+    /// Final pass `coincident_pairs`.
+    pub final_coincident_pairs: bool,
     /// Final pass `duplicate_literals`.
     pub final_duplicate_literals: bool,
     /// Final pass `duplicate_terms`.
@@ -66,7 +71,7 @@ impl Default for Pruning {
 impl Pruning {
     /// The names of the rules, in the order of [`Pruning::set`]: construction rules first,
     /// then the final passes (prefixed `final_`).
-    pub const RULES: [&'static str; 12] = [
+    pub const RULES: [&'static str; 13] = [
         "operand_bounds",
         "empty_bounds",
         "outside_literal",
@@ -76,6 +81,7 @@ impl Pruning {
         "subsumed_terms",
         "final_empty_bounds",
         "final_literal_bounds",
+        "final_coincident_pairs",
         "final_duplicate_literals",
         "final_duplicate_terms",
         "final_subsumed_terms",
@@ -93,6 +99,7 @@ impl Pruning {
             subsumed_terms: true,
             final_empty_bounds: true,
             final_literal_bounds: true,
+            final_coincident_pairs: true,
             final_duplicate_literals: true,
             final_duplicate_terms: true,
             final_subsumed_terms: true,
@@ -126,6 +133,7 @@ impl Pruning {
             "subsumed_terms" => &mut self.subsumed_terms,
             "final_empty_bounds" => &mut self.final_empty_bounds,
             "final_literal_bounds" => &mut self.final_literal_bounds,
+            "final_coincident_pairs" => &mut self.final_coincident_pairs,
             "final_duplicate_literals" => &mut self.final_duplicate_literals,
             "final_duplicate_terms" => &mut self.final_duplicate_terms,
             "final_subsumed_terms" => &mut self.final_subsumed_terms,
@@ -307,6 +315,9 @@ pub fn finish(
                 pass_literal_bounds(dnf, own_boxes, region)
             });
         }
+        if pruning.final_coincident_pairs {
+            run_pass(dnf, stats, "coincident_pairs", pass_coincident_pairs);
+        }
         if pruning.final_duplicate_literals {
             run_pass(dnf, stats, "duplicate_literals", pass_duplicate_literals);
         }
@@ -378,6 +389,12 @@ fn pass_literal_bounds(dnf: &mut Dnf, own_boxes: &[Aabb], region: Aabb) {
         }
         true
     });
+}
+
+fn pass_coincident_pairs(dnf: &mut Dnf) {
+    let surfaces = crate::dnf::surfaces_of(dnf);
+    dnf.terms
+        .retain(|term| !crate::coincident::has_coincident_pair(&surfaces, &term.literals));
 }
 
 fn pass_duplicate_literals(dnf: &mut Dnf) {
