@@ -7,7 +7,16 @@
 //! of each gap, which also carries an unbounded quadric's state at the ray's start. Tangent
 //! double roots and lines lying in the surface make no boundary, and zero-length pieces are
 //! dropped: the solids are regularised.
+//!
+//! Literals of a DNF are read through the surfaces they lie on ([`qcsg_csg::coincident`]): the
+//! roots are those of each sheet's surface, and the sign in a gap is the surface's, oriented as
+//! the literal's sheet (a slab inside both its planes, its complement outside either). Literals
+//! that share a surface then cross it at the very same parameter, bit for bit, so that where one
+//! leaves and another enters their intervals meet exactly (and merge) and where they face each
+//! other across it their intersection is empty: a flush cutter's face is decided by whether the
+//! solid changes across it, never by which rounding came out larger.
 
+use qcsg_csg::{Sheet, Surfaces};
 use qcsg_quadric::{LineIntersection, Quadric};
 
 use crate::raytrace::Ray;
@@ -55,47 +64,146 @@ pub fn literal_intervals(
     range: Interval,
     out: &mut Vec<Interval>,
 ) {
-    out.clear();
-    let mut cuts = [0.0; 2];
-    let mut cut_count = 0;
-    let roots = match quadric.intersect_line(ray.origin, ray.direction) {
-        LineIntersection::One(t) => [Some(t), None],
-        LineIntersection::Two(t0, t1) => [Some(t0), Some(t1)],
-        // A double root touches without crossing; a line in the surface crosses nothing.
-        LineIntersection::Tangent(_) | LineIntersection::None | LineIntersection::Contained => {
-            [None, None]
-        }
-    };
-    for t in roots.into_iter().flatten() {
-        if t > range.start && t < range.end {
-            cuts[cut_count] = t;
-            cut_count += 1;
-        }
-    }
-    let mut start = range.start;
-    let mut start_by = range.start_by;
-    let mut open: Option<(f64, Boundary)> = None;
-    let ends = cuts[..cut_count]
-        .iter()
-        .map(|&t| (t, Boundary::Quadric(id)))
-        .chain(std::iter::once((range.end, range.end_by)));
-    for (end, end_by) in ends {
-        // Two samples: one of them may fall on a tangent point, where q = 0 outside the solid.
-        let inside = quadric.value(ray.at(sample_point(start, end, 1.0 / 3.0))) < 0.0
-            && quadric.value(ray.at(sample_point(start, end, 2.0 / 3.0))) < 0.0;
-        match (inside, open) {
-            (true, None) => open = Some((start, start_by)),
-            (false, Some((s, s_by))) => {
-                push_nonempty(out, s, s_by, start, start_by);
-                open = None;
+    Literal::Own(quadric).intervals(id, ray, range, out);
+}
+
+/// [`literal_intervals`] for the DNF quadric `id` (whose quadric is `quadric`), read through the
+/// surfaces its sheets lie on (see the module docs). A quadric that `surfaces` does not
+/// describe, or without a surface, is read by itself.
+pub fn surface_literal_intervals(
+    surfaces: &Surfaces,
+    quadric: &Quadric,
+    id: u32,
+    ray: &Ray,
+    range: Interval,
+    out: &mut Vec<Interval>,
+) {
+    Literal::of(surfaces, quadric, id).intervals(id, ray, range, out);
+}
+
+/// How a literal's roots and sign are read.
+#[derive(Clone, Copy)]
+enum Literal<'a> {
+    /// From its own quadric.
+    Own(&'a Quadric),
+    /// From the surfaces of its sheets (each with a surface in `surfaces`).
+    Sheets {
+        sheets: &'a [Sheet],
+        surfaces: &'a Surfaces,
+    },
+}
+
+impl<'a> Literal<'a> {
+    /// A literal whose sheets share a surface with another is read through its surfaces; one
+    /// that shares none by itself, which is the same up to rounding that nothing else sees (and
+    /// costs one quadric instead of a slab's two planes).
+    fn of(surfaces: &'a Surfaces, quadric: &'a Quadric, id: u32) -> Self {
+        let shared = |s: &Sheet| {
+            surfaces
+                .surface(s.surface)
+                .map(|surface| surface.sheets > 1)
+        };
+        match surfaces.of(id) {
+            Some(sheets)
+                if sheets.iter().any(|s| shared(s) == Some(true))
+                    && sheets.iter().all(|s| shared(s).is_some()) =>
+            {
+                Self::Sheets { sheets, surfaces }
             }
-            _ => {}
+            _ => Self::Own(quadric),
         }
-        start = end;
-        start_by = end_by;
     }
-    if let Some((s, s_by)) = open {
-        push_nonempty(out, s, s_by, range.end, range.end_by);
+
+    /// The crossings of the literal's surface along `ray`, ascending, into `roots`; returns how
+    /// many. A double root touches without crossing; a line in the surface crosses nothing.
+    fn roots(&self, ray: &Ray, roots: &mut [f64; 4]) -> usize {
+        let mut count = 0;
+        let mut add = |q: &Quadric| match q.intersect_line(ray.origin, ray.direction) {
+            LineIntersection::One(t) => {
+                roots[count] = t;
+                count += 1;
+            }
+            LineIntersection::Two(t0, t1) => {
+                roots[count] = t0;
+                roots[count + 1] = t1;
+                count += 2;
+            }
+            LineIntersection::Tangent(_) | LineIntersection::None | LineIntersection::Contained => {
+            }
+        };
+        match *self {
+            Self::Own(q) => add(q),
+            Self::Sheets { sheets, surfaces } => {
+                // At most two sheets (a slab's planes), each a plane: two roots; or one curved.
+                for sheet in sheets.iter().take(2) {
+                    if let Some(surface) = surfaces.surface(sheet.surface) {
+                        add(&surface.quadric);
+                    }
+                }
+            }
+        }
+        roots[..count].sort_unstable_by(f64::total_cmp);
+        count
+    }
+
+    /// Whether the point at `t` lies strictly inside the literal's solid.
+    fn strictly_inside(&self, ray: &Ray, t: f64) -> bool {
+        let p = ray.at(t);
+        match *self {
+            Self::Own(q) => q.value(p) < 0.0,
+            Self::Sheets { sheets, surfaces } => {
+                let inside = |s: &Sheet| {
+                    surfaces.surface(s.surface).is_some_and(|surface| {
+                        f64::from(s.orientation) * surface.quadric.value(p) < 0.0
+                    })
+                };
+                // A slab's complement holds both sides: outside either of its planes.
+                if sheets.iter().all(|s| s.one_sided) {
+                    sheets.iter().all(inside)
+                } else {
+                    sheets.iter().any(inside)
+                }
+            }
+        }
+    }
+
+    fn intervals(&self, id: u32, ray: &Ray, range: Interval, out: &mut Vec<Interval>) {
+        out.clear();
+        let mut roots = [0.0; 4];
+        let count = self.roots(ray, &mut roots);
+        let mut cuts = [0.0; 4];
+        let mut cut_count = 0;
+        for &t in &roots[..count] {
+            if t > range.start && t < range.end && (cut_count == 0 || cuts[cut_count - 1] < t) {
+                cuts[cut_count] = t;
+                cut_count += 1;
+            }
+        }
+        let mut start = range.start;
+        let mut start_by = range.start_by;
+        let mut open: Option<(f64, Boundary)> = None;
+        let ends = cuts[..cut_count]
+            .iter()
+            .map(|&t| (t, Boundary::Quadric(id)))
+            .chain(std::iter::once((range.end, range.end_by)));
+        for (end, end_by) in ends {
+            // Two samples: one of them may fall on a tangent point, where q = 0 outside the solid.
+            let inside = self.strictly_inside(ray, sample_point(start, end, 1.0 / 3.0))
+                && self.strictly_inside(ray, sample_point(start, end, 2.0 / 3.0));
+            match (inside, open) {
+                (true, None) => open = Some((start, start_by)),
+                (false, Some((s, s_by))) => {
+                    push_nonempty(out, s, s_by, start, start_by);
+                    open = None;
+                }
+                _ => {}
+            }
+            start = end;
+            start_by = end_by;
+        }
+        if let Some((s, s_by)) = open {
+            push_nonempty(out, s, s_by, range.end, range.end_by);
+        }
     }
 }
 

@@ -8,12 +8,18 @@
 //! complements are folded into the literal's sign — and the colour. Intervals that merely
 //! touch are merged, so touching solids show no inner faces; tangent roots and zero-length
 //! intervals make no surface.
+//!
+//! Literals are intersected through the surfaces the compiler found them on
+//! ([`qcsg_csg::coincident`]), so literals of one surface cross it at one parameter: a hit is
+//! where the solid's membership changes across the surface, taking all of them as crossing at
+//! once. A cutter flush with a part's face shows the face where the solid ends there and
+//! nothing where it goes on, never a speckle of both.
 
 use qcsg_csg::quadric_box::{BoxClass, classify};
 use qcsg_csg::{Aabb, BoxIndex, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
 
-use crate::interval::{Boundary, Interval, intersect_into, literal_intervals};
+use crate::interval::{Boundary, Interval, intersect_into, surface_literal_intervals};
 
 /// A ray `origin + t · direction`, `t ≥ 0`; the direction is unit length for the renderer, so
 /// that `t` is a distance.
@@ -260,7 +266,8 @@ pub fn trace(
             let Some(literal) = dnf.quadrics.get(id as usize) else {
                 continue;
             };
-            literal_intervals(
+            surface_literal_intervals(
+                &dnf.surfaces,
                 &literal.quadric,
                 id,
                 ray,

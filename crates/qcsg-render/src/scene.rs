@@ -36,6 +36,8 @@ impl Layer {
                 }));
             dnf.bounds = dnf.bounds.union(&part.bounds);
         }
+        // Parts may share surfaces with each other: decide them over the whole table.
+        dnf.surfaces = qcsg_csg::dnf::surfaces_of(&dnf);
         Some(Self::new(dnf))
     }
 
