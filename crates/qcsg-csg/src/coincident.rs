@@ -39,7 +39,7 @@
 //! at most [`MAX_CANDIDATES_PER_CELL`] of them are compared per cell (a scene of thousands of
 //! distinct surfaces within rounding of each other is not a model).
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use qcsg_quadric::{
     DMat4, DVec3, PrincipalFrame, Quadric, QuadricKind, Tolerances, classify_frame,
@@ -207,36 +207,40 @@ impl Surfaces {
 
 /// Whether the term of `literals` (indices into the quadrics of `surfaces`) holds two literals
 /// that meet only on a surface they share ([`Surfaces::meet_only_on_surface`]): it has no
-/// volume. Looks only at sheets of shared surfaces, grouped by surface: linear in the term's
-/// length but for literals on one surface.
+/// volume. Linear in the term's length: one-sided sheets are grouped by surface, and a literal
+/// that is not one-sided (a slab's complement) is looked up by its sheets, flipped.
 pub fn has_coincident_pair(surfaces: &Surfaces, literals: &[u32]) -> bool {
-    let mut on_shared: Vec<(u32, i8, bool, u32)> = Vec::new();
+    let shared = |sheet: &Sheet| {
+        surfaces
+            .surface(sheet.surface)
+            .is_some_and(|s| s.sheets > 1)
+    };
+    // Surfaces met by a one-sided sheet, with the orientations seen on each.
+    let mut one_sided: HashMap<u32, i8> = HashMap::new();
+    // Each literal's sheets as (surface, orientation) pairs, sorted.
+    let mut whole: HashSet<Vec<(u32, i8)>> = HashSet::new();
+    let mut two_sided: Vec<Vec<(u32, i8)>> = Vec::new();
     for &id in literals {
-        for sheet in surfaces.of(id).unwrap_or_default() {
-            if surfaces
-                .surface(sheet.surface)
-                .is_some_and(|s| s.sheets > 1)
-            {
-                on_shared.push((sheet.surface, sheet.orientation, sheet.one_sided, id));
+        let sheets = surfaces.of(id).unwrap_or_default();
+        if sheets.is_empty() || !sheets.iter().any(shared) {
+            continue;
+        }
+        for sheet in sheets.iter().filter(|s| s.one_sided && shared(s)) {
+            let seen = one_sided.entry(sheet.surface).or_insert(sheet.orientation);
+            if *seen != sheet.orientation {
+                return true;
             }
         }
-    }
-    if on_shared.len() < 2 {
-        return false;
-    }
-    on_shared.sort_unstable();
-    on_shared.chunk_by(|a, b| a.0 == b.0).any(|group| {
-        // Sorted by orientation then one-sidedness: a one-sided sheet of each orientation?
-        let one_sided = |o: i8| group.iter().any(|&(_, x, s, _)| x == o && s);
-        if one_sided(-1) && one_sided(1) {
-            return true;
+        let mut key: Vec<(u32, i8)> = sheets.iter().map(|s| (s.surface, s.orientation)).collect();
+        key.sort_unstable();
+        if sheets.iter().any(|s| !s.one_sided) {
+            two_sided.push(key.clone());
         }
-        // A slab's complement against the slab: compare the literals of both orientations.
-        group.iter().any(|&(_, oa, sa, a)| {
-            !sa && group
-                .iter()
-                .any(|&(_, ob, _, b)| ob != oa && surfaces.meet_only_on_surface(a, b))
-        })
+        whole.insert(key);
+    }
+    two_sided.into_iter().any(|key| {
+        let flipped: Vec<(u32, i8)> = key.into_iter().map(|(s, o)| (s, -o)).collect();
+        whole.contains(&flipped)
     })
 }
 

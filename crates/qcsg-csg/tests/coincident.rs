@@ -287,6 +287,51 @@ fn opposite_half_spaces_on_one_plane_leave_no_volume() {
 }
 
 #[test]
+fn a_slabs_complement_keeps_the_side_that_a_half_space_on_its_face_leaves() {
+    // cube(20) − (5 ≤ z ≤ 10) ∩ (z ≤ 10): the half-space faces the complement across z = 10,
+    // but the complement holds both sides of the slab, so z < 5 is left, not nothing.
+    let mut dag = Dag::new();
+    let block = cube(&mut dag, DVec3::splat(20.0), 0);
+    let slab = dag.leaf(
+        Quadric::slab(DVec3::new(3.0, 4.0, 7.5), DVec3::Z, 2.5).unwrap(),
+        src(1),
+    );
+    let outside = dag.complement(slab.into(), src(1));
+    let below = dag.leaf(
+        Quadric::half_space(DVec3::new(1.0, 1.0, 10.0), DVec3::Z).unwrap(),
+        src(2),
+    );
+    let solid = dag.intersection([block.into(), outside.into(), below.into()], src(3));
+    dag.set_root(solid.into());
+    let dnf = build(&dag, Pruning::all());
+    assert_eq!(pass_removed(&dnf), 0, "{}", dnf.stats);
+    assert!(dnf.contains(DVec3::new(10.0, 10.0, 2.0)));
+    assert!(
+        !dnf.contains(DVec3::new(10.0, 10.0, 7.0)) && !dnf.contains(DVec3::new(10.0, 10.0, 15.0))
+    );
+    // The slab's face and the half-space are one surface, with opposite outward normals.
+    let (slab, half) = (
+        dnf.quadrics.iter().position(|q| {
+            q.quadric.kind() == qcsg_quadric::QuadricKind::ParallelPlanes && q.source == src(1)
+        }),
+        dnf.quadrics.iter().position(|q| q.source == src(2)),
+    );
+    let (slab, half) = (slab.unwrap() as u32, half.unwrap() as u32);
+    let half_sheet = dnf.surfaces.of(half).unwrap()[0];
+    let slab_sheet = dnf
+        .surfaces
+        .of(slab)
+        .unwrap()
+        .iter()
+        .find(|s| s.surface == half_sheet.surface)
+        .copied()
+        .unwrap();
+    assert_ne!(slab_sheet.orientation, half_sheet.orientation);
+    assert!(!slab_sheet.one_sided && half_sheet.one_sided);
+    assert!(!dnf.surfaces.meet_only_on_surface(slab, half));
+}
+
+#[test]
 fn a_flush_notch_keeps_its_terms() {
     // difference() { cube([20, 10, 10]); translate([5, 0, 5]) cube([10, 10, 5]); }: the
     // cutter's z-slab shares the part's top face, but the part below it remains.
