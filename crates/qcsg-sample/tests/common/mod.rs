@@ -600,12 +600,22 @@ pub fn workspace_root() -> std::path::PathBuf {
 /// Checks, evaluates and converts a program to its DNF with default options; `Err` with the
 /// error diagnostics' messages.
 pub fn compile_file(path: &std::path::Path) -> Result<Dnf, String> {
+    compile_file_with(path, &DnfOptions::default())
+}
+
+/// [`compile_file`] with the given DNF options.
+pub fn compile_file_with(path: &std::path::Path, options: &DnfOptions) -> Result<Dnf, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read: {e}"))?;
-    compile_text(&path.to_string_lossy(), text)
+    compile_text_with(&path.to_string_lossy(), text, options)
 }
 
 /// [`compile_file`] for program text; `name` resolves relative includes.
 pub fn compile_text(name: &str, text: String) -> Result<Dnf, String> {
+    compile_text_with(name, text, &DnfOptions::default())
+}
+
+/// [`compile_text`] with the given DNF options.
+pub fn compile_text_with(name: &str, text: String, options: &DnfOptions) -> Result<Dnf, String> {
     let analysis = qcsg_sema::check_file(
         name,
         text,
@@ -628,7 +638,7 @@ pub fn compile_text(name: &str, text: String) -> Result<Dnf, String> {
     if !found.is_empty() {
         return Err(found.join("; "));
     }
-    build_dnf(&evaluation.dag, &DnfOptions::default()).map_err(|e| errors(&e).join("; "))
+    build_dnf(&evaluation.dag, options).map_err(|e| errors(&e).join("; "))
 }
 
 /// The `.qcsg` and `.scad` files of a directory of the workspace, sorted.
