@@ -72,6 +72,7 @@ pub fn run(qcsg: &Path, name: &Path, bytes: &[u8], timeout: Duration) -> Result<
         .args(["--max-instances", &limits.max_instances.to_string()])
         .current_dir(dir)
         .env("NO_COLOR", "1")
+        .env("RUST_BACKTRACE", "0")
         .env_remove("QCSG_PATH")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

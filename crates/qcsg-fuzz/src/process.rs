@@ -102,7 +102,10 @@ impl WorkerProcess {
             Some(qcsg) => command.arg("--qcsg").arg(qcsg),
             None => command.arg("--no-cli"),
         };
+        // No backtraces: a long one would push an abort's message out of the kept tail.
         let mut child = command
+            .env("RUST_BACKTRACE", "0")
+            .env("RUST_LIB_BACKTRACE", "0")
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())

@@ -202,8 +202,10 @@ pub fn run_stage<T>(
             None,
             Some(panic_problem(Some(panics::payload_text(&*payload)))),
         ),
+        // A panic something else caught (the server answers it with an internal error) is
+        // the cause of what the stage saw: its location tells one bug from another.
+        Ok(_) if !recorded.is_empty() => (None, Some(panic_problem(None))),
         Ok(Err(problem)) => (None, Some(problem)),
-        Ok(Ok(_)) if !recorded.is_empty() => (None, Some(panic_problem(None))),
         Ok(Ok(value)) => (value, None),
     };
     if problem.is_none() && peak > memory_budget {
