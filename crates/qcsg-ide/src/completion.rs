@@ -68,9 +68,13 @@ impl Analysis {
         if let Some(partial) = include_path_prefix(&text[line_start..offset]) {
             return self.path_completions(partial);
         }
+        // The name being typed: ASCII only, so the byte after the character found is a
+        // boundary whatever that character's width.
         let prefix_start = text[..offset]
             .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '$'))
-            .map_or(0, |i| i + 1);
+            .map_or(0, |i| {
+                i + text[i..].chars().next().map_or(1, char::len_utf8)
+            });
         let prefix = &text[prefix_start..offset];
         let around = surroundings(text, self.tree(), self.main(), offset);
         let visible = self.visible_definitions(offset);

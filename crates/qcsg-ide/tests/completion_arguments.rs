@@ -345,3 +345,20 @@ fn unfinished_text_still_offers_argument_names() {
         ["k ="]
     );
 }
+
+/// After a character wider than one byte (an accent in a comment, an emoji, the replacement
+/// character of invalid UTF-8) the name being typed starts on a character boundary.
+#[test]
+fn completion_after_wide_characters() {
+    for marked in [
+        "// é|",
+        "x = 1; // 😀|\n",
+        "\u{FFFD}|",
+        "// é\nsph|",
+        "sphere(r = 1) é|",
+    ] {
+        let items = complete(marked);
+        assert!(!items.is_empty(), "{marked:?}");
+    }
+    assert!(labels(&complete("// é\nsph|")).contains(&"sphere"));
+}
