@@ -497,10 +497,14 @@ fn expr_parser<'t, E: SyntaxError<'t>>(
             Tok::False => ExprKind::Bool(false),
             Tok::Undef => ExprKind::Undef,
             Tok::TooDeep => ExprKind::Error,
-            Tok::Ident | Tok::SpecialIdent | Tok::Assert | Tok::Echo = e => {
-                ExprKind::Ident(ctx.ident(e.span()))
-            },
+            Tok::Ident | Tok::SpecialIdent = e => ExprKind::Ident(ctx.ident(e.span())),
         }
+        // `assert` and `echo` are names only where no `(` follows: `echo(` always starts the
+        // special form, and a broken one must not be parsed again as a call, which doubled
+        // the work at every level of `echo(echo(…`.
+        .or(one_of([Tok::Assert, Tok::Echo])
+            .then_ignore(just(Tok::LParen).not())
+            .map_with(move |_, e| ExprKind::Ident(ctx.ident(e.span()))))
         .map_with(|kind, e| Expr {
             kind,
             span: sp(e.span()),

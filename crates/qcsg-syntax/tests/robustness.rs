@@ -174,6 +174,8 @@ fn broken_nesting_recovers_in_linear_time() {
         format!("x = {} ) {};", "[".repeat(n), "]".repeat(n)),
         format!("{} )", "if (1) ".repeat(n)),
         format!("{}{}", "union(){ cube() ) ".repeat(n), "}".repeat(n)),
+        "echo(\n".repeat(n),
+        format!("x = {}", "assert(1, ".repeat(n)),
         // Many broken siblings: the work per error must not grow with the number of errors.
         "a = (1 ];\n".repeat(20 * n),
         ")".repeat(20 * n),
