@@ -1,4 +1,7 @@
-//! `qcsg check FILE...`: parse and check each file, print the diagnostics, pick the exit code.
+//! `qcsg check FILE...`: run each file through the pipeline as far as its normal form and bounds
+//! (everything short of sampling and rendering, so it reports every error `compile`, `render`
+//! and `sample` would), print the diagnostics, pick the exit code. `--no-eval` stops after the
+//! static checks, `--no-dnf` after evaluation.
 //!
 //! Files are checked independently (each is its own program) and possibly in parallel, but the
 //! output is always in the order the files were given, so it never depends on `--threads`.
@@ -9,7 +12,8 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use qcsg_diag::{Diagnostic, SourceMap};
-use qcsg_sema::{Analysis, CheckOptions, FsLoader, SourceText};
+use qcsg_driver::{Options, Stage};
+use qcsg_sema::{Analysis, SourceText};
 
 use crate::human::{HumanRenderer, report};
 use crate::{CheckArgs, DiagnosticFormat, EXIT_INPUT_ERRORS, EXIT_OK, EXIT_USAGE};
@@ -19,9 +23,13 @@ pub const STDIN_NAME: &str = "<stdin>";
 
 /// Runs `qcsg check` and returns the process exit status.
 pub fn run(args: CheckArgs) -> u8 {
-    let options = CheckOptions {
-        search_path: crate::search_path_from_env(),
-        defines: args.common.defines.clone(),
+    let options = args.limits.options(&args.common.defines);
+    let stage = if args.no_eval {
+        Stage::Check
+    } else if args.no_dnf {
+        Stage::Evaluate
+    } else {
+        Stage::Dnf
     };
     // Each readable input's name and text; why each other one could not be read.
     let (inputs, unreadable): (Vec<_>, Vec<_>) = args
@@ -35,8 +43,7 @@ pub fn run(args: CheckArgs) -> u8 {
         .threads
         .or_else(|| std::thread::available_parallelism().ok())
         .unwrap_or(NonZeroUsize::MIN);
-    let eval_options = args.limits.eval_options(&args.common.defines);
-    let analyses = check_all(inputs, &options, &eval_options, threads);
+    let analyses = check_all(inputs, &options, stage, threads);
 
     for message in unreadable.iter().filter_map(|r| r.as_ref().err()) {
         eprintln!("error: {message}");
@@ -91,14 +98,12 @@ fn wants_colour(is_terminal: bool, no_color: Option<std::ffi::OsString>) -> bool
 /// Checks every readable input on up to `threads` threads; the result is in input order.
 fn check_all(
     jobs: Vec<(String, SourceText)>,
-    options: &CheckOptions,
-    eval_options: &qcsg_eval::EvalOptions,
+    options: &Options,
+    stage: Stage,
     threads: NonZeroUsize,
 ) -> Vec<Analysis> {
     let check = |(name, source): (String, SourceText)| {
-        let mut analysis = qcsg_sema::check_source(&name, source, options, &FsLoader);
-        crate::program::evaluate_checked(&mut analysis, eval_options);
-        analysis
+        crate::program::compile(&name, source, options, stage).analysis
     };
     let workers = threads.get().min(jobs.len());
     if workers <= 1 {
@@ -150,8 +155,12 @@ mod tests {
         for program in programs {
             for end in (0..=program.len()).filter(|&end| program.is_char_boundary(end)) {
                 let text = program[..end].to_owned();
-                let analysis =
-                    qcsg_sema::check_file("t.qcsg", text, &CheckOptions::default(), &FsLoader);
+                let analysis = qcsg_sema::check_file(
+                    "t.qcsg",
+                    text,
+                    &qcsg_sema::CheckOptions::default(),
+                    &qcsg_sema::FsLoader,
+                );
                 for diagnostic in &analysis.diagnostics {
                     let human = renderer.render(&analysis.sources, diagnostic);
                     assert!(human.contains(diagnostic.code), "{human}");

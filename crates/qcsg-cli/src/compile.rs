@@ -7,7 +7,8 @@
 use std::io::Write;
 
 use clap::{Args, ValueEnum};
-use qcsg_csg::{DnfOptions, build_dnf, dag_to_json, dag_to_text, dnf_to_json, dnf_to_text};
+use qcsg_csg::{DnfOptions, dag_to_json, dag_to_text, dnf_to_json, dnf_to_text};
+use qcsg_driver::{Options, Stage, search_path_from_env};
 use qcsg_eval::EvalOptions;
 use qcsg_sema::Analysis;
 
@@ -113,6 +114,16 @@ impl LimitArgs {
             ..DnfOptions::default()
         }
     }
+
+    /// The pipeline's options: these limits, the `-D` overrides and `QCSG_PATH`.
+    pub fn options(&self, defines: &[(String, String)]) -> Options {
+        Options {
+            search_path: search_path_from_env(),
+            defines: defines.to_vec(),
+            eval: self.eval_options(defines),
+            dnf: self.dnf_options(),
+        }
+    }
 }
 
 /// What `--emit` prints.
@@ -144,40 +155,28 @@ pub fn run(args: CompileArgs) -> u8 {
             return EXIT_USAGE;
         }
     };
-    let mut analysis = program::check(&name, text, &args.defines);
-    let mut output = None;
-    if !analysis.has_errors() {
-        output = match args.emit {
-            Emit::Ast => Some(emit_ast(&analysis, args.format)),
-            Emit::Dag | Emit::Dnf => {
-                let options = args.limits.eval_options(&args.defines);
-                match program::evaluate_checked(&mut analysis, &options) {
-                    None => None,
-                    Some(dag) if args.emit == Emit::Dag => {
-                        Some(emit_dag(&analysis, &dag, args.format))
-                    }
-                    Some(dag) => match build_dnf(&dag, &args.limits.dnf_options()) {
-                        Ok(dnf) => {
-                            analysis.diagnostics.extend(dnf.warnings.iter().cloned());
-                            Some(match args.format {
-                                OutputFormat::Text => {
-                                    dnf_to_text(&dnf, &qcsg_csg::line_locator(&analysis.sources))
-                                }
-                                OutputFormat::Json => {
-                                    dnf_to_json(&dnf, &|file| file_name(&analysis, file))
-                                }
-                            })
-                        }
-                        Err(errors) => {
-                            analysis.diagnostics.extend(errors);
-                            None
-                        }
-                    },
-                }
-            }
-        };
-    }
-    program::print_human(&analysis, args.quiet);
+    let stage = match args.emit {
+        Emit::Ast => Stage::Check,
+        Emit::Dag => Stage::Evaluate,
+        Emit::Dnf => Stage::Dnf,
+    };
+    let options = args.limits.options(&args.defines);
+    let compilation = program::compile(&name, text, &options, stage);
+    let analysis = &compilation.analysis;
+    let output = match args.emit {
+        _ if analysis.has_errors() => None,
+        Emit::Ast => Some(emit_ast(analysis, args.format)),
+        Emit::Dag => compilation
+            .dag
+            .as_ref()
+            .map(|dag| emit_dag(analysis, dag, args.format)),
+        Emit::Dnf => compilation.solid().map(|dnf| match args.format {
+            OutputFormat::Text => dnf_to_text(dnf, &qcsg_csg::line_locator(&analysis.sources)),
+            OutputFormat::Json => dnf_to_json(dnf, &|file| file_name(analysis, file)),
+        }),
+    };
+    let analysis = &compilation.analysis;
+    program::print_human(analysis, args.quiet);
     if analysis.has_errors() {
         return EXIT_INPUT_ERRORS;
     }

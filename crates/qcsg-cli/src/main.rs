@@ -15,7 +15,6 @@ mod render;
 mod sample;
 
 use std::num::NonZeroUsize;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -71,8 +70,17 @@ struct CheckArgs {
     #[command(flatten)]
     common: CommonArgs,
 
+    /// Stop after the static checks: no evaluation and no normal form.
+    #[arg(long)]
+    no_eval: bool,
+
+    /// Stop after evaluation: no normal form, so an unbounded solid or the term limit is not
+    /// reported.
+    #[arg(long, conflicts_with = "no_eval")]
+    no_dnf: bool,
+
     #[command(flatten)]
-    limits: compile::EvalLimitArgs,
+    limits: compile::LimitArgs,
 }
 
 /// Flags every command accepts.
@@ -125,17 +133,6 @@ fn parse_define(text: &str) -> Result<(String, String), String> {
         return Err(format!("`-D {name}=` needs a value"));
     }
     Ok((name.to_owned(), value.to_owned()))
-}
-
-/// The directories of `QCSG_PATH` (colon-separated, like `PATH`), empty entries skipped.
-fn search_path_from_env() -> Vec<PathBuf> {
-    std::env::var_os("QCSG_PATH")
-        .map(|paths| {
-            std::env::split_paths(&paths)
-                .filter(|p| !p.as_os_str().is_empty())
-                .collect()
-        })
-        .unwrap_or_default()
 }
 
 fn main() -> ExitCode {

@@ -1,13 +1,12 @@
-//! What the commands share: reading a program, checking and evaluating it, and printing its
-//! diagnostics.
+//! What the commands share: reading a program, running the pipeline on it (`qcsg-driver`), and
+//! printing its diagnostics.
 
 use std::io::{IsTerminal, Write};
 use std::path::Path;
 
-use qcsg_csg::Dag;
 use qcsg_diag::{Diagnostic, SourceMap};
-use qcsg_eval::{EvalOptions, evaluate};
-use qcsg_sema::{Analysis, CheckOptions, FsLoader, MAX_SOURCE_BYTES, SourceText};
+use qcsg_driver::{Compilation, Stage};
+use qcsg_sema::{Analysis, FsLoader, MAX_SOURCE_BYTES, SourceText};
 
 use crate::human::{HumanRenderer, report};
 
@@ -25,26 +24,15 @@ pub fn read(file: &str) -> Result<(String, SourceText), String> {
         .map_err(|err| format!("cannot read `{file}`: {err}"))
 }
 
-/// Statically checks a program, with `-D` overrides and `QCSG_PATH`.
-pub fn check(name: &str, source: SourceText, defines: &[(String, String)]) -> Analysis {
-    let options = CheckOptions {
-        search_path: crate::search_path_from_env(),
-        defines: defines.to_vec(),
-    };
-    qcsg_sema::check_source(name, source, &options, &FsLoader)
-}
-
-/// Evaluates a program whose static check found no errors, appending the evaluation's
-/// diagnostics (echo output, warnings, runtime errors) to the analysis. The DAG comes back only
-/// when neither step found an error.
-pub fn evaluate_checked(analysis: &mut Analysis, options: &EvalOptions) -> Option<Dag> {
-    if analysis.has_errors() {
-        return None;
-    }
-    let evaluation = evaluate(analysis, options);
-    let failed = evaluation.has_errors();
-    analysis.diagnostics.extend(evaluation.diagnostics);
-    (!failed).then_some(evaluation.dag)
+/// Runs the pipeline on a program as far as `stage`, with `-D` overrides, `QCSG_PATH` and the
+/// limits of the command line.
+pub fn compile(
+    name: &str,
+    source: SourceText,
+    options: &qcsg_driver::Options,
+    stage: Stage,
+) -> Compilation {
+    qcsg_driver::compile_source(name, source, options, &FsLoader, stage)
 }
 
 /// Prints the diagnostics on standard error with source excerpts (colour on a terminal unless

@@ -19,8 +19,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
+use qcsg_driver::Stage;
 use qcsg_render::{Camera, ImageSize, Projection, RenderOptions, Scene, View};
-use qcsg_sema::Analysis;
 use qcsg_splat::{AdapterRequirement, SplatRenderer};
 
 use crate::compile::LimitArgs;
@@ -151,8 +151,10 @@ pub fn run(args: RenderArgs) -> u8 {
             return EXIT_USAGE;
         }
     };
-    let mut analysis = program::check(&name, text, &args.common.defines);
-    let scene = build_scene(&mut analysis, &args);
+    let options = args.limits.options(&args.common.defines);
+    let compilation = program::compile(&name, text, &options, Stage::Dnf);
+    let analysis = compilation.analysis;
+    let scene = compilation.layers.map(Scene::from_layers);
     program::print_diagnostics(
         &analysis,
         args.common.quiet,
@@ -256,27 +258,4 @@ pub fn run(args: RenderArgs) -> u8 {
         );
     }
     EXIT_OK
-}
-
-/// Evaluates the checked program and builds the scene; `None` after errors (in the analysis).
-fn build_scene(analysis: &mut Analysis, args: &RenderArgs) -> Option<Scene> {
-    let options = args.limits.eval_options(&args.common.defines);
-    let mut dag = program::evaluate_checked(analysis, &options)?;
-    match Scene::from_dag(&mut dag, &args.limits.dnf_options()) {
-        Ok(scene) => {
-            for layer in [&scene.solid, &scene.highlights, &scene.backgrounds]
-                .into_iter()
-                .flatten()
-            {
-                analysis
-                    .diagnostics
-                    .extend(layer.dnf().warnings.iter().cloned());
-            }
-            Some(scene)
-        }
-        Err(errors) => {
-            analysis.diagnostics.extend(errors);
-            None
-        }
-    }
 }

@@ -13,8 +13,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use clap::Args;
-use qcsg_csg::{Dnf, build_dnf, codes};
+use qcsg_csg::{Dnf, codes};
 use qcsg_diag::Diagnostic;
+use qcsg_driver::Stage;
 use qcsg_sample::{Progress, SampleError, SampleLimits, Sampling, sample_with_limits};
 use qcsg_sema::Analysis;
 
@@ -107,8 +108,12 @@ pub fn run(args: SampleArgs) -> u8 {
     };
     let stdout_taken = args.output.as_deref() == Some("-");
     let stats_to_stdout = !stdout_taken && args.stats.as_deref() == Some("-");
-    let mut analysis = program::check(&name, text, &args.common.defines);
-    let dnf = build(&mut analysis, &args);
+    let options = args.limits.options(&args.common.defines);
+    let compilation = program::compile(&name, text, &options, Stage::Dnf);
+    let (mut analysis, dnf) = (
+        compilation.analysis,
+        compilation.layers.and_then(|l| l.solid),
+    );
     let stdout_free = !stdout_taken && !stats_to_stdout;
     let print = |analysis: &Analysis| {
         program::print_diagnostics(analysis, args.common.quiet, args.common.format, stdout_free)
@@ -242,22 +247,6 @@ pub fn run(args: SampleArgs) -> u8 {
         );
     }
     EXIT_OK
-}
-
-/// Evaluates the checked program and builds its DNF; `None` after errors (in the analysis).
-fn build(analysis: &mut Analysis, args: &SampleArgs) -> Option<Dnf> {
-    let options = args.limits.eval_options(&args.common.defines);
-    let dag = program::evaluate_checked(analysis, &options)?;
-    match build_dnf(&dag, &args.limits.dnf_options()) {
-        Ok(dnf) => {
-            analysis.diagnostics.extend(dnf.warnings.iter().cloned());
-            Some(dnf)
-        }
-        Err(errors) => {
-            analysis.diagnostics.extend(errors);
-            None
-        }
-    }
 }
 
 /// The diagnostic of a crossed sampling limit, at the source of the quadric being sampled.

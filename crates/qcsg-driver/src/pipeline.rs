@@ -88,7 +88,7 @@ pub struct Built {
     pub evaluation: Option<Evaluation>,
     /// The DNF layers, when they were built without error.
     pub layers: Option<Layers>,
-    /// The DNF stage's diagnostics: its errors, or the solid's warnings.
+    /// The DNF stage's diagnostics: its errors, or the layers' warnings.
     pub diagnostics: Vec<Diagnostic>,
 }
 
@@ -104,8 +104,12 @@ pub fn build(analysis: &Analysis, options: &Options, stage: Stage) -> Built {
     if stage >= Stage::Dnf && !evaluation.has_errors() {
         match build_layers(&mut evaluation.dag, &options.dnf) {
             Ok(layers) => {
-                if let Some(solid) = &layers.solid {
-                    built.diagnostics.extend(solid.warnings.iter().cloned());
+                // A highlighted part is also part of the solid: its warnings are said once.
+                let every = layers.solid.iter().chain(&layers.highlights);
+                for warning in every.chain(&layers.backgrounds).flat_map(|l| &l.warnings) {
+                    if !built.diagnostics.contains(warning) {
+                        built.diagnostics.push(warning.clone());
+                    }
                 }
                 built.layers = Some(layers);
             }
