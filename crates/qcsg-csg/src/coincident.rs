@@ -352,7 +352,7 @@ fn sheets_of<'a>(q: &'a Quadric, rounding: Rounding, out: &mut Vec<Candidate<'a>
         candidate(
             Shape::Curved {
                 centre,
-                unit: length_unit(q),
+                unit: q.length_unit(),
             },
             true,
         )
@@ -431,29 +431,6 @@ fn centre_nearest_origin(q: &Quadric, frame: &PrincipalFrame) -> DVec3 {
         }
     }
     if centre.is_finite() { centre } else { origin }
-}
-
-/// The length that balances a quadric's quadratic, linear and constant parts: `√(|j| / max|A|)`
-/// when both are non-zero, else `max|l| / max|A|` or `|j| / max|l|`, else 1.
-fn length_unit(q: &Quadric) -> f64 {
-    let k = q.coefficients();
-    let a = k[..6].iter().fold(0.0f64, |m, c| m.max(c.abs()));
-    let l = k[6..9].iter().fold(0.0f64, |m, c| m.max(c.abs()));
-    let j = k[9].abs();
-    let unit = if a > 0.0 && j > 0.0 {
-        (j / a).sqrt()
-    } else if a > 0.0 && l > 0.0 {
-        l / a
-    } else if l > 0.0 && j > 0.0 {
-        j / l
-    } else {
-        1.0
-    };
-    if unit > 0.0 && unit.is_finite() {
-        unit
-    } else {
-        1.0
-    }
 }
 
 /// Cell sizes of the hash grid: one for normals, one for lengths.

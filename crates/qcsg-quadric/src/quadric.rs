@@ -400,9 +400,10 @@ impl Quadric {
             .all(|(x, y)| (x / sa - y / sb).abs() <= tolerance)
     }
 
-    /// The length unit that balances the coefficient groups (see
-    /// [`Self::approx_eq_up_to_scale`]).
-    fn length_unit(&self) -> f64 {
+    /// The length that balances the quadratic, linear and constant coefficients:
+    /// `√(|j| / max|A|)` when both are non-zero, else `max|l| / max|A|` or `|j| / max|l|`, else 1
+    /// (see [`Self::approx_eq_up_to_scale`]).
+    pub fn length_unit(&self) -> f64 {
         let k = &self.coefficients;
         let a = k[..6].iter().fold(0.0f64, |m, c| m.max(c.abs()));
         let l = k[6..9].iter().fold(0.0f64, |m, c| m.max(c.abs()));
