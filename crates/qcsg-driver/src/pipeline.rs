@@ -3,6 +3,8 @@
 //! when the stages before it found no error, so what a command reports is all that the stages
 //! up to its own would report.
 
+use std::collections::HashSet;
+
 use qcsg_csg::{Dag, Dnf, Layers, build_layers};
 use qcsg_diag::Diagnostic;
 use qcsg_eval::Evaluation;
@@ -104,10 +106,12 @@ pub fn build(analysis: &Analysis, options: &Options, stage: Stage) -> Built {
     if stage >= Stage::Dnf && !evaluation.has_errors() {
         match build_layers(&mut evaluation.dag, &options.dnf) {
             Ok(layers) => {
-                // A highlighted part is also part of the solid: its warnings are said once.
+                // A highlighted part is also part of the solid: its warnings are said once. A
+                // set, as a scene may have a warning for each of many instances.
+                let mut seen = HashSet::new();
                 let every = layers.solid.iter().chain(&layers.highlights);
                 for warning in every.chain(&layers.backgrounds).flat_map(|l| &l.warnings) {
-                    if !built.diagnostics.contains(warning) {
+                    if seen.insert(warning) {
                         built.diagnostics.push(warning.clone());
                     }
                 }
