@@ -5,7 +5,7 @@
 use qcsg_diag::{Diagnostic, FileId, Span};
 use qcsg_syntax::ast::{Arg, ExprKind, Ident};
 
-use crate::builtins::{BuiltinFunction, BuiltinModule};
+use crate::builtins::{BuiltinFunction, BuiltinModule, BuiltinParam};
 use crate::ty::{Mismatch, ParamTy, Ty, format_lengths};
 use crate::{DefId, Namespace, Target, codes};
 
@@ -329,20 +329,24 @@ impl<'a> Resolver<'a> {
     }
 }
 
+/// The parameters of a built-in module or function as a signature lists them.
+fn builtin_params(params: &[BuiltinParam]) -> Vec<SigParam> {
+    params
+        .iter()
+        .map(|p| SigParam {
+            name: p.name.to_string(),
+            positional: p.positional,
+            required: p.required,
+            ty: p.ty,
+            def: None,
+        })
+        .collect()
+}
+
 pub(super) fn builtin_module_signature(module: &BuiltinModule) -> Signature {
     Signature {
         title: format!("`{}`", module.name),
-        params: module
-            .params
-            .iter()
-            .map(|p| SigParam {
-                name: p.name.to_string(),
-                positional: p.positional,
-                required: p.required,
-                ty: p.ty,
-                def: None,
-            })
-            .collect(),
+        params: builtin_params(module.params),
         rest: module.variadic.then_some(ParamTy::Any),
         any_named: module.variadic,
         min_args: 0,
@@ -354,17 +358,7 @@ pub(super) fn builtin_module_signature(module: &BuiltinModule) -> Signature {
 pub(super) fn builtin_function_signature(function: &BuiltinFunction) -> Signature {
     Signature {
         title: format!("`{}`", function.name),
-        params: function
-            .params
-            .iter()
-            .map(|p| SigParam {
-                name: p.name.to_string(),
-                positional: p.positional,
-                required: p.required,
-                ty: p.ty,
-                def: None,
-            })
-            .collect(),
+        params: builtin_params(function.params),
         rest: function.rest,
         any_named: false,
         min_args: function.min_args,
