@@ -1,0 +1,20 @@
+//! What qcsg's tests share, so that each exists once:
+//!
+//! - [`Rng`]: a small deterministic generator (SplitMix64) with the draws tests need (points in
+//!   a box, directions, rotations, similarities);
+//! - [`MemoryFiles`]: files from memory for `include` / `use`, as an editor's unsaved buffers;
+//! - [`TriangleMesh`]: a triangle mesh read from STL with an exact-enough membership oracle
+//!   (the generalised winding number) and distances to it;
+//! - [`openscad`]: OpenSCAD 2021.01 as the oracle of meaning — its STL export of a scene, cached
+//!   by content.
+//!
+//! It is a dependency of tests and benchmarks only; nothing in the product depends on it.
+
+mod files;
+mod mesh;
+pub mod openscad;
+mod rng;
+
+pub use files::MemoryFiles;
+pub use mesh::TriangleMesh;
+pub use rng::Rng;
