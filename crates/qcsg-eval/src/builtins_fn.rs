@@ -15,6 +15,9 @@ use crate::ops::compare;
 use crate::text::{BoundedText, Overflow, echo_text_cut};
 use crate::value::{Value, values_equal};
 
+/// The OpenSCAD release whose semantics the language follows, as `version()` reports it.
+pub const OPENSCAD_VERSION: [u32; 3] = [2021, 1, 0];
+
 /// How much of a value a warning or error message quotes, in bytes.
 const QUOTED_VALUE_LEN: usize = 200;
 
@@ -161,6 +164,13 @@ pub fn call<'a>(
         "is_list" => Ok(Value::Bool(matches!(arg(0), Value::Vector(_)))),
         "is_function" => Ok(Value::Bool(matches!(arg(0), Value::Function(_)))),
         "rands" => rands(args, max_len),
+        // The OpenSCAD release whose semantics qcsg follows.
+        "version" => Ok(Value::vector(
+            OPENSCAD_VERSION.map(|x| Value::Number(x as f64)).to_vec(),
+        )),
+        "version_num" => Ok(Value::Number(
+            (OPENSCAD_VERSION[0] * 10_000 + OPENSCAD_VERSION[1] * 100 + OPENSCAD_VERSION[2]) as f64,
+        )),
         other => undefined(format!("unknown built-in function `{other}`")),
     }
 }

@@ -88,6 +88,9 @@ pub(crate) struct Evaluator<'a> {
     pub instantiations: HashSet<(Source, NodeId)>,
     /// The errors reported so far, to report each (code, place) once.
     reported: HashSet<(&'static str, FileId, Span)>,
+    /// The names of the user module instantiations being evaluated, outermost first
+    /// (`parent_module(n)`, `$parent_modules`).
+    module_stack: Vec<&'a str>,
 }
 
 impl<'a> Evaluator<'a> {
@@ -115,6 +118,7 @@ impl<'a> Evaluator<'a> {
             include_stack: Vec::new(),
             instantiations: HashSet::new(),
             reported: HashSet::new(),
+            module_stack: Vec::new(),
         }
     }
 }

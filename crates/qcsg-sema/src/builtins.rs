@@ -527,6 +527,30 @@ pub const FUNCTIONS: &[BuiltinFunction] = &[
         returns: Returns::Vector,
         doc: "rands(min, max, n, seed): n pseudo-random numbers, deterministic given a seed",
     },
+    BuiltinFunction {
+        name: "version",
+        params: &[],
+        rest: None,
+        min_args: 0,
+        returns: Returns::Vector3,
+        doc: "version(): [2021, 1, 0], the OpenSCAD release whose semantics qcsg follows",
+    },
+    BuiltinFunction {
+        name: "version_num",
+        params: &[],
+        rest: None,
+        min_args: 0,
+        returns: Returns::Number,
+        doc: "version_num(): 20210100, the OpenSCAD release whose semantics qcsg follows",
+    },
+    BuiltinFunction {
+        name: "parent_module",
+        params: &[pos("n", P::Number)],
+        rest: None,
+        min_args: 0,
+        returns: Returns::String,
+        doc: "parent_module(n = 1): the name of the n-th enclosing module instantiation (0: the current one)",
+    },
 ];
 
 /// Built-in special variables: never undefined.
@@ -666,21 +690,6 @@ pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
 
 /// OpenSCAD built-in functions the language does not provide.
 pub const UNSUPPORTED_FUNCTIONS: &[Unsupported] = &[
-    unsupported(
-        "version",
-        "a qcsg program does not depend on the OpenSCAD version",
-        None,
-    ),
-    unsupported(
-        "version_num",
-        "a qcsg program does not depend on the OpenSCAD version",
-        None,
-    ),
-    unsupported(
-        "parent_module",
-        "the module instantiation stack is not exposed",
-        None,
-    ),
     unsupported("dxf_dim", "DXF drawings are 2-D and not supported", None),
     unsupported("dxf_cross", "DXF drawings are 2-D and not supported", None),
 ];

@@ -19,14 +19,16 @@ use crate::codes;
 // A byte-order mark (U+FEFF) counts as whitespace: editors on Windows write one.
 #[logos(skip r"[ \t\r\n\x0C\u{FEFF}]+")]
 pub enum Tok {
-    /// A plain identifier `[A-Za-z_][A-Za-z0-9_]*`.
-    #[regex(r"[A-Za-z_][A-Za-z0-9_]*")]
+    /// A plain identifier: letters, digits and `_`, not all digits. As in OpenSCAD's lexer an
+    /// identifier may start with digits (`8bit_font`); the longest match wins and a number wins
+    /// a tie, so `1e5` and `2.5` are numbers while `1e5x` and `0x10` are identifiers.
+    #[regex(r"[0-9]*[A-Za-z_][A-Za-z0-9_]*")]
     Ident,
     /// A special variable such as `$fn`.
     #[regex(r"\$[A-Za-z0-9_]*")]
     SpecialIdent,
     /// A number literal such as `1`, `1.5`, `.5`, `1.`, `1e-3`.
-    #[regex(r"[0-9]+(\.[0-9]*)?([eE][+-]?[0-9]+)?")]
+    #[regex(r"[0-9]+(\.[0-9]*)?([eE][+-]?[0-9]+)?", priority = 10)]
     #[regex(r"\.[0-9]+([eE][+-]?[0-9]+)?")]
     Number,
     /// A string literal; `false` when it runs to the end of the file without its closing quote.
@@ -677,8 +679,23 @@ mod tests {
     fn numbers() {
         use Tok::*;
         assert_eq!(kinds("1 1.5 .5 1e-3 2.5E+4 1."), vec![Number; 6]);
-        assert_eq!(kinds("1e"), vec![Number, Ident]);
         assert_eq!(kinds("v.x"), vec![Ident, Dot, Ident]);
+    }
+
+    /// OpenSCAD's flex lexer: identifiers may start with digits, the longest match wins, and a
+    /// number wins a tie (`1e5` matches both rules).
+    #[test]
+    fn identifiers_may_start_with_digits() {
+        use Tok::*;
+        assert_eq!(kinds("8bit_polyfont"), vec![Ident]);
+        assert_eq!(kinds("1e"), vec![Ident]);
+        assert_eq!(kinds("1e5 1E+5 12 0.5 1.e5"), vec![Number; 5]);
+        assert_eq!(kinds("1e5x 0x10 3d 12abc"), vec![Ident; 4]);
+        assert_eq!(kinds("2.5abc"), vec![Number, Ident]);
+        assert_eq!(kinds("1e-3x"), vec![Number, Ident]);
+        assert_eq!(kinds("1.x"), vec![Number, Ident]);
+        assert_eq!(kinds("a-1e"), vec![Ident, Minus, Ident]);
+        assert_eq!(kinds("x=2d+1"), vec![Ident, Assign, Ident, Plus, Number]);
     }
 
     #[test]

@@ -26,8 +26,8 @@ translate([0, 0, 0]) projection() sphere(1);
 translate([0, 0, 0]) offset(r = 1) square(1);
 //                   ^^^^^^ error[E0301]
 //                                 ^^^^^^ error[E0301]
-echo(version());
-//   ^^^^^^^ error[E0302]
+echo(dxf_cross(file = "a.dxf"));
+//   ^^^^^^^^^ error[E0302]
 
 // A user definition of the same name is fine: it shadows the OpenSCAD built-in (here only in
 // the module's scope, since definitions are hoisted to the whole scope they are in).

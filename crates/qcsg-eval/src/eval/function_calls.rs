@@ -196,6 +196,11 @@ impl<'a> Evaluator<'a> {
                 }
             }
         }
+        if name == "parent_module" {
+            // No argument means the parent (1), as in OpenSCAD.
+            let n = positional.first().cloned().unwrap_or(Value::Number(1.0));
+            return self.parent_module(&n, file, span);
+        }
         let mut warnings = Vec::new();
         let result = builtins_fn::call(name, &positional, self.options, &mut warnings);
         for w in warnings {

@@ -32,7 +32,7 @@ impl<'a> Evaluator<'a> {
         cx: &Cx<'a>,
     ) -> R<Option<Edge>> {
         if let Some(def) = cx.frame.lookup_module(name) {
-            return self.call_module(def, args, child, span, cx);
+            return self.call_module(name, def, args, child, span, cx);
         }
         let source = Source::new(cx.file, span);
         match name {

@@ -1,11 +1,11 @@
-//! User modules: a call's own scope (its parameters, `$children`, and its children kept with the
-//! caller's scope), and `children()`, which evaluates the chosen children where the module was
+//! User modules: a call's own scope (its parameters, `$children`, `$parent_modules`, and its
+//! children kept with the caller's scope), `parent_module(n)`, and `children()`, which evaluates the chosen children where the module was
 //! instantiated while `$`-variables set by the module reach them.
 
 use std::rc::Rc;
 
 use qcsg_csg::{Edge, Source};
-use qcsg_diag::Span;
+use qcsg_diag::{FileId, Span};
 use qcsg_syntax::ast::{Arg, Stmt};
 
 use crate::codes;
@@ -18,6 +18,7 @@ use super::{ArgValue, Cx, Evaluator, R};
 impl<'a> Evaluator<'a> {
     pub(super) fn call_module(
         &mut self,
+        name: &'a str,
         def: Rc<ModuleDef<'a>>,
         args: &'a [Arg],
         child: Option<&'a Stmt>,
@@ -26,7 +27,9 @@ impl<'a> Evaluator<'a> {
     ) -> R<Option<Edge>> {
         let values = self.eval_args(args, cx)?;
         self.enter(cx.file, span)?;
+        self.module_stack.push(name);
         let result = self.call_module_inner(&def, values, child, cx);
+        self.module_stack.pop();
         self.depth -= 1;
         result
     }
@@ -49,9 +52,53 @@ impl<'a> Evaluator<'a> {
         let frame = Frame::module_instance(&def.env, &cx.frame, children);
         self.bind_params(&frame, def.params, &def.env, def.file, values)?;
         frame.set("$children", Value::Number(count as f64));
+        frame.set(
+            "$parent_modules",
+            Value::Number(self.module_stack.len() as f64),
+        );
         let items = self.collect_body(def.file, Some(def.body));
         let edges = self.eval_scope(&items, &frame)?;
         Ok(self.group(edges, Source::new(def.file, def.body.span)))
+    }
+
+    /// `parent_module(n = 1)`: the name of the `n`-th user module instantiation below the
+    /// innermost one (`0`: the module being evaluated), as OpenSCAD 2021.01 counts them: only
+    /// user modules, `n` truncated towards zero. Out of range is an error where OpenSCAD warns
+    /// and yields `undef`.
+    pub(super) fn parent_module(
+        &mut self,
+        n: &Value<'a>,
+        file: FileId,
+        span: Span,
+    ) -> R<Value<'a>> {
+        let n = match n {
+            Value::Number(x) => x.trunc(),
+            other => {
+                return Err(self.error(
+                    codes::FUNCTION_ARGUMENT,
+                    format!("parent_module(n) needs a number, got {}", other.type_name()),
+                    file,
+                    span,
+                ));
+            }
+        };
+        let depth = self.module_stack.len();
+        if !(n >= 0.0 && n < depth as f64) {
+            let message = if n < 0.0 {
+                format!(
+                    "parent_module({}): a negative index is not allowed",
+                    crate::value::format_number(n)
+                )
+            } else {
+                format!(
+                    "parent_module({}): only {depth} module instantiation(s) on the stack",
+                    crate::value::format_number(n)
+                )
+            };
+            return Err(self.error(codes::FUNCTION_ARGUMENT, message, file, span));
+        }
+        let name = self.module_stack[depth - 1 - n as usize];
+        Ok(Value::string(name.to_string()))
     }
 
     pub(super) fn children(&mut self, args: &'a [Arg], span: Span, cx: &Cx<'a>) -> R<Option<Edge>> {
