@@ -54,6 +54,11 @@ pub const RESIZE_IGNORED: &str = "W0556";
 pub const SEARCH_TABLE: &str = "W0557";
 /// `echo` output past the echo-output limit: the line is cut, later output left out.
 pub const ECHO_LIMIT: &str = "W0558";
+/// Objects of both dimensions in one group or operation: those of the dimension that the first
+/// object does not have are ignored, as in OpenSCAD.
+pub const MIXED_DIMENSIONS: &str = "W0559";
+/// A 2-D shape at the top level: it is made a plate 1 unit thick, as OpenSCAD's preview shows it.
+pub const TOP_LEVEL_2D: &str = "W0560";
 
 /// The output of `echo`, formatted exactly as OpenSCAD prints it (`ECHO: …`).
 pub const ECHO: &str = "I0550";
@@ -107,6 +112,14 @@ pub const ALL: &[(&str, &str)] = &[
     (RESIZE_IGNORED, "resize not applied"),
     (SEARCH_TABLE, "malformed `search` table entry"),
     (ECHO_LIMIT, "echo output limit reached: output cut"),
+    (
+        MIXED_DIMENSIONS,
+        "2-D and 3-D objects mixed: those of the other dimension than the first are ignored",
+    ),
+    (
+        TOP_LEVEL_2D,
+        "2-D shape at the top level: shown as a plate 1 unit thick",
+    ),
     (ECHO, "output of `echo`"),
 ];
 

@@ -13,16 +13,18 @@
 //! is checked before the work it bounds.
 //!
 //! The evaluator's state is defined here; its work is spread over one module per concern:
-//! [`scopes`], [`statements`], [`bindings`] (`for` and `let`), [`instantiation`],
+//! [`scopes`], [`statements`], [`dimensions`] (2-D or 3-D), [`bindings`] (`for` and `let`), [`instantiation`],
 //! [`user_modules`] (with `children()`), [`arguments`], [`expressions`], [`comprehensions`],
 //! [`function_calls`], [`echo_assert`], [`errors`] and [`limits`].
 
 mod arguments;
 mod bindings;
 mod comprehensions;
+mod dimensions;
 mod echo_assert;
 mod errors;
 mod expressions;
+mod extrusions;
 mod function_calls;
 mod instantiation;
 mod limits;
@@ -33,7 +35,7 @@ mod user_modules;
 use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
-use qcsg_csg::{Dag, Edge, NodeId, Source};
+use qcsg_csg::{Aabb, Dag, Edge, NodeId, Source};
 use qcsg_diag::{Diagnostic, FileId, Span};
 use qcsg_syntax::ast::{Expr, SourceFile};
 
@@ -91,6 +93,14 @@ pub(crate) struct Evaluator<'a> {
     /// The names of the user module instantiations being evaluated, outermost first
     /// (`parent_module(n)`, `$parent_modules`).
     module_stack: Vec<&'a str>,
+    /// The leaves that belong to 2-D shapes.
+    planar_leaves: HashSet<NodeId>,
+    /// The nodes that made solids of 2-D shapes (extrusions): 3-D whatever their children.
+    extruded: HashSet<NodeId>,
+    /// The dimension of each DAG node so far (see [`dimensions`]).
+    node_dims: Vec<dimensions::Dim>,
+    /// A box of each DAG node so far, in its own frame.
+    node_boxes: Vec<Aabb>,
 }
 
 impl<'a> Evaluator<'a> {
@@ -119,6 +129,10 @@ impl<'a> Evaluator<'a> {
             instantiations: HashSet::new(),
             reported: HashSet::new(),
             module_stack: Vec::new(),
+            planar_leaves: HashSet::new(),
+            extruded: HashSet::new(),
+            node_dims: Vec::new(),
+            node_boxes: Vec::new(),
         }
     }
 }

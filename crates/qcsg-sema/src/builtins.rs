@@ -223,6 +223,35 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "quadric(q): where the quadric form (4x4 symmetric matrix or 10 coefficients) is <= 0",
     },
     BuiltinModule {
+        name: "square",
+        params: &[pos("size", P::NumberOrVector(&[2])), pos("center", P::Bool)],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "square(size = 1, center = false): a 2-D rectangle spanning [0, size] per axis unless centred",
+    },
+    BuiltinModule {
+        name: "circle",
+        params: &[pos("r", P::Number), named("d", P::Number)],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "circle(r = 1) or circle(d = 2): a 2-D disc centred at the origin, exact",
+    },
+    BuiltinModule {
+        name: "linear_extrude",
+        params: &[
+            pos("height", P::Number),
+            named("center", P::Bool),
+            named("convexity", P::Number),
+            named("twist", P::Number),
+            named("slices", P::Number),
+            named("segments", P::Number),
+            named("scale", P::NumberOrVector(&[2])),
+        ],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "linear_extrude(height = 100, center = false, scale = 1): the 2-D children swept along Z, scaled towards the top (twist is not supported)",
+    },
+    BuiltinModule {
         name: "translate",
         params: &[pos("v", P::NumberVector(VEC23))],
         variadic: false,
@@ -621,13 +650,6 @@ pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
         ),
     ),
     unsupported(
-        "linear_extrude",
-        "it extrudes a 2-D outline, and 2-D shapes have no quadric representation",
-        Some(
-            "extrude a disc with `cylinder(h, r)` and a rectangle with `cube([x, y, h])`; a tapered disc is `cylinder(h, r1, r2)`",
-        ),
-    ),
-    unsupported(
         "rotate_extrude",
         "the surface swept by a general outline (a torus, for example) is not a quadric",
         Some(
@@ -648,16 +670,6 @@ pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
         "text",
         "glyph outlines are 2-D curves of higher degree than quadrics",
         None,
-    ),
-    unsupported(
-        "circle",
-        TWO_D,
-        Some("a disc of thickness h is `cylinder(h, r)`"),
-    ),
-    unsupported(
-        "square",
-        TWO_D,
-        Some("a plate of thickness h is `cube([x, y, h])`"),
     ),
     unsupported(
         "polygon",

@@ -1,18 +1,14 @@
 // OpenSCAD constructs that no quadric represents exactly are errors with a reason and, where
 // there is one, an alternative.
 
-linear_extrude(height = 5) circle(2);
-//@ 4:1 error[E0301]: `linear_extrude` is not supported
-//                         ^^^^^^ error[E0301]: 2-D shape
 rotate_extrude() translate([2, 0]) square(1);
-//@ 7:1 error[E0301]
-//                                 ^^^^^^ error[E0301]
+//@ 4:1 error[E0301]: `rotate_extrude` is not supported
 polyhedron(points = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], faces = [[0, 1, 2]]);
-//@ 10:1 error[E0301]: faces
+//@ 6:1 error[E0301]: faces
 hull() { sphere(1); translate([3, 0, 0]) sphere(1); }
-//@ 12:1 error[E0301]
+//@ 8:1 error[E0301]
 minkowski() { cube(1); sphere(0.1); }
-//@ 14:1 error[E0301]
+//@ 10:1 error[E0301]
 translate([1, 1, 1]) import("part.stl");
 //                   ^^^^^^ error[E0301]
 translate([0, 0, 0]) text("hello");
@@ -25,7 +21,6 @@ translate([0, 0, 0]) projection() sphere(1);
 //                   ^^^^^^^^^^ error[E0301]
 translate([0, 0, 0]) offset(r = 1) square(1);
 //                   ^^^^^^ error[E0301]
-//                                 ^^^^^^ error[E0301]
 echo(dxf_cross(file = "a.dxf"));
 //   ^^^^^^^^^ error[E0302]
 

@@ -19,9 +19,27 @@ impl<'a> Evaluator<'a> {
         file: FileId,
         span: Span,
     ) -> Stop {
+        self.error_diagnostic(Diagnostic::error(code, message, file, span))
+    }
+
+    /// An error with a help text.
+    pub(super) fn error_with_help(
+        &mut self,
+        code: &'static str,
+        message: impl Into<String>,
+        help: impl Into<String>,
+        file: FileId,
+        span: Span,
+    ) -> Stop {
+        self.error_diagnostic(Diagnostic::error(code, message, file, span).with_help(help))
+    }
+
+    /// Reports the error `diagnostic` (once per code and place).
+    pub(super) fn error_diagnostic(&mut self, diagnostic: Diagnostic) -> Stop {
+        let (code, file, span) = (diagnostic.code, diagnostic.file, diagnostic.span);
         let mut fatal = is_fatal(code);
         if self.reported.insert((code, file, span)) {
-            let mut diagnostic = Diagnostic::error(code, message, file, span);
+            let mut diagnostic = diagnostic;
             if let Some(flag) = limit_flag(code) {
                 diagnostic = diagnostic.with_help(format!(
                     "if the program is right, raise the limit with `{flag} N` on the command line"

@@ -10,8 +10,9 @@ use qcsg_syntax::ast::{Arg, Stmt};
 use crate::env::Frame;
 use crate::primitives::{self, ArgLookup, Built};
 use crate::value::Value;
-use crate::{codes, color, transforms};
+use crate::{codes, color, primitives_2d, transforms};
 
+use super::dimensions::Dim;
 use super::{ArgValue, Cx, Evaluator, R};
 
 /// The arguments of a built-in module call by parameter name.
@@ -93,6 +94,10 @@ impl<'a> Evaluator<'a> {
         } else {
             cx.clone()
         };
+        if name == "linear_extrude" {
+            let edges = self.eval_body(child, &child_cx)?;
+            return self.linear_extrude(&named, args, edges, cx.file, span);
+        }
         match builtin.kind {
             qcsg_sema::builtins::ModuleKind::Primitive => {
                 self.instances += 1;
@@ -107,7 +112,18 @@ impl<'a> Evaluator<'a> {
                         span,
                     ));
                 }
-                match primitives::build(&mut self.dag, name, &named, source) {
+                let from = self.dag.len();
+                let built = match name {
+                    "square" => primitives_2d::square(&mut self.dag, &named, source),
+                    "circle" => primitives_2d::circle(&mut self.dag, &named, source),
+                    _ => primitives::build(&mut self.dag, name, &named, source),
+                };
+                if let Ok(Built::Node(node)) = &built
+                    && primitives_2d::is_2d_primitive(name)
+                {
+                    self.mark_planar(from, *node);
+                }
+                match built {
                     Ok(Built::Node(node)) => Ok(Some(node.into())),
                     Ok(Built::Empty(reason)) => {
                         self.warn(codes::EMPTY_PRIMITIVE, reason, cx.file, span);
@@ -126,6 +142,7 @@ impl<'a> Evaluator<'a> {
             }
             qcsg_sema::builtins::ModuleKind::Boolean => {
                 let edges = self.eval_body(child, &child_cx)?;
+                let (edges, _) = self.same_dimension(edges);
                 if edges.is_empty() {
                     return Ok(None);
                 }
@@ -143,6 +160,7 @@ impl<'a> Evaluator<'a> {
                 let Some(inner) = self.group(edges, source) else {
                     return Ok(None);
                 };
+                let planar = self.dim(inner) == Dim::Two;
                 let mut warnings = Vec::new();
                 let matrix = match name {
                     "translate" => transforms::translate(&named.get("v")),
@@ -150,6 +168,21 @@ impl<'a> Evaluator<'a> {
                     "scale" => transforms::scale(&named.get("v")),
                     "mirror" => transforms::mirror(&named.get("v")),
                     "multmatrix" => transforms::multmatrix(&named.get("m")),
+                    _ if planar => {
+                        // The xy box of a 2-D shape; z stays out of the scale.
+                        let b = self.edge_box(inner);
+                        let bounds = (b.min.truncate().is_finite() && b.max.truncate().is_finite())
+                            .then(|| (b.min.truncate().extend(0.0), b.max.truncate().extend(1.0)));
+                        let given = named.get("newsize");
+                        let newsize = match &given {
+                            Value::Vector(v) if v.len() > 2 => {
+                                Value::vector(v.iter().take(2).cloned().collect())
+                            }
+                            Value::Number(n) => Value::vector(vec![Value::Number(*n); 2]),
+                            _ => given.clone(),
+                        };
+                        transforms::resize(&newsize, &named.get("auto"), bounds, &mut warnings)
+                    }
                     _ => {
                         let bounds = transforms::bounds_of(&self.dag, inner);
                         transforms::resize(
@@ -170,6 +203,12 @@ impl<'a> Evaluator<'a> {
                 }
                 let matrix =
                     matrix.map_err(|m| self.error(codes::MODULE_ARGUMENT, m, cx.file, span))?;
+                // OpenSCAD applies the xy part of the matrix to a 2-D shape.
+                let matrix = if planar {
+                    crate::planar::planar_matrix(&matrix)
+                } else {
+                    matrix
+                };
                 self.apply_transform(inner, &matrix, cx.file, span)
             }
             _ => {
@@ -325,6 +364,7 @@ impl<'a> Evaluator<'a> {
             }
             Ok(())
         })?;
+        let (parts, _) = self.same_dimension(parts);
         if parts.is_empty() {
             return Ok(None);
         }

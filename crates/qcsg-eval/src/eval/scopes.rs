@@ -43,10 +43,18 @@ impl<'a> Evaluator<'a> {
         }
         let edges = self.eval_scope(&items, &root)?;
         let source = Source::new(main, Span::default());
-        let root_edge = match self.root_override {
-            Some(edge) => edge,
-            None => self.dag.union(edges, source).into(),
+        let (root_edge, first) = match self.root_override {
+            Some(edge) => (edge, edge),
+            None => {
+                let (edges, _) = self.same_dimension(edges);
+                let first = edges.first().copied();
+                let root: Edge = self.dag.union(edges, source).into();
+                (root, first.unwrap_or(root))
+            }
         };
+        // The warning about a 2-D top level points at its first shape.
+        let at = self.dag.node(first.child).map_or(source, |n| n.source);
+        let root_edge = self.top_level_plate(root_edge, at);
         self.dag.set_root(root_edge);
         Ok(())
     }
@@ -206,6 +214,11 @@ impl<'a> Evaluator<'a> {
 
     /// The union of `edges`; `None` (nothing, skipped by the parent) when there are none.
     pub(super) fn group(&mut self, edges: Vec<Edge>, source: Source) -> Option<Edge> {
+        let edges = if edges.len() > 1 {
+            self.same_dimension(edges).0
+        } else {
+            edges
+        };
         match edges.len() {
             0 => None,
             1 => edges.into_iter().next(),

@@ -67,6 +67,7 @@ impl<'a> Evaluator<'a> {
                 Modifier::Disable => Ok(None),
                 Modifier::Background => {
                     if let Some(edge) = self.eval_stmt(body, cx)? {
+                        let edge = self.top_level_plate(edge, source);
                         self.dag.add_background(edge);
                     }
                     Ok(None)
