@@ -13,6 +13,7 @@ mod program;
 mod progress;
 mod render;
 mod sample;
+mod view;
 
 use std::num::NonZeroUsize;
 use std::process::ExitCode;
@@ -58,6 +59,8 @@ enum Command {
     Fmt(fmt::FmtArgs),
     /// Run the language server on standard input and output.
     Lsp(lsp::LspArgs),
+    /// Serve a live preview of the program in the browser, rebuilt whenever a file is saved.
+    View(view::ViewArgs),
 }
 
 /// Arguments of `qcsg check`.
@@ -144,6 +147,7 @@ fn main() -> ExitCode {
         Command::Sample(args) => sample::run(args),
         Command::Fmt(args) => fmt::run(args),
         Command::Lsp(args) => lsp::run(args),
+        Command::View(args) => view::run(args),
     };
     ExitCode::from(status)
 }

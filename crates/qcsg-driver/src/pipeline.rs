@@ -5,7 +5,7 @@
 
 use std::collections::HashSet;
 
-use qcsg_csg::{Dag, Dnf, Layers, build_layers};
+use qcsg_csg::{Dag, Dnf, Layers, NodeId, Source, build_layers};
 use qcsg_diag::Diagnostic;
 use qcsg_eval::Evaluation;
 use qcsg_sema::{Analysis, FileLoader, SourceText, check_source};
@@ -32,6 +32,10 @@ pub struct Compilation {
     pub dag: Option<Dag>,
     /// The DNF layers, when they were built without error.
     pub layers: Option<Layers>,
+    /// Which DAG node each module instantiation statement produced (see
+    /// [`qcsg_eval::Evaluation::instantiations`]), for tools that go from a part back to the
+    /// calls that made it; empty when evaluation did not run.
+    pub instantiations: Vec<(Source, NodeId)>,
 }
 
 impl Compilation {
@@ -69,9 +73,11 @@ pub fn compile_source(
 ) -> Compilation {
     let mut analysis = check_source(name, source, &options.check_options(), loader);
     let built = build(&analysis, options, stage);
+    let mut instantiations = Vec::new();
     let dag = built.evaluation.and_then(|evaluation| {
         let failed = evaluation.has_errors();
         analysis.diagnostics.extend(evaluation.diagnostics);
+        instantiations = evaluation.instantiations;
         (!failed).then_some(evaluation.dag)
     });
     analysis.diagnostics.extend(built.diagnostics);
@@ -79,6 +85,7 @@ pub fn compile_source(
         analysis,
         dag,
         layers: built.layers,
+        instantiations,
     }
 }
 

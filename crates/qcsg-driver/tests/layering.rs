@@ -61,6 +61,8 @@ fn allowed() -> BTreeMap<&'static str, Vec<&'static str>> {
                 "qcsg-quadric",
                 "qcsg-driver",
                 "qcsg-ide",
+                // The preview panel's frames and picks.
+                "qcsg-render",
             ],
         ),
     ])
