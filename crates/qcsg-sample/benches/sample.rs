@@ -835,10 +835,24 @@ fn main() {
     if target == "-" {
         print!("{report}");
     } else {
+        // The measurements behind the sampler's design are written by hand below the generated
+        // tables; a new run keeps them.
+        let kept = std::fs::read_to_string(&target)
+            .ok()
+            .and_then(|old| Some(old[old.find(DESIGN_MEASUREMENTS)?..].to_owned()))
+            .unwrap_or_default();
+        let report = if kept.is_empty() {
+            report
+        } else {
+            format!("{}\n\n{kept}", report.trim_end())
+        };
         std::fs::write(&target, report).expect("write the report");
         eprintln!("wrote {target}");
     }
 }
+
+/// The heading of the report's hand-written part, which a new run keeps.
+const DESIGN_MEASUREMENTS: &str = "## Measurements behind the design";
 
 fn report(
     scenes: &[Scene],

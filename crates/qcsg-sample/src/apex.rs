@@ -3,9 +3,7 @@
 //! At a cone's apex the gradient vanishes and the normal takes every direction of the cone's
 //! normal cone: no heightfield has bounded distortion there, so the region decomposition gives
 //! up the rectangles next to the apex after [`crate::regions::MAX_REGION_DEPTH`] splits, and the
-//! subdivision gives up rectangles a hair from it (`examples/quadric_primitives.qcsg` left 308
-//! rectangles unproven at 1 % of its diagonal, 304 of them within `2e-10` of its cone's apex;
-//! 4 remain). Both lie within a distance `ε` of the apex `A`, far below the radius `r`.
+//! subdivision gives up rectangles a hair from it (`examples/quadric_primitives.qcsg`). Both lie within a distance `ε` of the apex `A`, far below the radius `r`.
 //!
 //! The rectangles are settled at the apex itself with eq. 22 of their literal:
 //! - `d(A) > ε`: no point of the quadric within `ε` of `A` is on the CSG surface (eq. 22's
@@ -35,8 +33,8 @@ use std::f64::consts::PI;
 
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
 
-use crate::Sample;
 use crate::csg_distance::CsgDistance;
+use crate::sample_point::Sample;
 
 /// Most rulings per nappe of an apex ring; a cone too flat for this many is left alone.
 const MAX_RULINGS: usize = 256;

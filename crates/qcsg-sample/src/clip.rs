@@ -27,8 +27,9 @@ use std::ops::Range;
 use std::sync::Mutex;
 
 use crate::in_order::{InOrder, lock};
+use crate::sample_point::Sample;
+use crate::samples::Samples;
 use crate::subdivide::{SampleBox, box_runs};
-use crate::{Sample, Samples};
 
 /// Deduplicated clip lists: list `k` is `indices[offsets[k]..offsets[k + 1]]`, indices into
 /// [`Dnf::quadrics`], ascending. List 0 is the empty list.

@@ -1,9 +1,7 @@
 //! A fill row's samples computed up to eight at a time, one array per coordinate, so that the
 //! compiler evaluates several samples' heights, quadric values, gradients, square roots and
-//! divisions at once in vector registers: sample by sample, through `DVec3`s, each took a scalar
-//! instruction per operation. Sampling a lone ball at 0.05 % of its diagonal on one thread took
-//! 50 ms that way and 32 ms in lanes (24 % fewer instructions); three balls at 0.15 %, whose
-//! fills are smaller, 5 % less time.
+//! divisions at once in vector registers: sample by sample, through `DVec3`s, each takes a scalar
+//! instruction per operation (`docs/sampler-benchmarks.md` has what this saves).
 //!
 //! Every lane computes exactly what [`region_point`](crate::regions::region_point),
 //! `Quadric::value`, `Quadric::gradient` and `Quadric::normal_from_gradient_squared` compute, in

@@ -33,7 +33,7 @@
 //! component is zero). Planes overlap only in the cells the border crosses. Earlier rules
 //! sampled more of the surface from two planes: keeping every rectangle of distortion at most 2
 //! sampled most of a sphere twice, and a staircase of whole border rectangles (1/16 of the
-//! domain) took 8 % to 25 % more samples than border regions on the benchmark scenes.
+//! domain) took more samples than border regions (`docs/sampler-benchmarks.md`).
 //! Rectangles still undecided after [`MAX_REGION_DEPTH`] splits (only around points where the
 //! distortion is undefined, like a cone's apex seen from the side, at `2⁻⁴⁰` of the domain) are
 //! counted in [`RegionStats::unresolved`] and dropped; around a cone's apex [`crate::apex`]

@@ -1,15 +1,14 @@
 //! The samples of a sampling ([`Samples`]): one sequence, stored as the runs the threads wrote.
 //!
 //! On more threads than one, the first pass samples runs of regions in parallel, each into a
-//! buffer of its own. Copying those buffers into one vector, in order, took about 6 % of the CPU
-//! time of a two-thread run of the sample-heavy scenes (three balls, dimpled and pitted cubes at
-//! 0.15 % of the diagonal); keeping the buffers as they are costs nothing, and every consumer
-//! of the samples reads them once in order anyway (a splat upload, a PLY file). The sequence is
+//! buffer of its own. Copying those buffers into one vector, in order, costs a visible share of
+//! a two-thread run of sample-heavy scenes (`docs/sampler-benchmarks.md`); keeping the buffers
+//! as they are costs nothing, and every consumer of the samples reads them once in order anyway (a splat upload, a PLY file). The sequence is
 //! the same for any thread count; only where it is cut into runs differs.
 
 use std::ops::Range;
 
-use crate::Sample;
+use crate::sample_point::Sample;
 use crate::subdivide::grow_radius;
 
 /// Samples in order, stored as consecutive runs. Index `i` is the `i`-th sample of the whole

@@ -4,10 +4,8 @@
 //! A parked worker is woken where the kernel's scheduler places it, and on a virtual machine
 //! that is often the core of the thread that woke it while the other core sits idle (a halted
 //! virtual core can look preempted rather than idle to the guest): the woken thread waits
-//! behind its waker until the load balancer moves it, milliseconds later. On a 2-core virtual
-//! machine, 14 to 19 of 90 two-thread runs of a hollowed cube at 1 % of the diagonal took as
-//! long as one thread (none with each thread kept to its own core), and `qcsg sample` of it at
-//! 0.15 % took 96 ms on one thread, 89 ms on two, and 75 ms on two kept to their cores.
+//! behind its waker until the load balancer moves it, milliseconds later, and a two-thread run
+//! can take as long as one thread (measured in `docs/sampler-benchmarks.md`).
 //!
 //! Only a pool that spans every core the process may use is pinned: a smaller one leaves the
 //! placement to the scheduler, so that several programs running at once, each on a few of the

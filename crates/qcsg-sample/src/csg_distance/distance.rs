@@ -1,0 +1,353 @@
+//! Eq. 22 for one literal of one term ([`CsgDistance`]): set up once per sampled literal with
+//! the rules of [`super`] applied, narrowed to a box ([`CsgDistance::near`]) and queried at
+//! points of the sampled quadric.
+
+use super::abutting::{MAX_MERGED_PER_TERM, TermLiterals};
+use super::half_spaces::HalfSpace;
+use super::near::{NearDistance, box_distance};
+use super::surface_sign::on_surface;
+use super::tangency::Shapes;
+use super::view::{FEW_LITERALS, NearLiterals, NearTerms, SAME_QUADRIC, SheetPlane, TermView};
+use qcsg_csg::quadric_box::{self, BoxClass};
+use qcsg_csg::{Aabb, Dnf};
+use qcsg_quadric::{DVec3, Quadric};
+
+/// `d_{Q_ab}(S, ·)` for one literal of one term, with the DNF's quadrics copied in.
+#[derive(Clone, Debug)]
+pub struct CsgDistance {
+    /// The terms as seen from each sheet of the sampled quadric: one per plane of a planar
+    /// quadric (see "Planar sections"), else one for the whole quadric.
+    pub(super) sheets: Vec<SheetViews>,
+    /// The sampled quadric, when it is planar (see "Shared planes" in the module docs).
+    pub(super) planar: Option<Quadric>,
+    /// Length below which a point is on a plane: `1e-9` of the DNF's diagonal.
+    pub(super) tolerance: f64,
+    /// The box the sampled part lies in, and the depth within which the terms and literals
+    /// left out as far do not reach into it (see "Far terms"); `+∞` when none is.
+    pub(super) extent: Aabb,
+    pub(super) far: f64,
+}
+
+/// The terms as seen from one sheet of the sampled quadric.
+#[derive(Clone, Debug)]
+pub(super) struct SheetViews {
+    /// The sheet's plane (`normal · x = offset`), for a planar quadric.
+    pub(super) plane: Option<HalfSpace>,
+    pub(super) own: TermView,
+    /// A literal of term `a` holds on the sheet only where it touches it (see "Tangent
+    /// planes"): no point of the sheet is on the surface through term `a`.
+    pub(super) own_empty: bool,
+    pub(super) others: Vec<TermView>,
+}
+
+impl CsgDistance {
+    /// The distance for quadric `quadric` sampled as a literal of term `term` of `dnf`.
+    /// `None` if the indices are out of range, or where another literal of the term fails on all
+    /// of the quadric's surface (it has no part in the term: "Offset surfaces", "Touching
+    /// surfaces").
+    pub fn new(dnf: &Dnf, quadric: u32, term: u32) -> Option<Self> {
+        Self::for_part(dnf, quadric, term, &Aabb::EVERYTHING)
+    }
+
+    /// [`Self::new`] for the points of the quadric inside `part`: the terms and literals far
+    /// from it are left out (see "Far terms" and "Far literals"), and a positive distance only
+    /// claims that no point of the quadric inside `part` within it is on the surface.
+    pub fn for_part(dnf: &Dnf, quadric: u32, term: u32, part: &Aabb) -> Option<Self> {
+        Self::with_shapes(dnf, &Shapes::new(dnf), (quadric, term), part)
+    }
+
+    /// [`Self::for_part`] with what every distance of `dnf` shares ([`Shapes`]) found once
+    /// (`patch`: a box around the quadric's basic regions).
+    pub(crate) fn with_shapes(
+        dnf: &Dnf,
+        shapes: &Shapes,
+        (quadric, term): (u32, u32),
+        patch: &Aabb,
+    ) -> Option<Self> {
+        let q = dnf.quadrics.get(quadric as usize)?.quadric;
+        let own_term = dnf.terms.get(term as usize)?;
+        let shape = shapes.of(quadric);
+        // Where the sampled part lies: in term `a`'s box and the patch (the whole box where they
+        // miss), grown by the length tolerance (points rounded off its faces are in).
+        let term_box = match dnf.region {
+            Some(region) => own_term.bounds.intersection(&region),
+            None => own_term.bounds,
+        };
+        let part = term_box.intersection(patch);
+        let extent = if part.is_empty() { term_box } else { part }.expanded(shapes.tolerance);
+        let reach = (extent.max - extent.min).length();
+        let near = shapes.boxes.near(&extent, reach);
+        let terms_left_out = near.len() < shapes.boxes.boxes().len();
+        // The other terms and their abutting unions, as the DNF has them: what each sheet sees
+        // of them follows. Terms holding the sampled quadric are left out ("Shared surfaces"),
+        // and so are unions with them or with term `a`.
+        let same = |i: u32, o: &Quadric| i == quadric || q.approx_eq_up_to_scale(o, SAME_QUADRIC);
+        let kept: Vec<u32> = near
+            .into_iter()
+            .filter(|&index| {
+                index != term
+                    && !shapes.terms[index as usize]
+                        .iter()
+                        .any(|(i, o)| same(*i, o))
+            })
+            .collect();
+        let is_kept = |index: usize| kept.binary_search(&(index as u32)).is_ok();
+        // The unions of two kept terms, in the order of `shapes.merged`.
+        let mut unions: Vec<u32> = kept
+            .iter()
+            .flat_map(|&i| &shapes.merged_with[i as usize])
+            .copied()
+            .filter(|&m| {
+                let (i, k) = shapes.merged[m as usize].1;
+                is_kept(i) && is_kept(k)
+            })
+            .collect();
+        unions.sort_unstable();
+        unions.dedup();
+        let limit = MAX_MERGED_PER_TERM * kept.len().max(1);
+        let merged = unions
+            .into_iter()
+            .map(|m| &shapes.merged[m as usize])
+            .take(limit)
+            .filter(|(l, _)| !l.iter().any(|(i, o)| same(*i, o)))
+            .map(|(literals, (i, k))| {
+                (
+                    literals.clone(),
+                    dnf.terms[*i].bounds.union(&dnf.terms[*k].bounds),
+                )
+            });
+        // Of a term of many literals, those that hold all around the sampled part are left out
+        // ("Far literals"); the sampled quadric stays.
+        let grown = extent.expanded(reach);
+        // So are the literals that hold on all of the sampled surface in that box, and the other
+        // terms with a literal that holds on none of it ("Offset surfaces").
+        let bounded = !grown.is_empty() && grown.is_bounded();
+        let near_literals = |literals: &[(u32, Quadric)]| {
+            let many = literals.len() > FEW_LITERALS && bounded;
+            let mut kept = TermLiterals::with_capacity(literals.len());
+            for &(i, o) in literals {
+                if i != quadric {
+                    if many && quadric_box::classify(&o, &grown) == BoxClass::Inside {
+                        continue;
+                    }
+                    // Made half-spaces have no entry, and are planes: no pencil needs them.
+                    let axes = shapes.shapes.get(i as usize).map(|s| &s.axes);
+                    let pair = ((&q, shape), (&o, axes));
+                    match bounded
+                        .then(|| on_surface(pair.0, pair.1, &grown))
+                        .flatten()
+                    {
+                        Some(true) => continue,
+                        Some(false) => return None,
+                        None => {}
+                    }
+                }
+                kept.push((i, o));
+            }
+            let floor = if kept.len() < literals.len() {
+                -reach
+            } else {
+                f64::NEG_INFINITY
+            };
+            Some((kept, floor))
+        };
+        let own = near_literals(&shapes.terms[term as usize])?;
+        // The kept literals are in the term's order: one walk finds the others.
+        let mut kept_own = own.0.iter().peekable();
+        let mut own_far: Vec<u32> = shapes.terms[term as usize]
+            .iter()
+            .filter(|(i, _)| kept_own.next_if(|(k, _)| k == i).is_none())
+            .map(|(i, _)| *i)
+            .collect();
+        own_far.sort_unstable();
+        let others: Vec<_> = kept
+            .iter()
+            .map(|&i| {
+                (
+                    shapes.terms[i as usize].clone(),
+                    dnf.terms[i as usize].bounds,
+                )
+            })
+            .chain(merged)
+            .collect();
+        let near_others = others.len();
+        let terms = NearTerms {
+            own,
+            own_far,
+            others: others
+                .into_iter()
+                .filter_map(|(literals, bounds)| Some((near_literals(&literals)?, bounds)))
+                .collect(),
+        };
+        let terms_left_out = terms_left_out || terms.others.len() < near_others;
+        let planes: Vec<Option<HalfSpace>> = match &shape.planar {
+            Some((planes, _)) => planes.iter().copied().map(Some).collect(),
+            None => vec![None],
+        };
+        let sheets = planes
+            .into_iter()
+            .enumerate()
+            .map(|(sheet, plane)| {
+                let sheet = (sheet as u32, plane);
+                SheetViews::new(dnf, shapes, (quadric, term), sheet, &terms)
+            })
+            .collect();
+        let literals_left_out =
+            terms.own.1.is_finite() || terms.others.iter().any(|((_, floor), _)| floor.is_finite());
+        let far = if terms_left_out || literals_left_out {
+            reach
+        } else {
+            f64::INFINITY
+        };
+        Some(Self {
+            sheets,
+            planar: shape.is_planar.then_some(q),
+            tolerance: shapes.tolerance,
+            extent,
+            far,
+        })
+    }
+
+    /// The sheet `p` lies on (the nearest plane of a planar quadric).
+    pub(super) fn sheet_at(&self, p: DVec3) -> usize {
+        let off = |s: &SheetViews| s.plane.map_or(0.0, |h| (h.normal.dot(p) - h.offset).abs());
+        (1..self.sheets.len()).fold(0, |best, i| {
+            if off(&self.sheets[i]) < off(&self.sheets[best]) {
+                i
+            } else {
+                best
+            }
+        })
+    }
+
+    /// `d_{Q_ab}(S, p)` (eq. 22) for a point `p` on the quadric: negative on the CSG surface.
+    /// NaN for non-finite `p`.
+    pub fn distance(&self, p: DVec3) -> f64 {
+        let sheet = &self.sheets[self.sheet_at(p)];
+        let others = sheet.others.iter().map(|term| (term, None));
+        self.distance_over(p, sheet, None, others, f64::INFINITY)
+    }
+
+    /// Eq. 22 restricted to a part of the quadric inside `bounds` (a box around a basic region's
+    /// patch, on one sheet): only the other terms whose box comes within `margin` of it are kept.
+    pub fn near(&self, bounds: &Aabb, margin: f64) -> NearDistance<'_> {
+        // The sheet every corner of the box is nearest to; none when they differ (an unbounded
+        // box), and then each point finds its own among all the terms.
+        let corners = bounds.corners();
+        let sheet = self.sheet_at(corners[0]);
+        let Some(sheet) = corners
+            .iter()
+            .all(|c| self.sheet_at(*c) == sheet)
+            .then_some(sheet)
+        else {
+            return NearDistance {
+                base: self,
+                sheet: None,
+                own: None,
+                terms: Vec::new(),
+                lists: Vec::new(),
+                far: f64::INFINITY,
+            };
+        };
+        self.near_on(sheet, bounds, margin, None)
+    }
+
+    /// [`Self::near`] on `sheet`, from what `from` kept (all terms and literals when `None`).
+    pub(super) fn near_on<'a>(
+        &'a self,
+        sheet: usize,
+        bounds: &Aabb,
+        margin: f64,
+        from: Option<&NearDistance<'a>>,
+    ) -> NearDistance<'a> {
+        let views = &self.sheets[sheet];
+        let (mut terms, mut lists) = (Vec::new(), Vec::new());
+        let mut far = f64::INFINITY;
+        // Every term's gap anew, for the exact `far`; a term `from` left out stays out (its
+        // gap only grows), and its literals come from `from`'s lists.
+        let mut kept_there = from.map(|from| {
+            let lists = (0..from.terms.len()).map(|k| from.list(k));
+            from.terms.iter().copied().zip(lists).peekable()
+        });
+        for (i, term) in views.others.iter().enumerate() {
+            let i = i as u32;
+            let within = match &mut kept_there {
+                None => Some(None),
+                Some(kept) => kept.next_if(|(k, _)| *k == i).map(|(_, list)| list),
+            };
+            let gap = bounds.gap(&term.extent);
+            match within {
+                Some(within) if gap < margin => {
+                    terms.push(i);
+                    let list = term.near_literals(bounds, margin, within);
+                    if list.is_some() || !lists.is_empty() {
+                        lists.resize(terms.len() - 1, None);
+                        lists.push(list);
+                    }
+                }
+                _ => far = far.min(gap),
+            }
+        }
+        let own_within = from.and_then(|from| from.own.as_ref());
+        NearDistance {
+            base: self,
+            sheet: Some(sheet),
+            own: views.own.near_literals(bounds, margin, own_within),
+            terms,
+            lists,
+            far,
+        }
+    }
+
+    /// How many other terms (and abutting unions) eq. 22 looks at, on the sheet that looks at
+    /// the most: the terms near term `a`'s box ("Far terms").
+    pub fn other_terms(&self) -> usize {
+        self.sheets
+            .iter()
+            .map(|s| s.others.len())
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// Eq. 22 on `sheet` over its other terms `others`; the terms left out are at least `far`
+    /// from `p`.
+    pub(super) fn distance_over<'a>(
+        &'a self,
+        p: DVec3,
+        sheet: &SheetViews,
+        own_near: Option<&NearLiterals>,
+        others: impl Iterator<Item = (&'a TermView, Option<&'a NearLiterals>)>,
+        far: f64,
+    ) -> f64 {
+        let plane = self.planar.and_then(|q| {
+            Some(SheetPlane {
+                normal: q.normal(p)?,
+                tolerance: self
+                    .tolerance
+                    .max(8.0 * f64::EPSILON * p.abs().max_element()),
+            })
+        });
+        if sheet.own_empty {
+            return f64::INFINITY;
+        }
+        // What was left out stays `far` away from the sampled part, so less from a point `off`
+        // outside it; a point that far out is that far from the surface ("Far terms").
+        let off = if self.far.is_finite() {
+            box_distance(&self.extent, p)
+        } else {
+            f64::NEG_INFINITY
+        };
+        if off >= self.far {
+            return off;
+        }
+        let slack = off.max(0.0);
+        let own = sheet.own.distance(p, plane.as_ref(), true, own_near, slack);
+        let mut nearest_other = far.min(self.far - slack);
+        for (term, near) in others {
+            let distance = term.distance(p, plane.as_ref(), false, near, slack);
+            nearest_other = nearest_other.min(distance);
+        }
+        let d = own.max(-nearest_other);
+        if off > 0.0 { d.max(off) } else { d }
+    }
+}
