@@ -274,19 +274,22 @@
     await fit();
   });
 
-  function location(place) {
-    return `${place.file}:${place.range.start.line + 1}:${place.range.start.character + 1}`;
+  // `file:line:column`, one-based, with the file's own name (the whole path is the link's title).
+  function location(place, whole) {
+    const file = whole ? place.file : place.file.split(/[\\/]/).pop();
+    return `${file}:${place.range.start.line + 1}:${place.range.start.character + 1}`;
   }
 
   // Shows a place in the side panel (the browser cannot open the editor).
   function showPlace(place) {
-    $("pick").dataset.revealed = location(place);
+    $("pick").dataset.revealed = location(place, true);
   }
 
   function link(place) {
     const a = document.createElement("a");
     a.className = "place";
     a.textContent = location(place);
+    a.title = location(place, true);
     a.addEventListener("click", (e) => {
       e.preventDefault();
       host.reveal(place);
@@ -351,7 +354,8 @@
     const errors = (change.diagnostics || []).filter((d) => d.severity === "error").length;
     $("count").textContent = change.diagnostics && change.diagnostics.length ? `(${change.diagnostics.length})` : "";
     if (change.file) {
-      $("title").textContent = change.file;
+      $("title").textContent = change.file.split(/[\\/]/).pop();
+      $("title").title = change.file;
       document.title = `${change.file} — qcsg view`;
     }
     const banner = $("banner");
