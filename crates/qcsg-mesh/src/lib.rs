@@ -1,0 +1,13 @@
+//! Exact polygons and polyhedra as unions of convex cells, for qcsg's 2-D shapes and meshes.
+//!
+//! qcsg's solids are booleans of quadric half-spaces, so OpenSCAD's `polygon` becomes a union of
+//! convex cells, each an intersection of a few half-planes whose lines pass through input points
+//! ([`polygon_cells`]). The crate knows nothing of the rest of qcsg: the evaluator turns cells into
+//! solids.
+
+mod exact;
+mod polygon;
+
+pub use polygon::{
+    Cell2, HalfPlane, MAX_COORDINATE, Polygon, PolygonError, PolygonLimits, polygon_cells,
+};
