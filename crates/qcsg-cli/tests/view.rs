@@ -184,6 +184,8 @@ fn frames_are_the_pngs_of_qcsg_render() {
 
 /// For every quadric of the solid, a pixel of some view that shows it.
 fn pixels_showing_each_call(file: &Path) -> Vec<(String, ViewRequest, u32, u32, [u32; 2])> {
+    /// The camera's text, the frame and the pixel.
+    type Seen = (String, ViewRequest, u32, u32);
     let name = file.to_string_lossy().into_owned();
     let source = qcsg_sema::read_source(file).expect("readable");
     let compilation = qcsg_driver::compile_source(
@@ -207,7 +209,7 @@ fn pixels_showing_each_call(file: &Path) -> Vec<(String, ViewRequest, u32, u32, 
         .expect("a solid")
         .dnf()
         .quadrics;
-    let mut wanted: BTreeMap<[u32; 2], Option<(String, ViewRequest, u32, u32)>> = quadrics
+    let mut wanted: BTreeMap<[u32; 2], Option<Seen>> = quadrics
         .iter()
         .map(|q| ([q.source.span.start, q.source.span.end], None))
         .collect();
@@ -275,14 +277,11 @@ fn a_pick_on_every_primitive_finds_its_call() {
             "{query}: {picked}"
         );
         assert!(picked["file"].as_str().unwrap().ends_with("wheel.qcsg"));
-        let line = text[..range[0] as usize].lines().count() as u64
-            - u64::from(text[..range[0] as usize].ends_with('\n'));
         let start_line = picked["range"]["start"]["line"].as_u64().unwrap();
         assert_eq!(
             start_line,
             text[..range[0] as usize].matches('\n').count() as u64
         );
-        let _ = line;
         // The rim and its bore are made inside `tube`, called at the top level.
         let call = &text[range[0] as usize..range[1] as usize];
         if call.starts_with("cylinder(h = height")

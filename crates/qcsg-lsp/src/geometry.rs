@@ -21,6 +21,8 @@ use qcsg_eval::{EvalOptions, Evaluation};
 use qcsg_ide::{Analysis, FileId, HoverExtension, IdeDiagnostic};
 use qcsg_quadric::{DMat4, DVec3, Quadric, QuadricKind};
 
+use crate::preview::Preview;
+
 /// How many instances a hover lists in full.
 const SHOWN_INSTANCES: usize = 3;
 /// How many quadrics of one instance a hover lists.
@@ -57,6 +59,8 @@ pub struct Geometry {
     by_statement: HashMap<Source, Vec<NodeId>>,
     /// The statement span of each instantiation of the main file, by the start of its name.
     statements: HashMap<u32, Span>,
+    /// Frames and picks for the preview panel, when the solid was built without error.
+    preview: Option<Preview>,
 }
 
 impl Geometry {
@@ -69,12 +73,21 @@ impl Geometry {
         };
         let built = qcsg_driver::build(analysis.sema(), &options, Stage::Dnf);
         let evaluation = built.evaluation?;
-        Some(Geometry::new(
-            analysis,
-            evaluation,
-            built.diagnostics,
-            limits.clone(),
-        ))
+        // The preview panel's scene, when the layers were built without error.
+        let preview = built
+            .layers
+            .filter(|_| !evaluation.has_errors())
+            .map(|layers| {
+                Preview::new(
+                    analysis.sema(),
+                    evaluation.dag.clone(),
+                    layers,
+                    &evaluation.instantiations,
+                )
+            });
+        let mut geometry = Geometry::new(analysis, evaluation, built.diagnostics, limits.clone());
+        geometry.preview = preview;
+        Some(geometry)
     }
 
     fn new(
@@ -147,7 +160,13 @@ impl Geometry {
             placements,
             leaves_below,
             by_statement,
+            preview: None,
         }
+    }
+
+    /// The preview panel's scene, when the solid was built without error.
+    pub fn preview(&self) -> Option<&Preview> {
+        self.preview.as_ref()
     }
 
     /// The evaluation itself.

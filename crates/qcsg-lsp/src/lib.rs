@@ -8,12 +8,14 @@
 //! Every analysis comes from `qcsg-ide` as plain data, and the stages after the check (evaluation
 //! and the DNF, through `qcsg-driver`) from [`geometry`]; this crate keeps the open documents
 //! ([`documents`]), converts positions and results to LSP types ([`convert`]) and answers
-//! requests ([`server`]). [`preview`] renders frames of the scene and says what a pixel shows, for the
-//! editor's preview panel and `qcsg view`. The client's bytes reach the server only through [`transport`],
-//! which frames and checks them and answers what is malformed. [`run_stdio`] is what `qcsg lsp`
+//! requests ([`server`]). [`preview`] renders frames of the scene and says what a pixel shows,
+//! for the editor's preview panel and `qcsg view`; [`custom`] answers the panel's requests.
+//! The client's bytes reach the server only through [`transport`], which frames and checks them
+//! and answers what is malformed. [`run_stdio`] is what `qcsg lsp`
 //! runs.
 
 pub mod convert;
+pub mod custom;
 pub mod documents;
 pub mod geometry;
 pub mod preview;

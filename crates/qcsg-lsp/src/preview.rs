@@ -28,6 +28,9 @@ use serde::Serialize;
 /// How many root-to-leaf paths a pick follows at most when it looks for the instance it hit.
 const MAX_PICK_PATHS: usize = 10_000;
 
+/// The colour blended half-and-half over the parts under the editor's cursor.
+const CURSOR_TINT: [u8; 3] = [255, 140, 0];
+
 /// What to look at: the arguments `qcsg render` takes for the same image.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ViewRequest {
@@ -189,6 +192,28 @@ impl Preview {
             &RenderOptions::default(),
             &|_| {},
         ))
+    }
+
+    /// [`Preview::render`] with the parts made by `quadrics` (indices of the solid's DNF)
+    /// tinted, for the editor's cursor.
+    pub fn render_highlighted(
+        &self,
+        request: &ViewRequest,
+        quadrics: &[u32],
+    ) -> Result<Frame, CameraError> {
+        let mut frame = self.render(request)?;
+        if quadrics.is_empty() {
+            return Ok(frame);
+        }
+        let tinted: std::collections::HashSet<u32> = quadrics.iter().copied().collect();
+        for (i, id) in frame.ids.iter().enumerate() {
+            if tinted.contains(&id.quadric) {
+                for (channel, tint) in frame.rgb[3 * i..3 * i + 3].iter_mut().zip(CURSOR_TINT) {
+                    *channel = ((u16::from(*channel) + u16::from(tint)) / 2) as u8;
+                }
+            }
+        }
+        Ok(frame)
     }
 
     /// What pixel `(x, y)` of the frame of `request` shows (the ray through its centre, as the

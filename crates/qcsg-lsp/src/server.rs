@@ -91,7 +91,7 @@ impl Backend {
     }
 
     /// Runs `query` on the current analysis of `uri`; `Ok(None)` when the document is not open.
-    async fn query<T: Send + 'static>(
+    pub(crate) async fn query<T: Send + 'static>(
         &self,
         uri: &Uri,
         query: impl FnOnce(&Analyzed) -> T + Send + 'static,

@@ -103,7 +103,11 @@ where
     I: AsyncRead + Unpin,
     O: AsyncWrite + Unpin,
 {
-    let (service, socket) = LspService::new(Backend::new);
+    let (service, socket) = LspService::build(Backend::new)
+        .custom_method("qcsg/frame", Backend::preview_frame)
+        .custom_method("qcsg/pick", Backend::preview_pick)
+        .custom_method("qcsg/partsAt", Backend::preview_parts_at)
+        .finish();
     let (to_server, server_input) = tokio::io::duplex(PIPE_BYTES);
     let (server_output, from_server) = tokio::io::duplex(PIPE_BYTES);
     let (frames, queued_frames) = mpsc::channel(FRAME_QUEUE);

@@ -145,13 +145,11 @@ async fn not_found() -> Response {
 }
 
 /// The latest good scene and its generation, or the 409 answer when there has never been one.
-fn image(shared: &Shared) -> Result<(u64, Arc<Preview>), Response> {
-    shared.current().image.clone().ok_or_else(|| {
-        refuse(Refusal {
-            status: StatusCode::CONFLICT,
-            message: "the program has errors and no earlier version compiled".into(),
-            help: Some("fix the errors listed by /events (or `qcsg check`)".into()),
-        })
+fn image(shared: &Shared) -> Result<(u64, Arc<Preview>), Refusal> {
+    shared.current().image.clone().ok_or_else(|| Refusal {
+        status: StatusCode::CONFLICT,
+        message: "the program has errors and no earlier version compiled".into(),
+        help: Some("fix the errors listed by /events (or `qcsg check`)".into()),
     })
 }
 
@@ -159,21 +157,19 @@ fn image(shared: &Shared) -> Result<(u64, Arc<Preview>), Response> {
 async fn on_pool<T: Send + 'static>(
     shared: &Arc<Shared>,
     work: impl FnOnce() -> T + Send + 'static,
-) -> Result<T, Response> {
+) -> Result<T, Refusal> {
     let shared = Arc::clone(shared);
     tokio::task::spawn_blocking(move || shared.pool.install(work))
         .await
-        .map_err(|_| {
-            refuse(Refusal {
-                status: StatusCode::INTERNAL_SERVER_ERROR,
-                message: "rendering failed".into(),
-                help: None,
-            })
+        .map_err(|_| Refusal {
+            status: StatusCode::INTERNAL_SERVER_ERROR,
+            message: "rendering failed".into(),
+            help: None,
         })
 }
 
-fn camera_refusal(error: qcsg_render::CameraError) -> Response {
-    refuse(Refusal::bad_request(format!("bad camera: {error}")))
+fn camera_refusal(error: qcsg_render::CameraError) -> Refusal {
+    Refusal::bad_request(format!("bad camera: {error}"))
 }
 
 async fn frame(State(shared): State<Arc<Shared>>, RawQuery(raw): RawQuery) -> Response {
@@ -183,23 +179,21 @@ async fn frame(State(shared): State<Arc<Shared>>, RawQuery(raw): RawQuery) -> Re
     };
     let (generation, preview) = match image(&shared) {
         Ok(image) => image,
-        Err(response) => return response,
+        Err(refusal) => return refuse(refusal),
     };
     let rendered = on_pool(&shared, move || {
         let started = Instant::now();
         let frame = preview.render(&request).map_err(camera_refusal)?;
-        let png = qcsg_render::png::encode(&frame).map_err(|error| {
-            refuse(Refusal {
-                status: StatusCode::INTERNAL_SERVER_ERROR,
-                message: format!("the frame cannot be encoded: {error}"),
-                help: None,
-            })
+        let png = qcsg_render::png::encode(&frame).map_err(|error| Refusal {
+            status: StatusCode::INTERNAL_SERVER_ERROR,
+            message: format!("the frame cannot be encoded: {error}"),
+            help: None,
         })?;
-        Ok::<_, Response>((png, started.elapsed()))
+        Ok::<_, Refusal>((png, started.elapsed()))
     })
     .await;
     match rendered.and_then(|r| r) {
-        Err(response) => response,
+        Err(refusal) => refuse(refusal),
         Ok((png, took)) => {
             let mut headers = HeaderMap::new();
             headers.insert(header::CONTENT_TYPE, HeaderValue::from_static("image/png"));
@@ -232,11 +226,11 @@ async fn pick(State(shared): State<Arc<Shared>>, RawQuery(raw): RawQuery) -> Res
     };
     let (generation, preview) = match image(&shared) {
         Ok(image) => image,
-        Err(response) => return response,
+        Err(refusal) => return refuse(refusal),
     };
     match on_pool(&shared, move || preview.pick(&request, x, y)).await {
-        Err(response) => response,
-        Ok(Err(error)) => camera_refusal(error),
+        Err(refusal) => refuse(refusal),
+        Ok(Err(error)) => refuse(camera_refusal(error)),
         Ok(Ok(picked)) => json_response(
             generation,
             serde_json::to_string(&picked).unwrap_or_else(|_| "null".into()),
@@ -252,10 +246,10 @@ async fn camera(State(shared): State<Arc<Shared>>, RawQuery(raw): RawQuery) -> R
     };
     let (generation, preview) = match image(&shared) {
         Ok(image) => image,
-        Err(response) => return response,
+        Err(refusal) => return refuse(refusal),
     };
     match request.camera(preview.scene()) {
-        Err(error) => camera_refusal(error),
+        Err(error) => refuse(camera_refusal(error)),
         Ok(camera) => {
             let bounds = preview.scene().bounds();
             let bounded = !bounds.is_empty() && bounds.is_bounded();
