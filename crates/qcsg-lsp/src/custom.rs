@@ -2,7 +2,7 @@
 //!
 //! - `qcsg/frame` `{textDocument, width, height, camera, projection, highlight?}`: the PNG
 //!   (base64) that `qcsg render` makes with those arguments, the parts of `highlight` (quadric
-//!   indices) tinted;
+//!   indices) tinted, with the camera's eye and centre;
 //! - `qcsg/pick` `{textDocument, width, height, camera, projection, x, y}`: what that pixel
 //!   shows (`null`: the background), as `qcsg view`'s `/pick`;
 //! - `qcsg/partsAt` `{textDocument, position}`: the quadrics made by the primitive call at the
@@ -104,8 +104,20 @@ impl Backend {
                     error.message = e.to_string().into();
                     error
                 })?;
+                // The camera, so that the panel can turn a named view from where it is.
+                let camera = request.camera(preview.scene()).ok();
+                let bounds = preview.scene().bounds();
+                let bounded = !bounds.is_empty() && bounds.is_bounded();
+                let center = match request.view {
+                    View::Explicit { center, .. } => center.to_array(),
+                    _ if bounded => bounds.centre().to_array(),
+                    _ => [0.0; 3],
+                };
                 Ok(json!({
                     "png": base64(&png),
+                    "eye": camera.map(|c| c.eye().to_array()),
+                    "center": center,
+                    "radius": if bounded { bounds.half_diagonal() } else { 1.0 },
                     "renderMs": started.elapsed().as_secs_f64() * 1e3,
                     "quadrics": preview.scene().quadric_count(),
                 }))

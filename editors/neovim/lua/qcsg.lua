@@ -58,9 +58,54 @@ function M.attach(bufnr, opts)
   return id
 end
 
---- Registers the filetypes' autocommand; call once from your config.
+local views = {} -- file -> job id of its `qcsg view`
+
+--- Runs `qcsg view` (the live preview in the browser) for the current buffer's file, saved
+--- first; a second call for the same file stops the server. `cmd[1]` of the options is the
+--- `qcsg` binary.
+function M.view()
+  local file = vim.api.nvim_buf_get_name(0)
+  if file == "" then
+    vim.notify("qcsg: the buffer has no file to preview", vim.log.levels.WARN)
+    return
+  end
+  if views[file] then
+    vim.fn.jobstop(views[file])
+    views[file] = nil
+    vim.notify("qcsg: preview stopped")
+    return
+  end
+  if vim.bo.modified then
+    vim.cmd("write")
+  end
+  local qcsg = ((M.options or M.defaults).cmd or { "qcsg" })[1]
+  local job = vim.fn.jobstart({ qcsg, "view", file }, {
+    on_stdout = function(_, lines)
+      for _, line in ipairs(lines) do
+        if line:find("http://", 1, true) then
+          vim.schedule(function()
+            vim.notify(line)
+          end)
+        end
+      end
+    end,
+    on_exit = function()
+      views[file] = nil
+    end,
+  })
+  if job <= 0 then
+    vim.notify("qcsg: cannot run " .. qcsg .. " view", vim.log.levels.ERROR)
+    return
+  end
+  views[file] = job
+end
+
+--- Registers the filetypes' autocommand and `:QcsgView`; call once from your config.
 function M.setup(opts)
   M.options = vim.tbl_deep_extend("force", {}, M.defaults, opts or {})
+  vim.api.nvim_create_user_command("QcsgView", M.view, {
+    desc = "qcsg: live preview of this file in the browser (again: stop it)",
+  })
   local group = vim.api.nvim_create_augroup("qcsg_lsp", { clear = true })
   vim.api.nvim_create_autocmd("FileType", {
     group = group,

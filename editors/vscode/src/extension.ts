@@ -1,5 +1,5 @@
 // The qcsg VS Code extension: starts the language server (`qcsg lsp` on stdio) for .qcsg and
-// .scad files. Highlighting comes from the TextMate grammar in syntaxes/ and works without it.
+// .scad files, and the preview panel (preview.ts). Highlighting comes from the TextMate grammar in syntaxes/ and works without it.
 import * as vscode from "vscode";
 import {
   LanguageClient,
@@ -7,6 +7,7 @@ import {
   ServerOptions,
   TransportKind,
 } from "vscode-languageclient/node";
+import { openPreview } from "./preview";
 
 let client: LanguageClient | undefined;
 
@@ -50,6 +51,7 @@ async function stopClient(): Promise<void> {
 
 export async function activate(context: vscode.ExtensionContext): Promise<void> {
   context.subscriptions.push(
+    vscode.commands.registerCommand("qcsg.openPreview", () => openPreview(context, () => client)),
     vscode.commands.registerCommand("qcsg.restartServer", async () => {
       await stopClient();
       await startClient(context);
