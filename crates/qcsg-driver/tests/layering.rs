@@ -20,6 +20,7 @@ fn allowed() -> BTreeMap<&'static str, Vec<&'static str>> {
     BTreeMap::from([
         ("qcsg-diag", vec![]),
         ("qcsg-quadric", vec![]),
+        ("qcsg-mesh", vec![]),
         ("qcsg-syntax", vec!["qcsg-diag"]),
         ("qcsg-sema", vec!["qcsg-diag", "qcsg-syntax"]),
         ("qcsg-csg", vec!["qcsg-diag", "qcsg-quadric"]),
@@ -31,6 +32,8 @@ fn allowed() -> BTreeMap<&'static str, Vec<&'static str>> {
                 "qcsg-sema",
                 "qcsg-csg",
                 "qcsg-quadric",
+                // polygon's convex cells.
+                "qcsg-mesh",
             ],
         ),
         (

@@ -59,6 +59,9 @@ pub const ECHO_LIMIT: &str = "W0558";
 pub const MIXED_DIMENSIONS: &str = "W0559";
 /// A 2-D shape at the top level: it is made a plate 1 unit thick, as OpenSCAD's preview shows it.
 pub const TOP_LEVEL_2D: &str = "W0560";
+/// A `polygon` whose outline crosses itself (filled with the even–odd rule, as OpenSCAD does) or
+/// has a path of fewer than three distinct points (which encloses nothing).
+pub const POLYGON_OUTLINE: &str = "W0561";
 
 /// The output of `echo`, formatted exactly as OpenSCAD prints it (`ECHO: …`).
 pub const ECHO: &str = "I0550";
@@ -119,6 +122,10 @@ pub const ALL: &[(&str, &str)] = &[
     (
         TOP_LEVEL_2D,
         "2-D shape at the top level: shown as a plate 1 unit thick",
+    ),
+    (
+        POLYGON_OUTLINE,
+        "polygon outline that crosses itself or has a path enclosing nothing",
     ),
     (ECHO, "output of `echo`"),
 ];

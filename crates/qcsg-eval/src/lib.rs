@@ -45,6 +45,7 @@ pub mod extrude;
 pub mod math;
 pub mod ops;
 pub mod planar;
+pub mod polygon;
 pub mod primitives;
 pub mod primitives_2d;
 pub mod printer;

@@ -237,6 +237,17 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "circle(r = 1) or circle(d = 2): a 2-D disc centred at the origin, exact",
     },
     BuiltinModule {
+        name: "polygon",
+        params: &[
+            pos("points", P::List(&[])),
+            pos("paths", P::List(&[])),
+            pos("convexity", P::Number),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "polygon(points, paths): the 2-D region the paths enclose (one outline through all points without paths), filled with the even-odd rule, exact",
+    },
+    BuiltinModule {
         name: "linear_extrude",
         params: &[
             pos("height", P::Number),
@@ -638,8 +649,6 @@ const fn unsupported(
     }
 }
 
-const TWO_D: &str = "it is a 2-D shape, and qcsg solids are 3-D solids bounded by quadric surfaces";
-
 /// OpenSCAD modules with no exact quadric representation.
 pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
     unsupported(
@@ -670,11 +679,6 @@ pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
         "text",
         "glyph outlines are 2-D curves of higher degree than quadrics",
         None,
-    ),
-    unsupported(
-        "polygon",
-        TWO_D,
-        Some("a convex prism is an `intersection()` of `halfspace`s and two capping half-spaces"),
     ),
     unsupported(
         "hull",

@@ -15,8 +15,6 @@ translate([0, 0, 0]) text("hello");
 //                   ^^^^ error[E0301]
 translate([0, 0, 0]) surface(file = "h.dat");
 //                   ^^^^^^^ error[E0301]
-translate([0, 0, 0]) polygon([[0, 0], [1, 0], [0, 1]]);
-//                   ^^^^^^^ error[E0301]
 translate([0, 0, 0]) projection() sphere(1);
 //                   ^^^^^^^^^^ error[E0301]
 translate([0, 0, 0]) offset(r = 1) square(1);

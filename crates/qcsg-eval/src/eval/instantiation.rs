@@ -113,6 +113,9 @@ impl<'a> Evaluator<'a> {
                     ));
                 }
                 let from = self.dag.len();
+                if name == "polygon" {
+                    return self.polygon(&named, from, cx.file, span);
+                }
                 let built = match name {
                     "square" => primitives_2d::square(&mut self.dag, &named, source),
                     "circle" => primitives_2d::circle(&mut self.dag, &named, source),
@@ -229,6 +232,38 @@ impl<'a> Evaluator<'a> {
                     },
                     None => Ok(Some(inner)),
                 }
+            }
+        }
+    }
+
+    /// `polygon(points, paths)`: its cells' union, marked 2-D; an empty region is an empty shape.
+    fn polygon(
+        &mut self,
+        named: &BuiltinArgs<'a>,
+        from: usize,
+        file: FileId,
+        span: Span,
+    ) -> R<Option<Edge>> {
+        let source = Source::new(file, span);
+        let max_points = usize::try_from(self.options.max_vector_len).unwrap_or(usize::MAX);
+        let built = crate::polygon::polygon(&mut self.dag, named, max_points, source);
+        match built {
+            Ok(built) => {
+                for w in built.warnings {
+                    self.warn(codes::POLYGON_OUTLINE, w, file, span);
+                }
+                let node = match built.node {
+                    Some(node) => node,
+                    None => self.dag.empty(source),
+                };
+                self.mark_planar(from, node);
+                Ok(Some(node.into()))
+            }
+            Err(crate::polygon::PolygonFailure::Argument(m)) => {
+                Err(self.error(codes::MODULE_ARGUMENT, m, file, span))
+            }
+            Err(crate::polygon::PolygonFailure::TooLarge(m)) => {
+                Err(self.error(codes::VECTOR_LIMIT, m, file, span))
             }
         }
     }
