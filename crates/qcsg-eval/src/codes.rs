@@ -35,6 +35,9 @@ pub const BAD_DEFINE: &str = "E0561";
 pub const WRONG_KIND: &str = "E0562";
 /// A string (`str`, `chr`) longer than the string-length limit, in bytes.
 pub const STRING_LIMIT: &str = "E0563";
+/// `rotate_extrude` of a shape with points on both sides of the axis (x < 0 and x > 0), which
+/// OpenSCAD refuses.
+pub const BOTH_SIDES_OF_AXIS: &str = "E0564";
 
 /// A transform with a singular or non-finite matrix: the object is removed, as in OpenSCAD.
 pub const SINGULAR_TRANSFORM: &str = "W0550";
@@ -94,6 +97,10 @@ pub const ALL: &[(&str, &str)] = &[
         "module used as a function or function as a module",
     ),
     (STRING_LIMIT, "string length limit reached"),
+    (
+        BOTH_SIDES_OF_AXIS,
+        "`rotate_extrude` of a shape on both sides of the axis",
+    ),
     (
         SINGULAR_TRANSFORM,
         "singular transform: the object is removed",

@@ -28,6 +28,7 @@ mod extrusions;
 mod function_calls;
 mod instantiation;
 mod limits;
+mod revolutions;
 mod scopes;
 mod statements;
 mod user_modules;

@@ -49,6 +49,7 @@ pub mod polygon;
 pub mod primitives;
 pub mod primitives_2d;
 pub mod printer;
+pub mod revolve;
 pub mod text;
 pub mod transforms;
 pub mod value;

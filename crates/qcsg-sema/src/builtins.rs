@@ -263,6 +263,13 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "linear_extrude(height = 100, center = false, scale = 1): the 2-D children swept along Z, scaled towards the top (twist is not supported)",
     },
     BuiltinModule {
+        name: "rotate_extrude",
+        params: &[named("angle", P::Number), named("convexity", P::Number)],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "rotate_extrude(angle = 360): the 2-D children, read as (r, z) with r = x, swept about Z, counter-clockwise from +X (outlines off the axis, which sweep tori, are not supported)",
+    },
+    BuiltinModule {
         name: "translate",
         params: &[pos("v", P::NumberVector(VEC23))],
         variadic: false,
@@ -656,13 +663,6 @@ pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
         "its faces are arbitrary polygons, which in general are no combination of quadric solids",
         Some(
             "a convex polyhedron is an `intersection()` of `halfspace(normal, offset)` solids, one per face",
-        ),
-    ),
-    unsupported(
-        "rotate_extrude",
-        "the surface swept by a general outline (a torus, for example) is not a quadric",
-        Some(
-            "a rectangle on the axis sweeps to `cylinder`, a right triangle to `cylinder(h, r1, 0)`, a half-disc to `sphere`",
         ),
     ),
     unsupported(

@@ -1,14 +1,12 @@
 // OpenSCAD constructs that no quadric represents exactly are errors with a reason and, where
 // there is one, an alternative.
 
-rotate_extrude() translate([2, 0]) square(1);
-//@ 4:1 error[E0301]: `rotate_extrude` is not supported
 polyhedron(points = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], faces = [[0, 1, 2]]);
-//@ 6:1 error[E0301]: faces
+//@ 4:1 error[E0301]: faces
 hull() { sphere(1); translate([3, 0, 0]) sphere(1); }
-//@ 8:1 error[E0301]
+//@ 6:1 error[E0301]
 minkowski() { cube(1); sphere(0.1); }
-//@ 10:1 error[E0301]
+//@ 8:1 error[E0301]
 translate([1, 1, 1]) import("part.stl");
 //                   ^^^^^^ error[E0301]
 translate([0, 0, 0]) text("hello");
