@@ -2,7 +2,7 @@
 // (Tori and shapes across the axis are found when the program runs:
 // crates/qcsg-eval/tests/rotate_extrude.rs checks those errors and their spans.)
 
-rotate_extrude(angle = 270, convexity = 2, $fn = 64) translate([2, 0]) square([1, 2]);
+rotate_extrude(angle = 270, convexity = 2) translate([2, 0]) square([1, 2]);
 rotate_extrude() polygon([[0, 0], [3, 0], [0, 4]]);
 rotate_extrude(angle = "full") square(1);
 //                     ^^^^^^ error[E0205]
