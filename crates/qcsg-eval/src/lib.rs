@@ -50,6 +50,7 @@ pub mod primitives;
 pub mod primitives_2d;
 pub mod printer;
 pub mod revolve;
+pub mod section;
 pub mod text;
 pub mod transforms;
 pub mod value;

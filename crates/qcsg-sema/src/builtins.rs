@@ -270,6 +270,13 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "rotate_extrude(angle = 360): the 2-D children, read as (r, z) with r = x, swept about Z, counter-clockwise from +X (outlines off the axis, which sweep tori, are not supported)",
     },
     BuiltinModule {
+        name: "projection",
+        params: &[named("cut", P::Bool), named("convexity", P::Number)],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "projection(cut = false): the 3-D children as a 2-D shape: their section by z = 0 (cut = true, exact) or their shadow on it (boxes, balls, ellipsoids, vertical cylinders and their unions)",
+    },
+    BuiltinModule {
         name: "translate",
         params: &[pos("v", P::NumberVector(VEC23))],
         variadic: false,
@@ -695,11 +702,6 @@ pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
     unsupported(
         "offset",
         "it offsets 2-D outlines, and 2-D shapes have no quadric representation",
-        None,
-    ),
-    unsupported(
-        "projection",
-        "it produces a 2-D outline, and qcsg solids are 3-D",
         None,
     ),
 ];
