@@ -2,12 +2,17 @@
 //!
 //! qcsg's solids are booleans of quadric half-spaces, so OpenSCAD's `polygon` becomes a union of
 //! convex cells, each an intersection of a few half-planes whose lines pass through input points
-//! ([`polygon_cells`]). The crate knows nothing of the rest of qcsg: the evaluator turns cells into
+//! ([`polygon_cells`]), and `polyhedron` a union of convex cells of half-spaces whose planes pass
+//! through three input points ([`polyhedron_cells`]). The crate knows nothing of the rest of qcsg: the evaluator turns cells into
 //! solids.
 
 mod exact;
 mod polygon;
+mod polyhedron;
 
 pub use polygon::{
     Cell2, HalfPlane, MAX_COORDINATE, Polygon, PolygonError, PolygonLimits, polygon_cells,
+};
+pub use polyhedron::{
+    Cell3, MAX_MESH_COORDINATE, Mesh, MeshError, MeshLimits, Plane, Polyhedron, polyhedron_cells,
 };
