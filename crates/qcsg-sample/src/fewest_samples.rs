@@ -212,7 +212,7 @@ mod tests {
             basic_regions(
                 &frame,
                 &heightfield,
-                &bounds,
+                (&bounds, 0.0),
                 (0, 0),
                 &mut regions,
                 &mut stats,
