@@ -28,6 +28,7 @@ mod extrusions;
 mod function_calls;
 mod instantiation;
 mod limits;
+mod offsets;
 mod projections;
 mod revolutions;
 mod scopes;

@@ -43,6 +43,7 @@ pub mod env;
 mod eval;
 pub mod extrude;
 pub mod math;
+pub mod offset;
 pub mod ops;
 pub mod planar;
 pub mod polygon;

@@ -277,6 +277,17 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "projection(cut = false): the 3-D children as a 2-D shape: their section by z = 0 (cut = true, exact) or their shadow on it (boxes, balls, ellipsoids, vertical cylinders and their unions)",
     },
     BuiltinModule {
+        name: "offset",
+        params: &[
+            pos("r", P::Number),
+            named("delta", P::Number),
+            named("chamfer", P::Bool),
+        ],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "offset(r | delta = 1, chamfer = false): the 2-D children grown (or shrunk, when negative) by r with rounded corners or by delta with mitred or chamfered corners, exactly, for unions of convex polygons and circles (growing) and intersections of edges and circles (shrinking)",
+    },
+    BuiltinModule {
         name: "translate",
         params: &[pos("v", P::NumberVector(VEC23))],
         variadic: false,
@@ -698,11 +709,6 @@ pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
         "minkowski",
         "a Minkowski sum of curved solids has offset surfaces that are not quadrics",
         Some("round edges explicitly with cylinders and spheres"),
-    ),
-    unsupported(
-        "offset",
-        "it offsets 2-D outlines, and 2-D shapes have no quadric representation",
-        None,
     ),
 ];
 

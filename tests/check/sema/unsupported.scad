@@ -13,8 +13,6 @@ translate([0, 0, 0]) text("hello");
 //                   ^^^^ error[E0301]
 translate([0, 0, 0]) surface(file = "h.dat");
 //                   ^^^^^^^ error[E0301]
-translate([0, 0, 0]) offset(r = 1) square(1);
-//                   ^^^^^^ error[E0301]
 echo(dxf_cross(file = "a.dxf"));
 //   ^^^^^^^^^ error[E0302]
 

@@ -94,6 +94,10 @@ impl<'a> Evaluator<'a> {
         } else {
             cx.clone()
         };
+        if name == "offset" {
+            let edges = self.eval_body(child, &child_cx)?;
+            return self.offset(&named, args, edges, cx.file, span);
+        }
         if name == "projection" {
             let edges = self.eval_body(child, &child_cx)?;
             return self.projection(&named, edges, cx.file, span);
