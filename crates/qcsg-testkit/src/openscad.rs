@@ -67,7 +67,9 @@ impl Export {
     /// The key of this export's result.
     fn content_hash(&self) -> u64 {
         let mut hasher = DefaultHasher::new();
-        std::fs::read(&self.scene).unwrap_or_default().hash(&mut hasher);
+        std::fs::read(&self.scene)
+            .unwrap_or_default()
+            .hash(&mut hasher);
         let mut inputs = self.inputs.clone();
         inputs.sort();
         for input in inputs {
