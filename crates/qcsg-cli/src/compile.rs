@@ -73,6 +73,10 @@ pub struct EvalLimitArgs {
     /// with a warning.
     #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_ECHO_LEN)]
     max_echo_len: u64,
+
+    /// Most bytes of one file that `import` reads.
+    #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_IMPORT_BYTES)]
+    max_import_bytes: u64,
 }
 
 impl EvalLimitArgs {
@@ -86,6 +90,7 @@ impl EvalLimitArgs {
             max_instances: self.max_instances,
             max_string_len: self.max_string_len,
             max_echo_len: self.max_echo_len,
+            max_import_bytes: self.max_import_bytes,
         }
     }
 }

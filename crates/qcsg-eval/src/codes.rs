@@ -38,6 +38,16 @@ pub const STRING_LIMIT: &str = "E0563";
 /// `rotate_extrude` of a shape with points on both sides of the axis (x < 0 and x > 0), which
 /// OpenSCAD refuses.
 pub const BOTH_SIDES_OF_AXIS: &str = "E0564";
+/// A `polyhedron` or imported mesh whose faces bound no solid: a face of fewer than three
+/// distinct points, an index naming no point, an open, non-manifold or inconsistently oriented
+/// edge, a coordinate that is not finite.
+pub const INVALID_MESH: &str = "E0565";
+/// An `import` whose file cannot be read: missing, a directory or device, unreadable.
+pub const IMPORT_UNREADABLE: &str = "E0566";
+/// An `import` whose file is not a well-formed file of its format (the line or record named).
+pub const IMPORT_MALFORMED: &str = "E0567";
+/// An `import` of a file larger than the import size limit (`--max-import-bytes`).
+pub const IMPORT_SIZE_LIMIT: &str = "E0568";
 
 /// A transform with a singular or non-finite matrix: the object is removed, as in OpenSCAD.
 pub const SINGULAR_TRANSFORM: &str = "W0550";
@@ -65,6 +75,12 @@ pub const TOP_LEVEL_2D: &str = "W0560";
 /// A `polygon` whose outline crosses itself (filled with the even–odd rule, as OpenSCAD does) or
 /// has a path of fewer than three distinct points (which encloses nothing).
 pub const POLYGON_OUTLINE: &str = "W0561";
+/// A `polyhedron` or imported mesh with a non-planar face (split into a fan of triangles, as
+/// OpenSCAD does) or with every face inside out (the enclosed solid is built, not its
+/// complement).
+pub const MESH_FACES: &str = "W0562";
+/// A deprecated argument OpenSCAD still accepts with a warning (`polyhedron(triangles = …)`).
+pub const DEPRECATED_ARGUMENT: &str = "W0563";
 
 /// The output of `echo`, formatted exactly as OpenSCAD prints it (`ECHO: …`).
 pub const ECHO: &str = "I0550";
@@ -101,6 +117,13 @@ pub const ALL: &[(&str, &str)] = &[
         BOTH_SIDES_OF_AXIS,
         "`rotate_extrude` of a shape on both sides of the axis",
     ),
+    (INVALID_MESH, "mesh whose faces bound no solid"),
+    (IMPORT_UNREADABLE, "imported file that cannot be read"),
+    (IMPORT_MALFORMED, "imported file that is not well-formed"),
+    (
+        IMPORT_SIZE_LIMIT,
+        "imported file size limit reached (`--max-import-bytes`)",
+    ),
     (
         SINGULAR_TRANSFORM,
         "singular transform: the object is removed",
@@ -133,6 +156,14 @@ pub const ALL: &[(&str, &str)] = &[
     (
         POLYGON_OUTLINE,
         "polygon outline that crosses itself or has a path enclosing nothing",
+    ),
+    (
+        MESH_FACES,
+        "mesh with a non-planar face or with its faces inside out",
+    ),
+    (
+        DEPRECATED_ARGUMENT,
+        "deprecated argument (`polyhedron(triangles)`)",
     ),
     (ECHO, "output of `echo`"),
 ];

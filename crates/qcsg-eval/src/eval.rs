@@ -14,7 +14,7 @@
 //!
 //! The evaluator's state is defined here; its work is spread over one module per concern:
 //! [`scopes`], [`statements`], [`dimensions`] (2-D or 3-D), [`bindings`] (`for` and `let`), [`instantiation`],
-//! [`user_modules`] (with `children()`), [`arguments`], [`expressions`], [`comprehensions`],
+//! [`user_modules`] (with `children()`), [`meshes`] (`polyhedron`, `import`), [`arguments`], [`expressions`], [`comprehensions`],
 //! [`function_calls`], [`echo_assert`], [`errors`] and [`limits`].
 
 mod arguments;
@@ -28,6 +28,7 @@ mod extrusions;
 mod function_calls;
 mod instantiation;
 mod limits;
+mod meshes;
 mod offsets;
 mod projections;
 mod revolutions;
@@ -39,7 +40,7 @@ use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
 use qcsg_csg::{Aabb, Dag, Edge, NodeId, Source};
-use qcsg_diag::{Diagnostic, FileId, Span};
+use qcsg_diag::{Diagnostic, FileId, SourceMap, Span};
 use qcsg_syntax::ast::{Expr, SourceFile};
 
 use crate::EvalOptions;
@@ -75,6 +76,8 @@ const STACK_GROWTH: usize = 8 * 1024 * 1024;
 /// The state of one evaluation.
 pub(crate) struct Evaluator<'a> {
     trees: &'a [SourceFile],
+    /// The program's files, for their names: `import` paths are relative to the caller's.
+    sources: &'a SourceMap,
     links: HashMap<(FileId, u32), FileId>,
     options: &'a EvalOptions,
     defines: &'a [(String, Expr)],
@@ -104,11 +107,14 @@ pub(crate) struct Evaluator<'a> {
     node_dims: Vec<dimensions::Dim>,
     /// A box of each DAG node so far, in its own frame.
     node_boxes: Vec<Aabb>,
+    /// The files `import` read (or tried to), in order, each once.
+    pub imports: Vec<std::path::PathBuf>,
 }
 
 impl<'a> Evaluator<'a> {
     pub fn new(
         trees: &'a [SourceFile],
+        sources: &'a SourceMap,
         links: HashMap<(FileId, u32), FileId>,
         options: &'a EvalOptions,
         defines: &'a [(String, Expr)],
@@ -116,6 +122,7 @@ impl<'a> Evaluator<'a> {
     ) -> Self {
         Self {
             trees,
+            sources,
             links,
             options,
             defines,
@@ -136,6 +143,7 @@ impl<'a> Evaluator<'a> {
             extruded: HashSet::new(),
             node_dims: Vec::new(),
             node_boxes: Vec::new(),
+            imports: Vec::new(),
         }
     }
 }

@@ -42,11 +42,13 @@ pub mod color;
 pub mod env;
 mod eval;
 pub mod extrude;
+pub mod import;
 pub mod math;
 pub mod offset;
 pub mod ops;
 pub mod planar;
 pub mod polygon;
+pub mod polyhedron;
 pub mod primitives;
 pub mod primitives_2d;
 pub mod printer;
@@ -84,6 +86,8 @@ pub struct EvalOptions {
     /// bytes more (about what holding and printing the line costs beside its text). The line
     /// that crosses it is cut and later lines are left out, with a warning.
     pub max_echo_len: u64,
+    /// The most bytes of one file that `import` reads.
+    pub max_import_bytes: u64,
 }
 
 impl EvalOptions {
@@ -103,6 +107,10 @@ impl EvalOptions {
     /// characters, more than anyone reads, and little enough that the diagnostics holding it and
     /// their rendering for a terminal stay within a couple of hundred MB.
     pub const DEFAULT_MAX_ECHO_LEN: u64 = 4 << 20;
+    /// Default import-size limit: 256 MiB, a binary STL of five million triangles, more than the
+    /// cells of the default vector-length limit make affordable, while bounding what a mistaken
+    /// `import` of a huge file holds in memory.
+    pub const DEFAULT_MAX_IMPORT_BYTES: u64 = 256 << 20;
 }
 
 impl Default for EvalOptions {
@@ -115,6 +123,7 @@ impl Default for EvalOptions {
             max_instances: Self::DEFAULT_MAX_INSTANCES,
             max_string_len: Self::DEFAULT_MAX_STRING_LEN,
             max_echo_len: Self::DEFAULT_MAX_ECHO_LEN,
+            max_import_bytes: Self::DEFAULT_MAX_IMPORT_BYTES,
         }
     }
 }
@@ -130,6 +139,9 @@ pub struct Evaluation {
     /// produced, sorted, once per distinct pair: a statement run several times with different
     /// results has several entries. Editors use it to show the geometry of a call.
     pub instantiations: Vec<(qcsg_csg::Source, qcsg_csg::NodeId)>,
+    /// The files `import` read or tried to read, as resolved, in order, each once: what a
+    /// viewer watches beside the sources.
+    pub imports: Vec<std::path::PathBuf>,
 }
 
 impl Evaluation {
@@ -180,6 +192,7 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
             dag,
             diagnostics,
             instantiations: Vec::new(),
+            imports: Vec::new(),
         };
     }
     let links: HashMap<(FileId, u32), FileId> = analysis
@@ -189,7 +202,14 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
         .collect();
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         let mut evaluator =
-            eval::Evaluator::new(&analysis.trees, links, options, &defines, DEFINE_FILE);
+            eval::Evaluator::new(
+            &analysis.trees,
+            &analysis.sources,
+            links,
+            options,
+            &defines,
+            DEFINE_FILE,
+        );
         let outcome = evaluator.run_main(analysis.main);
         let mut dag = std::mem::take(&mut evaluator.dag);
         if outcome.is_err() || dag.root().is_none() {
@@ -202,9 +222,10 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
             dag,
             std::mem::take(&mut evaluator.diagnostics),
             instantiations,
+            std::mem::take(&mut evaluator.imports),
         )
     }));
-    let (dag, mut found, instantiations) = match run {
+    let (dag, mut found, instantiations, imports) = match run {
         Ok(result) => result,
         Err(_) => {
             let mut dag = Dag::new();
@@ -217,7 +238,7 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
                 analysis.main,
                 Span::default(),
             );
-            (dag, vec![internal], Vec::new())
+            (dag, vec![internal], Vec::new(), Vec::new())
         }
     };
     for d in &mut found {
@@ -231,6 +252,7 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
         dag,
         diagnostics,
         instantiations,
+        imports,
     }
 }
 

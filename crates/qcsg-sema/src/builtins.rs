@@ -248,6 +248,36 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "polygon(points, paths): the 2-D region the paths enclose (one outline through all points without paths), filled with the even-odd rule, exact",
     },
     BuiltinModule {
+        name: "polyhedron",
+        params: &[
+            pos("points", P::List(&[])),
+            pos("faces", P::List(&[])),
+            pos("convexity", P::Number),
+            named("triangles", P::List(&[])),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "polyhedron(points, faces): the solid a closed mesh bounds, faces listed clockwise seen from outside, exact (`triangles` is the deprecated name of `faces`)",
+    },
+    BuiltinModule {
+        name: "import",
+        params: &[
+            pos("file", P::String),
+            pos("layer", P::String),
+            pos("convexity", P::Number),
+            pos("origin", P::NumberVector(&[2])),
+            pos("scale", P::Number),
+            named("width", P::Number),
+            named("height", P::Number),
+            named("center", P::Bool),
+            named("dpi", P::Number),
+            named("id", P::String),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "import(file): the solid a closed STL or OFF mesh bounds, exact; the path is relative to the file that calls it",
+    },
+    BuiltinModule {
         name: "linear_extrude",
         params: &[
             pos("height", P::Number),
@@ -677,21 +707,9 @@ const fn unsupported(
 /// OpenSCAD modules with no exact quadric representation.
 pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
     unsupported(
-        "polyhedron",
-        "its faces are arbitrary polygons, which in general are no combination of quadric solids",
-        Some(
-            "a convex polyhedron is an `intersection()` of `halfspace(normal, offset)` solids, one per face",
-        ),
-    ),
-    unsupported(
         "surface",
         "a heightfield is a triangle mesh, not a quadric surface",
         None,
-    ),
-    unsupported(
-        "import",
-        "imported meshes and drawings are triangles or 2-D outlines, not quadric surfaces",
-        Some("model the part with primitives, or approximate a convex part with `halfspace`s"),
     ),
     unsupported(
         "text",

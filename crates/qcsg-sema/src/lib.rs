@@ -46,8 +46,8 @@ use qcsg_diag::{Diagnostic, FileId, SourceMap, Span};
 
 pub use loader::{FileLink, LinkKind, STDIN_NAME};
 pub use read::{
-    InvalidUtf8, MAX_SOURCE_BYTES, SourceError, SourceText, load_source, read_source,
-    read_source_from, read_source_with_limit,
+    InvalidUtf8, MAX_SOURCE_BYTES, SourceError, SourceText, load_source, read_bytes_with_limit,
+    read_source, read_source_from, read_source_with_limit,
 };
 pub use ty::Ty;
 

@@ -1,4 +1,5 @@
-//! Reading source files safely: the one way qcsg reads a program's files from disk.
+//! Reading source files safely: the one way qcsg reads a program's files from disk, its sources
+//! and the data files it imports ([`read_bytes_with_limit`], bytes under a caller's limit).
 //!
 //! A source must be a regular file (a device such as `/dev/zero`, a directory or a named pipe is
 //! refused before it is opened), no larger than [`MAX_SOURCE_BYTES`] (the read itself is bounded,
@@ -239,6 +240,20 @@ pub fn read_source(path: &Path) -> Result<SourceText, SourceError> {
 
 /// [`read_source`] with another size limit.
 pub fn read_source_with_limit(path: &Path, limit: u64) -> Result<SourceText, SourceError> {
+    let (file, size) = open_regular(path, limit)?;
+    read_bounded(file, limit, Some(size))
+}
+
+/// The bytes of the data file at `path` (an imported mesh or drawing): a regular file of at most
+/// `limit` bytes, refused as a source is (a device, a directory, a file over the limit), never
+/// decoded. A [`SourceError::TooLarge`] here is over `limit`, not over [`MAX_SOURCE_BYTES`].
+pub fn read_bytes_with_limit(path: &Path, limit: u64) -> Result<Vec<u8>, SourceError> {
+    let (file, size) = open_regular(path, limit)?;
+    read_bounded_bytes(file, limit, Some(size))
+}
+
+/// Opens `path` if it is a regular file of at most `limit` bytes, with its size.
+fn open_regular(path: &Path, limit: u64) -> Result<(std::fs::File, u64), SourceError> {
     // Ask before opening: opening a named pipe waits for a writer, and a device never ends.
     let metadata = std::fs::metadata(path)?;
     if !metadata.is_file() {
@@ -260,7 +275,7 @@ pub fn read_source_with_limit(path: &Path, limit: u64) -> Result<SourceText, Sou
             what: describe_file_type(metadata.file_type()),
         });
     }
-    read_bounded(file, limit, Some(metadata.len()))
+    Ok((file, metadata.len()))
 }
 
 /// Reads a whole source from `reader` (standard input), at most `limit` bytes.
@@ -275,6 +290,15 @@ fn read_bounded(
     limit: u64,
     size_hint: Option<u64>,
 ) -> Result<SourceText, SourceError> {
+    read_bounded_bytes(reader, limit, size_hint).map(SourceText::decode)
+}
+
+/// The bytes of [`read_bounded`], undecoded.
+fn read_bounded_bytes(
+    reader: impl Read,
+    limit: u64,
+    size_hint: Option<u64>,
+) -> Result<Vec<u8>, SourceError> {
     // Without a size, room for the limit: untouched pages cost no memory, and the buffer never
     // grows past the limit by doubling.
     let capacity = size_hint.unwrap_or(limit).min(limit).min(MAX_SOURCE_BYTES) as usize + 1;
@@ -285,7 +309,7 @@ fn read_bounded(
     if bytes.len() as u64 > limit {
         return Err(SourceError::TooLarge { size: None, limit });
     }
-    Ok(SourceText::decode(bytes))
+    Ok(bytes)
 }
 
 /// [`read_source`] in the shape of [`FileLoader::load`](crate::FileLoader::load): invalid UTF-8

@@ -1,14 +1,10 @@
 // OpenSCAD constructs that no quadric represents exactly are errors with a reason and, where
 // there is one, an alternative.
 
-polyhedron(points = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], faces = [[0, 1, 2]]);
-//@ 4:1 error[E0301]: faces
 hull() { sphere(1); translate([3, 0, 0]) sphere(1); }
-//@ 6:1 error[E0301]
+//@ 4:1 error[E0301]
 minkowski() { cube(1); sphere(0.1); }
-//@ 8:1 error[E0301]
-translate([1, 1, 1]) import("part.stl");
-//                   ^^^^^^ error[E0301]
+//@ 6:1 error[E0301]
 translate([0, 0, 0]) text("hello");
 //                   ^^^^ error[E0301]
 translate([0, 0, 0]) surface(file = "h.dat");

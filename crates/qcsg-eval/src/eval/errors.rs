@@ -99,6 +99,7 @@ fn limit_flag(code: &str) -> Option<&'static str> {
         codes::VECTOR_LIMIT => Some("--max-vector-len"),
         codes::STRING_LIMIT => Some("--max-string-len"),
         codes::INSTANCE_LIMIT => Some("--max-instances"),
+        codes::IMPORT_SIZE_LIMIT => Some("--max-import-bytes"),
         _ => None,
     }
 }

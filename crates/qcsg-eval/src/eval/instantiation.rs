@@ -1,6 +1,6 @@
 //! Module instantiation: a user module, `echo`, `assert`, `children`, `intersection_for`, or a
 //! built-in module (primitives, booleans, transforms, `color`) with its arguments placed on its
-//! parameters.
+//! parameters; meshes (`polyhedron`, `import`) are built in [`super::meshes`].
 
 use glam::DMat4;
 use qcsg_csg::{Edge, Source};
@@ -17,7 +17,7 @@ use super::{ArgValue, Cx, Evaluator, R};
 
 /// The arguments of a built-in module call by parameter name.
 #[derive(Default)]
-struct BuiltinArgs<'a> {
+pub(super) struct BuiltinArgs<'a> {
     values: Vec<(&'a str, Value<'a>)>,
 }
 
@@ -125,8 +125,13 @@ impl<'a> Evaluator<'a> {
                     ));
                 }
                 let from = self.dag.len();
-                if name == "polygon" {
-                    return self.polygon(&named, from, cx.file, span);
+                match name {
+                    "polygon" => return self.polygon(&named, from, cx.file, span),
+                    "polyhedron" => {
+                        return self.polyhedron(&named, args, builtin.params, cx.file, span);
+                    }
+                    "import" => return self.import(&named, args, builtin.params, cx.file, span),
+                    _ => {}
                 }
                 let built = match name {
                     "square" => primitives_2d::square(&mut self.dag, &named, source),
