@@ -5,14 +5,18 @@
 //! ([`polygon_cells`]), and `polyhedron` a union of convex cells of half-spaces whose planes pass
 //! through three input points ([`polyhedron_cells`]). The crate knows nothing of the rest of qcsg: the evaluator turns cells into
 //! solids.
-//! It also reads STL and OFF meshes ([`read_stl`], [`read_off`]) into a [`Mesh`].
+//! It also reads STL and OFF meshes ([`read_stl`], [`read_off`]) into a [`Mesh`], and DXF
+//! drawings ([`read_dxf`]) into a [`Drawing`] of exact paths, arcs and circles.
 
 mod exact;
 mod formats;
 mod polygon;
 mod polyhedron;
 
-pub use formats::{ReadError, ReadLimits, read_off, read_stl};
+pub use formats::{
+    Arc, Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingLimits, DrawingOptions,
+    DrawingPath, DrawingWarning, Edge, ReadError, ReadLimits, read_dxf, read_off, read_stl,
+};
 pub use polygon::{
     Cell2, HalfPlane, MAX_COORDINATE, Polygon, PolygonError, PolygonLimits, polygon_cells,
 };

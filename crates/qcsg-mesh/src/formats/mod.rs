@@ -1,10 +1,12 @@
-//! Readers of mesh files into a [`Mesh`](crate::Mesh) in OpenSCAD's face order.
+//! Readers of mesh files into a [`Mesh`](crate::Mesh) in OpenSCAD's face order, and of DXF
+//! drawings into a [`Drawing`].
 //!
 //! STL and OFF list faces counter-clockwise seen from outside; the readers reverse them so every
 //! [`Mesh`](crate::Mesh) is clockwise seen from outside, as `polyhedron` expects. Errors are
 //! values with the line (text) or record (binary) where reading stopped; sizes are bounded by
 //! [`ReadLimits`] so a hostile file cannot exhaust memory.
 
+mod dxf;
 mod off;
 mod stl;
 
@@ -13,6 +15,10 @@ use std::fmt;
 
 use glam::DVec3;
 
+pub use dxf::{
+    Arc, Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingLimits, DrawingOptions,
+    DrawingPath, DrawingWarning, Edge, read_dxf,
+};
 pub use off::read_off;
 pub use stl::read_stl;
 

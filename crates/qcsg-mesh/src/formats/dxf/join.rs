@@ -1,0 +1,214 @@
+//! Joining segments and arcs end to end into paths, as OpenSCAD 2021.01 joins them.
+//!
+//! End points are matched on a grid: a point falls in the cell `round(p / res)`, or, when that
+//! cell is empty, in the nearest occupied neighbouring cell (OpenSCAD's `Grid2d::align`); points
+//! in one cell are one vertex. OpenSCAD's `res` is 1/1024; here it is that or, for a drawing
+//! under 1/16 unit across, its extent / 64, so that tiny drawings do not collapse into a few
+//! cells (OpenSCAD's grid merges every point of a drawing under a thousandth across). Where OpenSCAD
+//! moves each point to its cell's corner, a vertex here keeps the exact coordinates of the first
+//! point that fell in its cell, so the edges of a path meet exactly.
+//!
+//! The walk is OpenSCAD's: first chains from end points no other edge touches (open paths, which
+//! OpenSCAD closes with a straight edge; here also a warning), then loops from the remaining edges
+//! in file order; at each vertex the walk continues along the first unused edge there.
+
+use std::collections::HashMap;
+
+use glam::DVec2;
+
+use super::parse::Piece;
+use super::{Arc, Drawing, DrawingPath, DrawingWarning, Edge};
+
+/// OpenSCAD's `GRID_COARSE`.
+const GRID: f64 = 1.0 / 1024.0;
+
+struct Grid {
+    res: f64,
+    cells: HashMap<(i64, i64), usize>,
+    vertices: Vec<DVec2>,
+}
+
+impl Grid {
+    fn key(&self, p: DVec2) -> (i64, i64) {
+        // `as` saturates: a far point lands in an edge cell rather than wrapping.
+        (
+            (p.x / self.res).round() as i64,
+            (p.y / self.res).round() as i64,
+        )
+    }
+
+    fn align(&mut self, p: DVec2) -> usize {
+        let key = self.key(p);
+        if let Some(&v) = self.cells.get(&key) {
+            return v;
+        }
+        let mut best: Option<(i64, usize)> = None;
+        for dx in -1..=1i64 {
+            for dy in -1..=1i64 {
+                let k = (key.0.saturating_add(dx), key.1.saturating_add(dy));
+                if let Some(&v) = self.cells.get(&k) {
+                    let d = dx.abs() + dy.abs();
+                    if best.is_none_or(|(bd, _)| d < bd) {
+                        best = Some((d, v));
+                    }
+                }
+            }
+        }
+        if let Some((_, v)) = best {
+            return v;
+        }
+        let v = self.vertices.len();
+        self.vertices.push(p);
+        self.cells.insert(key, v);
+        v
+    }
+}
+
+/// An edge between two grid vertices.
+struct Link {
+    ends: [usize; 2],
+    arc: Option<Arc>,
+    line: usize,
+}
+
+/// Joins `pieces` (segments and arcs only) into the drawing's paths.
+pub(super) fn join(pieces: &[Piece], drawing: &mut Drawing) {
+    let mut lo = DVec2::splat(f64::INFINITY);
+    let mut hi = DVec2::splat(f64::NEG_INFINITY);
+    for piece in pieces {
+        if let Piece::Segment { from, to, .. } | Piece::Arc { from, to, .. } = piece {
+            lo = lo.min(from.min(*to));
+            hi = hi.max(from.max(*to));
+        }
+    }
+    let extent = (hi - lo).max_element();
+    let res = if extent.is_finite() && extent > 0.0 {
+        GRID.min(extent / 64.0)
+    } else {
+        GRID
+    };
+    let mut grid = Grid {
+        res,
+        cells: HashMap::new(),
+        vertices: Vec::new(),
+    };
+    let mut links = Vec::new();
+    for piece in pieces {
+        let (from, to, arc, line) = match *piece {
+            Piece::Segment { from, to, line } => (from, to, None, line),
+            Piece::Arc {
+                from,
+                to,
+                center,
+                radius,
+                ccw,
+                line,
+            } => (
+                from,
+                to,
+                Some(Arc {
+                    center,
+                    radius,
+                    ccw,
+                }),
+                line,
+            ),
+            _ => continue,
+        };
+        let ends = [grid.align(from), grid.align(to)];
+        // An edge inside one cell joins nothing and bounds nothing.
+        if ends[0] != ends[1] {
+            links.push(Link { ends, arc, line });
+        }
+    }
+    let mut at: Vec<Vec<usize>> = vec![Vec::new(); grid.vertices.len()];
+    for (i, link) in links.iter().enumerate() {
+        at[link.ends[0]].push(i);
+        at[link.ends[1]].push(i);
+    }
+    let mut used = vec![false; links.len()];
+    let mut walker = Walker {
+        links: &links,
+        at: &at,
+        vertices: &grid.vertices,
+        used: &mut used,
+    };
+    // Open chains first: from an end no other unused edge touches.
+    loop {
+        let start = (0..links.len()).filter(|&i| !walker.used[i]).find_map(|i| {
+            (0..2).find_map(|j| {
+                let lonely = walker.at[links[i].ends[j]]
+                    .iter()
+                    .all(|&k| k == i || walker.used[k]);
+                lonely.then_some((i, j))
+            })
+        });
+        let Some((i, j)) = start else { break };
+        let edges = walker.walk(i, j);
+        push_path(drawing, edges, false);
+    }
+    // Then loops, from the remaining edges in file order.
+    while let Some(i) = (0..links.len()).find(|&i| !walker.used[i]) {
+        let edges = walker.walk(i, 0);
+        let closed = edges.first().map(|e| e.from) == edges.last().map(|e| e.to);
+        push_path(drawing, edges, closed);
+    }
+}
+
+fn push_path(drawing: &mut Drawing, mut edges: Vec<Edge>, closed: bool) {
+    let (Some(first), Some(last)) = (edges.first().copied(), edges.last().copied()) else {
+        return;
+    };
+    if edges.len() == 1 && first.arc.is_none() {
+        drawing.two_point_chains.push([first.from, first.to]);
+    }
+    if !closed {
+        drawing
+            .warnings
+            .push(DrawingWarning::OpenPath { line: first.line });
+        edges.push(Edge {
+            from: last.to,
+            to: first.from,
+            arc: None,
+            line: 0,
+        });
+    }
+    drawing.paths.push(DrawingPath {
+        edges,
+        closed_in_file: closed,
+    });
+}
+
+struct Walker<'a> {
+    links: &'a [Link],
+    at: &'a [Vec<usize>],
+    vertices: &'a [DVec2],
+    used: &'a mut [bool],
+}
+
+impl Walker<'_> {
+    /// Follows unused edges from end `j` of edge `i` until none continues.
+    fn walk(&mut self, mut i: usize, mut j: usize) -> Vec<Edge> {
+        let mut edges = Vec::new();
+        loop {
+            let link = &self.links[i];
+            self.used[i] = true;
+            let (a, b) = (link.ends[j], link.ends[1 - j]);
+            let arc = link.arc.map(|arc| Arc {
+                ccw: if j == 0 { arc.ccw } else { !arc.ccw },
+                ..arc
+            });
+            edges.push(Edge {
+                from: self.vertices[a],
+                to: self.vertices[b],
+                arc,
+                line: link.line,
+            });
+            let next = self.at[b].iter().copied().find(|&k| !self.used[k]);
+            let Some(k) = next else { break };
+            i = k;
+            j = if self.links[k].ends[0] == b { 0 } else { 1 };
+        }
+        edges
+    }
+}
