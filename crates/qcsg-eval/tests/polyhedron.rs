@@ -230,3 +230,16 @@ fn an_empty_polyhedron_is_empty() {
     assert!(!e.has_errors(), "{:?}", e.diagnostics);
     assert!(e.dag.contains(p(0.5, 0.5, 0.5)));
 }
+
+/// The conformance scene lists its faces as OpenSCAD asks (clockwise seen from outside), so the
+/// only warning is the deprecated `triangles`.
+#[test]
+fn the_conformance_scene_is_oriented_as_openscad_asks() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/openscad/polyhedron_csg.scad"
+    );
+    let text = std::fs::read_to_string(path).expect("the scene");
+    let e = eval(&text);
+    assert_eq!(codes(&e), ["W0563"], "{:?}", e.diagnostics);
+}
