@@ -47,14 +47,46 @@ impl Options {
     }
 }
 
-/// The library directories of `QCSG_PATH` (separated as `PATH` is on this platform; empty entries
-/// skipped).
+/// The library directories, in the order they are searched: those of `QCSG_PATH`, then
+/// OpenSCAD's (`OPENSCADPATH`, the user's library folder and the installation's), so that a
+/// `.scad` file finds the libraries it finds in OpenSCAD, e.g. `use <MCAD/gears.scad>`.
+/// `QCSG_PATH` and `OPENSCADPATH` are separated as `PATH` is on this platform (empty entries
+/// skipped); OpenSCAD's own folders are searched only where they exist.
 pub fn search_path_from_env() -> Vec<PathBuf> {
-    std::env::var_os("QCSG_PATH")
+    let mut path = paths_of("QCSG_PATH");
+    path.extend(paths_of("OPENSCADPATH"));
+    path.extend(
+        openscad_library_folders()
+            .into_iter()
+            .filter(|p| p.is_dir()),
+    );
+    path
+}
+
+fn paths_of(variable: &str) -> Vec<PathBuf> {
+    std::env::var_os(variable)
         .map(|paths| {
             std::env::split_paths(&paths)
                 .filter(|p| !p.as_os_str().is_empty())
                 .collect()
         })
         .unwrap_or_default()
+}
+
+/// Where OpenSCAD 2021.01 looks for libraries after `OPENSCADPATH` on Linux: the user's folder
+/// (`$XDG_DATA_HOME/OpenSCAD/libraries`, by default under `~/.local/share`), then those of an
+/// installation from packages or from source.
+fn openscad_library_folders() -> Vec<PathBuf> {
+    let user_data = std::env::var_os("XDG_DATA_HOME")
+        .filter(|d| !d.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|home| PathBuf::from(home).join(".local/share")));
+    user_data
+        .map(|data| data.join("OpenSCAD/libraries"))
+        .into_iter()
+        .chain([
+            PathBuf::from("/usr/share/openscad/libraries"),
+            PathBuf::from("/usr/local/share/openscad/libraries"),
+        ])
+        .collect()
 }
