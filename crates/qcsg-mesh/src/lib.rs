@@ -6,13 +6,16 @@
 //! through three input points ([`polyhedron_cells`]). The crate knows nothing of the rest of qcsg: the evaluator turns cells into
 //! solids.
 //! It also reads STL and OFF meshes ([`read_stl`], [`read_off`]) into a [`Mesh`], and DXF
-//! drawings ([`read_dxf`]) into a [`Drawing`] of exact paths, arcs and circles.
+//! drawings ([`read_dxf`]) into a [`Drawing`] of exact paths, arcs and circles, whose even–odd
+//! region [`drawing_region`] builds from cells, discs and circular segments.
 
+mod drawing;
 mod exact;
 mod formats;
 mod polygon;
 mod polyhedron;
 
+pub use drawing::{CurvedPiece, DrawingRegion, Op, RegionError, Step, drawing_region};
 pub use formats::{
     Arc, Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingLimits, DrawingOptions,
     DrawingPath, DrawingWarning, Edge, ReadError, ReadLimits, read_dxf, read_off, read_stl,

@@ -1,0 +1,257 @@
+//! A drawing's exact region against an independent even–odd count over its exact edges, arcs and
+//! circles, on drawings written here and on OpenSCAD's example drawings.
+
+use std::f64::consts::TAU;
+
+use glam::DVec2;
+use qcsg_mesh::{
+    Drawing, DrawingLimits, DrawingOptions, PolygonLimits, RegionError, drawing_region, read_dxf,
+};
+
+/// Whether `angle` lies on the arc of `edge` (counter-clockwise from its first end to its second).
+fn on_arc(from: DVec2, to: DVec2, center: DVec2, ccw: bool, p: DVec2) -> bool {
+    let (a, b) = if ccw { (from, to) } else { (to, from) };
+    let start = (a - center).to_angle();
+    let sweep = ((b - center).to_angle() - start).rem_euclid(TAU);
+    ((p - center).to_angle() - start).rem_euclid(TAU) <= sweep
+}
+
+/// The even–odd parity of `p` over every edge, arc and circle, by a ray along +x, and the
+/// distance from `p` to the nearest curve (to skip points on a boundary).
+fn reference(d: &Drawing, p: DVec2) -> (bool, f64) {
+    let mut inside = false;
+    let mut near = f64::INFINITY;
+    for c in &d.circles {
+        let r = (p - c.center).length();
+        inside ^= r < c.radius;
+        near = near.min((r - c.radius).abs());
+    }
+    for path in &d.paths {
+        for e in &path.edges {
+            match e.arc {
+                None => {
+                    let (a, b) = (e.from, e.to);
+                    if (a.y > p.y) != (b.y > p.y) {
+                        let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+                        inside ^= x > p.x;
+                    }
+                    let t = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                    near = near.min((a + (b - a) * t - p).length());
+                }
+                Some(arc) => {
+                    let dy = p.y - arc.center.y;
+                    let r = arc.radius;
+                    near = near.min(((p - arc.center).length() - r).abs());
+                    if dy.abs() < r {
+                        let dx = (r * r - dy * dy).sqrt();
+                        for x in [arc.center.x - dx, arc.center.x + dx] {
+                            let q = DVec2::new(x, p.y);
+                            if x > p.x && on_arc(e.from, e.to, arc.center, arc.ccw, q) {
+                                inside = !inside;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    (inside, near)
+}
+
+/// Compares the region with the reference on a grid of points over the drawing's box.
+fn compare(d: &Drawing, lo: DVec2, hi: DVec2) {
+    let region = drawing_region(d, &PolygonLimits::default()).unwrap();
+    let n = 120;
+    let margin = 1e-6 * (hi - lo).max_element();
+    let mut checked = 0;
+    for i in 0..n {
+        for j in 0..n {
+            // Irrational offsets keep the samples off the drawing's round numbers.
+            let t = DVec2::new(
+                (i as f64 + 0.291_7) / n as f64,
+                (j as f64 + 0.707_13) / n as f64,
+            );
+            let p = lo + (hi - lo) * t;
+            let (expected, near) = reference(d, p);
+            if near < margin {
+                continue;
+            }
+            checked += 1;
+            assert_eq!(region.contains(p), expected, "at {p}");
+        }
+    }
+    assert!(checked > n * n / 2);
+}
+
+fn example(layer: &str, origin: DVec2) -> Drawing {
+    let bytes = std::fs::read("/usr/share/openscad/examples/Old/example009.dxf").unwrap();
+    let options = DrawingOptions {
+        layer: Some(layer.into()),
+        origin,
+        scale: 1.0,
+    };
+    read_dxf(&bytes, &options, &DrawingLimits::default()).unwrap()
+}
+
+#[test]
+fn example009_layers_with_arcs_and_circles() {
+    if !std::path::Path::new("/usr/share/openscad/examples/Old").exists() {
+        eprintln!("OpenSCAD's examples are not installed; skipped");
+        return;
+    }
+    for layer in ["body", "plate", "fan_top", "fan_side"] {
+        let d = example(layer, DVec2::ZERO);
+        let (lo, hi) = (DVec2::new(-25.0, -55.0), DVec2::new(25.0, 25.0));
+        match drawing_region(&d, &PolygonLimits::default()) {
+            Ok(_) => compare(&d, lo, hi),
+            Err(e) => panic!("{layer}: {e}"),
+        }
+    }
+}
+
+/// A DXF drawing of `entities`, each `(kind, [(code, value)])`.
+fn dxf(entities: &[(&str, Vec<(i32, f64)>)]) -> Drawing {
+    let mut text = String::from("  0\nSECTION\n  2\nENTITIES\n");
+    for (kind, pairs) in entities {
+        text.push_str(&format!("  0\n{kind}\n  8\n0\n"));
+        for (c, v) in pairs {
+            text.push_str(&format!(" {c}\n{v:?}\n"));
+        }
+    }
+    text.push_str("  0\nENDSEC\n  0\nEOF\n");
+    read_dxf(
+        text.as_bytes(),
+        &DrawingOptions::default(),
+        &DrawingLimits::default(),
+    )
+    .unwrap()
+}
+
+fn line(a: [f64; 2], b: [f64; 2]) -> (&'static str, Vec<(i32, f64)>) {
+    ("LINE", vec![(10, a[0]), (20, a[1]), (11, b[0]), (21, b[1])])
+}
+
+fn arc(c: [f64; 2], r: f64, start: f64, stop: f64) -> (&'static str, Vec<(i32, f64)>) {
+    (
+        "ARC",
+        vec![(10, c[0]), (20, c[1]), (40, r), (50, start), (51, stop)],
+    )
+}
+
+fn circle(c: [f64; 2], r: f64) -> (&'static str, Vec<(i32, f64)>) {
+    ("CIRCLE", vec![(10, c[0]), (20, c[1]), (40, r)])
+}
+
+/// A rectangle `[0, w] × [0, h]` with corners rounded by `r` (tangent arcs), moved by `at` and
+/// scaled by `s`, with a hole of radius `hole` at its centre and an island inside that hole.
+fn rounded(at: [f64; 2], s: f64, concave: bool) -> Vec<(&'static str, Vec<(i32, f64)>)> {
+    let p = |x: f64, y: f64| [at[0] + s * x, at[1] + s * y];
+    let (w, h, r) = (10.0, 6.0, 1.0);
+    let mut e = vec![
+        line(p(r, 0.0), p(w - r, 0.0)),
+        line(p(w, r), p(w, h - r)),
+        line(p(w - r, h), p(r, h)),
+        line(p(0.0, h - r), p(0.0, r)),
+    ];
+    if concave {
+        // Corners bitten out by quarter circles about the rectangle's corners.
+        e.push(arc(p(w, 0.0), s * r, 90.0, 180.0));
+        e.push(arc(p(w, h), s * r, 180.0, 270.0));
+        e.push(arc(p(0.0, h), s * r, 270.0, 360.0));
+        e.push(arc(p(0.0, 0.0), s * r, 0.0, 90.0));
+    } else {
+        e.push(arc(p(w - r, r), s * r, 270.0, 360.0));
+        e.push(arc(p(w - r, h - r), s * r, 0.0, 90.0));
+        e.push(arc(p(r, h - r), s * r, 90.0, 180.0));
+        e.push(arc(p(r, r), s * r, 180.0, 270.0));
+    }
+    e.push(circle(p(5.0, 3.0), s * 2.0));
+    e.push(circle(p(5.0, 3.0), s * 1.0));
+    e.push(circle(p(2.0, 3.0), s * 0.5));
+    e
+}
+
+#[test]
+fn rounded_and_bitten_rectangles_with_holes_and_islands() {
+    for concave in [false, true] {
+        let d = dxf(&rounded([0.0, 0.0], 1.0, concave));
+        assert_eq!(d.paths.len(), 1);
+        assert!(d.paths[0].closed_in_file);
+        let region = drawing_region(&d, &PolygonLimits::default()).unwrap();
+        assert_eq!(region.steps.len(), 7);
+        assert!(region.contains(DVec2::new(5.0, 3.0)), "the island");
+        assert!(!region.contains(DVec2::new(6.5, 3.0)), "the hole");
+        assert!(!region.contains(DVec2::new(2.0, 3.0)), "the small hole");
+        assert!(!region.contains(DVec2::new(0.1, 0.1)), "a cut corner");
+        compare(&d, DVec2::new(-1.0, -1.0), DVec2::new(11.0, 7.0));
+    }
+}
+
+#[test]
+fn far_and_tiny_drawings() {
+    for (at, s) in [([1e6, -1e6], 1.0), ([0.0, 0.0], 1e-6), ([3e5, 2e5], 1e3)] {
+        for concave in [false, true] {
+            let d = dxf(&rounded(at, s, concave));
+            let lo = DVec2::from_array(at) - s;
+            let hi = DVec2::from_array(at) + DVec2::new(11.0, 7.0) * s;
+            compare(&d, lo, hi);
+        }
+    }
+}
+
+#[test]
+fn crossing_pieces_are_refused_with_their_lines() {
+    let square = [
+        line([0.0, 0.0], [4.0, 0.0]),
+        line([4.0, 0.0], [4.0, 4.0]),
+        line([4.0, 4.0], [0.0, 4.0]),
+        line([0.0, 4.0], [0.0, 0.0]),
+    ];
+    // A circle across an edge.
+    let mut e = square.to_vec();
+    e.push(circle([4.0, 2.0], 1.0));
+    let error = drawing_region(&dxf(&e), &PolygonLimits::default()).unwrap_err();
+    assert!(
+        matches!(
+            error,
+            RegionError::Crossing {
+                piece: "the circle",
+                line: 53,
+                other: "a line",
+                other_line: 17
+            }
+        ),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("DXF line 53"), "{error}");
+    // Two circles that cross.
+    let e = [circle([0.0, 0.0], 1.0), circle([1.5, 0.0], 1.0)];
+    let error = drawing_region(&dxf(&e), &PolygonLimits::default()).unwrap_err();
+    assert!(matches!(error, RegionError::Crossing { .. }), "{error}");
+    // A circle touching an edge from inside, and circles touching each other, do not cross.
+    let mut e = square.to_vec();
+    e.push(circle([2.0, 2.0], 2.0));
+    e.push(circle([1.0, 2.0], 1.0));
+    let d = dxf(&e);
+    compare(&d, DVec2::splat(-1.0), DVec2::splat(5.0));
+    // An arc bulging out of a square across a circle outside it.
+    let mut e = square[..3].to_vec();
+    e.push(arc([0.0, 2.0], 2.0, 90.0, 270.0));
+    e.push(circle([-2.0, 2.0], 0.5));
+    let error = drawing_region(&dxf(&e), &PolygonLimits::default()).unwrap_err();
+    assert!(matches!(error, RegionError::Crossing { .. }), "{error}");
+}
+
+#[test]
+fn an_open_arc_is_its_segment_and_two_half_arcs_a_disc() {
+    let d = dxf(&[arc([0.0, 0.0], 2.0, 0.0, 120.0)]);
+    compare(&d, DVec2::splat(-3.0), DVec2::splat(3.0));
+    let d = dxf(&[
+        arc([0.0, 0.0], 2.0, 0.0, 180.0),
+        arc([0.0, 0.0], 2.0, 180.0, 360.0),
+    ]);
+    let region = drawing_region(&d, &PolygonLimits::default()).unwrap();
+    assert!(region.contains(DVec2::new(0.0, 1.9)));
+    assert!(region.contains(DVec2::new(0.3, -1.9)));
+    compare(&d, DVec2::splat(-3.0), DVec2::splat(3.0));
+}
