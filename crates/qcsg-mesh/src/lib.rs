@@ -7,11 +7,13 @@
 //! solids.
 //! It also reads STL and OFF meshes ([`read_stl`], [`read_off`]) into a [`Mesh`], and DXF
 //! drawings ([`read_dxf`]) into a [`Drawing`] of exact paths, arcs and circles, whose even–odd
-//! region [`drawing_region`] builds from cells, discs and circular segments.
+//! region [`drawing_region`] builds from cells, discs and circular segments, and computes exact
+//! convex hulls of point sets ([`convex_hull`], [`convex_hull_2d`]).
 
 mod drawing;
 mod exact;
 mod formats;
+mod hull;
 mod polygon;
 mod polyhedron;
 
@@ -20,6 +22,7 @@ pub use formats::{
     Arc, Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingLimits, DrawingOptions,
     DrawingPath, DrawingWarning, Edge, ReadError, ReadLimits, read_dxf, read_off, read_stl,
 };
+pub use hull::{ConvexHull, HullError, HullFace, convex_hull, convex_hull_2d};
 pub use polygon::{
     Cell2, HalfPlane, MAX_COORDINATE, Polygon, PolygonError, PolygonLimits, polygon_cells,
 };
