@@ -109,6 +109,8 @@ pub(crate) struct Evaluator<'a> {
     node_boxes: Vec<Aabb>,
     /// The files `import` read (or tried to), in order, each once.
     pub imports: Vec<std::path::PathBuf>,
+    /// The cells of each mesh file imported so far, by resolved path.
+    imported_meshes: HashMap<std::path::PathBuf, Rc<qcsg_mesh::Polyhedron>>,
 }
 
 impl<'a> Evaluator<'a> {
@@ -144,6 +146,7 @@ impl<'a> Evaluator<'a> {
             node_dims: Vec::new(),
             node_boxes: Vec::new(),
             imports: Vec::new(),
+            imported_meshes: HashMap::new(),
         }
     }
 }

@@ -201,8 +201,7 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
         .filter_map(|l| l.target.map(|t| ((l.file, l.span.start), t)))
         .collect();
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        let mut evaluator =
-            eval::Evaluator::new(
+        let mut evaluator = eval::Evaluator::new(
             &analysis.trees,
             &analysis.sources,
             links,

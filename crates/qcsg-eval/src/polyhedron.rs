@@ -8,7 +8,7 @@
 
 use glam::DVec3;
 use qcsg_csg::{Aabb, Dag, Edge, NodeId, Source};
-use qcsg_mesh::{Mesh, MeshError, MeshLimits, Plane, polyhedron_cells};
+use qcsg_mesh::{Mesh, MeshError, MeshLimits, Plane, Polyhedron, polyhedron_cells};
 use qcsg_quadric::Quadric;
 
 use crate::value::Value;
@@ -166,17 +166,26 @@ pub fn build(
     max_len: usize,
     source: Source,
 ) -> Result<BuiltMesh, MeshFailure> {
+    solid(dag, &cells(mesh, max_len)?, source)
+}
+
+/// The convex cells of the solid `mesh` bounds (the costly part, which `import` keeps per file).
+pub fn cells(mesh: &Mesh, max_len: usize) -> Result<Polyhedron, MeshFailure> {
     let limits = MeshLimits {
         max_points: max_len,
         max_face_entries: max_len,
     };
-    let shape = polyhedron_cells(mesh, &limits).map_err(|e| {
+    polyhedron_cells(mesh, &limits).map_err(|e| {
         let part = part_of(&e);
         match e {
             MeshError::TooLarge { .. } => MeshFailure::TooLarge(part, e.to_string()),
             other => MeshFailure::Invalid(part, other.to_string()),
         }
-    })?;
+    })
+}
+
+/// The union of `shape`'s cells, each the intersection of its half-spaces with its box.
+pub fn solid(dag: &mut Dag, shape: &Polyhedron, source: Source) -> Result<BuiltMesh, MeshFailure> {
     let mut cells: Vec<Edge> = Vec::with_capacity(shape.cells.len());
     for cell in &shape.cells {
         let mut sides: Vec<Edge> = Vec::with_capacity(cell.planes.len());
@@ -202,6 +211,6 @@ pub fn build(
     };
     Ok(BuiltMesh {
         node,
-        warnings: shape.warnings,
+        warnings: shape.warnings.clone(),
     })
 }

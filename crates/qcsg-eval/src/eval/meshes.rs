@@ -4,12 +4,15 @@
 //! Both end in [`crate::polyhedron::build`]. `import` resolves its path against the calling
 //! file ([`crate::import::resolve`]), then dispatches on the extension: STL and OFF are read
 //! into a mesh here; `.dxf` goes to [`Evaluator::import_dxf`]; anything else is E0301 at the
-//! `file` argument, naming the format, before the file is touched.
+//! `file` argument, naming the format, before the file is touched. A mesh file's cells are kept
+//! for the evaluation, so a part imported in a loop or at several places is read and cut once.
 
 use std::path::PathBuf;
+use std::rc::Rc;
 
 use qcsg_csg::{Edge, Source};
 use qcsg_diag::{FileId, Span};
+use qcsg_mesh::Polyhedron;
 use qcsg_sema::builtins::BuiltinParam;
 use qcsg_syntax::ast::Arg;
 
@@ -201,12 +204,16 @@ impl<'a> Evaluator<'a> {
         let format = Format::of(&call.written);
         match format {
             Format::Stl | Format::Off => {
-                let bytes = self.import_bytes(&call)?;
-                let max_len = usize::try_from(self.options.max_vector_len).unwrap_or(usize::MAX);
-                let mesh = import::read_mesh(&format, &bytes, max_len)
-                    .map_err(|f| self.import_failure(f, &call))?;
-                drop(bytes);
-                let built = mesh::build(&mut self.dag, &mesh, max_len, Source::new(file, span));
+                let shape = match self.imported_meshes.get(&call.path) {
+                    Some(shape) => shape.clone(),
+                    None => {
+                        let shape = Rc::new(self.import_mesh(&format, &call)?);
+                        self.imported_meshes
+                            .insert(call.path.clone(), shape.clone());
+                        shape
+                    }
+                };
+                let built = mesh::solid(&mut self.dag, &shape, Source::new(file, span));
                 match built {
                     Ok(built) => self.mesh_solid(built, file, span, file_span),
                     Err(failure) => Err(self.mesh_failure(failure, file, &|_| file_span)),
@@ -238,6 +245,17 @@ impl<'a> Evaluator<'a> {
             call.file,
             call.file_span,
         ))
+    }
+
+    /// The cells of the STL or OFF mesh `call` names.
+    fn import_mesh(&mut self, format: &Format, call: &ImportCall<'_, 'a>) -> R<Polyhedron> {
+        let bytes = self.import_bytes(call)?;
+        let max_len = usize::try_from(self.options.max_vector_len).unwrap_or(usize::MAX);
+        let mesh =
+            import::read_mesh(format, &bytes, max_len).map_err(|f| self.import_failure(f, call))?;
+        drop(bytes);
+        mesh::cells(&mesh, max_len)
+            .map_err(|failure| self.mesh_failure(failure, call.file, &|_| call.file_span))
     }
 
     /// The bytes of the imported file, at most `--max-import-bytes`; the path is recorded for
