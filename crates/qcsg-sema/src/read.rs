@@ -392,6 +392,28 @@ mod tests {
         ));
         let missing = read_source(Path::new("/no/such/file.qcsg")).unwrap_err();
         assert!(missing.is_not_found());
+        // Data files are refused the same way, under the caller's limit.
+        let error = read_bytes_with_limit(Path::new("/dev/zero"), 1 << 30).unwrap_err();
+        assert!(matches!(error, SourceError::NotAFile { .. }), "{error}");
+        let error = read_bytes_with_limit(Path::new("/"), 1 << 30).unwrap_err();
+        assert!(matches!(error, SourceError::NotAFile { .. }), "{error}");
+    }
+
+    #[test]
+    fn data_files_are_read_as_bytes_under_the_limit() {
+        let path = std::env::temp_dir().join(format!("qcsg-read-bytes-{}", std::process::id()));
+        std::fs::write(&path, [0xFFu8, 0x00, 0x80]).expect("write a scratch file");
+        let bytes = read_bytes_with_limit(&path, 3);
+        let over = read_bytes_with_limit(&path, 2);
+        let _ = std::fs::remove_file(&path);
+        assert_eq!(bytes.expect("at the limit"), [0xFF, 0x00, 0x80]);
+        assert!(matches!(
+            over.unwrap_err(),
+            SourceError::TooLarge {
+                size: Some(3),
+                limit: 2
+            }
+        ));
     }
 
     #[test]
