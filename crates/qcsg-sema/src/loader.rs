@@ -186,7 +186,9 @@ pub(crate) fn load_program(
     while next < file_count {
         let file = FileId(next as u32);
         next += 1;
-        let parse = qcsg_syntax::parse(&sources.get(file).text, file);
+        let source = sources.get(file);
+        let dialect = qcsg_syntax::Dialect::of_file(&source.name);
+        let parse = qcsg_syntax::parse_as(&source.text, file, dialect);
         match invalid_utf8.get(&file) {
             Some(invalid) => {
                 diagnostics.push(invalid_utf8_diagnostic(file, invalid));

@@ -1,4 +1,4 @@
-//! Stable codes of the syntax diagnostics (range E0001–E0099).
+//! Stable codes of the syntax diagnostics (range E0001–E0099, warnings W0001–W0099).
 //!
 //! Tools and tests match on these codes, never on messages. [`ALL`] lists every code with a
 //! one-line description; the documentation's table of codes is checked against it.
@@ -24,6 +24,11 @@ pub const UNEXPECTED_CLOSING_DELIMITER: &str = "E0009";
 /// `include` or `use` without a `<path>`.
 pub const MISSING_PATH: &str = "E0010";
 
+/// In a `.scad` file, an escape or line break in a string literal that OpenSCAD 2021.01 reads
+/// its own way (a backslash starting no escape is dropped, `\x00` is a space, a line break is
+/// dropped); a `.qcsg` file has error [`INVALID_ESCAPE`] there instead.
+pub const SCAD_STRING_READING: &str = "W0004";
+
 /// Every syntax code with a one-line description, in code order.
 pub const ALL: &[(&str, &str)] = &[
     (INVALID_CHARACTER, "invalid character"),
@@ -42,6 +47,10 @@ pub const ALL: &[(&str, &str)] = &[
     (UNCLOSED_DELIMITER, "unclosed delimiter"),
     (UNEXPECTED_CLOSING_DELIMITER, "unexpected closing delimiter"),
     (MISSING_PATH, "`include` or `use` without a `<path>`"),
+    (
+        SCAD_STRING_READING,
+        "escape or line break in a `.scad` string literal, read as OpenSCAD reads it",
+    ),
 ];
 
 #[cfg(test)]
@@ -52,7 +61,10 @@ mod tests {
             assert!(pair[0].0 < pair[1].0, "{} before {}", pair[0].0, pair[1].0);
         }
         for (code, description) in super::ALL {
-            assert!(code.len() == 5 && code.starts_with("E00"), "{code}");
+            assert!(
+                code.len() == 5 && (code.starts_with("E00") || code.starts_with("W00")),
+                "{code}"
+            );
             assert!(!description.is_empty());
         }
     }

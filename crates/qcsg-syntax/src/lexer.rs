@@ -582,87 +582,6 @@ fn limit_nesting(out: &mut Lexed, file: FileId) {
     out.tokens = kept;
 }
 
-/// Decodes the body of a string literal (the text between the quotes), reporting invalid escapes
-/// with their exact spans. `offset` is the byte offset of the body in the file.
-pub fn unescape(
-    body: &str,
-    offset: usize,
-    file: FileId,
-    diagnostics: &mut Vec<Diagnostic>,
-) -> String {
-    let mut out = String::with_capacity(body.len());
-    let mut chars = body.char_indices().peekable();
-    while let Some((i, c)) = chars.next() {
-        if c != '\\' {
-            out.push(c);
-            continue;
-        }
-        let Some((_, e)) = chars.next() else {
-            diagnostics.push(Diagnostic::error(
-                codes::INVALID_ESCAPE,
-                "invalid escape: `\\` at the end of the string",
-                file,
-                Span::new(offset + i, offset + i + 1),
-            ));
-            break;
-        };
-        match e {
-            '"' => out.push('"'),
-            '\\' => out.push('\\'),
-            'n' => out.push('\n'),
-            't' => out.push('\t'),
-            'r' => out.push('\r'),
-            'x' | 'u' => {
-                let want = if e == 'x' { 2 } else { 4 };
-                let start = i + 2;
-                let digits: String = body[start..]
-                    .chars()
-                    .take(want)
-                    .take_while(char::is_ascii_hexdigit)
-                    .collect();
-                let end = start + digits.len();
-                let value = u32::from_str_radix(&digits, 16).ok();
-                let decoded = value
-                    .filter(|_| digits.len() == want)
-                    .filter(|&v| e == 'u' || v <= 0x7f)
-                    .and_then(char::from_u32);
-                match decoded {
-                    Some(ch) if ch != '\0' => out.push(ch),
-                    _ => {
-                        let what = if e == 'x' {
-                            "expected two hex digits 01-7F after `\\x`"
-                        } else {
-                            "expected four hex digits after `\\u` naming a character"
-                        };
-                        diagnostics.push(Diagnostic::error(
-                            codes::INVALID_ESCAPE,
-                            format!("invalid escape: {what}"),
-                            file,
-                            Span::new(offset + i, offset + end),
-                        ));
-                    }
-                }
-                for _ in 0..digits.len() {
-                    chars.next();
-                }
-            }
-            other => {
-                diagnostics.push(
-                    Diagnostic::error(
-                        codes::INVALID_ESCAPE,
-                        format!("invalid escape `\\{other}`"),
-                        file,
-                        Span::new(offset + i, offset + i + 1 + other.len_utf8()),
-                    )
-                    .with_help("valid escapes: \\\" \\\\ \\n \\t \\r \\xHH \\uHHHH"),
-                );
-                out.push(other);
-            }
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -728,17 +647,5 @@ mod tests {
         let lexed = lex("a @@@ b", FileId::default());
         assert_eq!(lexed.diagnostics.len(), 1);
         assert_eq!(lexed.diagnostics[0].span, Span::new(2, 5));
-    }
-
-    #[test]
-    fn escapes() {
-        let mut diags = Vec::new();
-        let s = unescape(r#"a\"\\\n\t\r\x41\u263A"#, 0, FileId::default(), &mut diags);
-        assert_eq!(s, "a\"\\\n\t\r\u{41}\u{263A}");
-        assert!(diags.is_empty());
-        unescape(r"\q\x4", 10, FileId::default(), &mut diags);
-        assert_eq!(diags.len(), 2);
-        assert_eq!(diags[0].span, Span::new(10, 12));
-        assert_eq!(diags[1].span, Span::new(12, 15));
     }
 }

@@ -7,15 +7,19 @@
 //! nesting depth; the parser (chumsky, grammar in `grammar/qcsg.ebnf`) builds the [`ast`]. A
 //! valid file is parsed once with a zero-cost error type; only a file with errors is parsed a
 //! second time to explain them. Diagnostic codes are in [`codes`]; [`sexpr`] prints trees.
+//! A file is read in a [`Dialect`]: `.scad` files take OpenSCAD's reading of string escapes
+//! (module [`escape`]), `.qcsg` files are strict.
 
 pub mod ast;
 pub mod codes;
 mod doc;
+pub mod escape;
 pub mod lexer;
 mod parser;
 pub mod sexpr;
 
 pub use ast::SourceFile;
+pub use escape::Dialect;
 pub use qcsg_diag::{Diagnostic, FileId, Span};
 
 /// The result of parsing one file: a tree (with error nodes where the text is broken) and the
@@ -28,9 +32,15 @@ pub struct Parse {
     pub diagnostics: Vec<Diagnostic>,
 }
 
-/// Parses one file. Never fails and never panics: syntax errors become diagnostics (attributed to
-/// `file`) and error nodes in the tree.
+/// Parses one `.qcsg` file. Never fails and never panics: syntax errors become diagnostics
+/// (attributed to `file`) and error nodes in the tree.
 pub fn parse(text: &str, file: FileId) -> Parse {
+    parse_as(text, file, Dialect::Qcsg)
+}
+
+/// Parses one file in the given dialect ([`Dialect::of_file`] tells it by the file's name), as
+/// [`parse`] does.
+pub fn parse_as(text: &str, file: FileId, dialect: Dialect) -> Parse {
     let lexed = lexer::lex(text, file);
     let mut diagnostics = lexed.diagnostics;
     // Escapes are checked once here; the parser decodes strings without reporting.
@@ -42,7 +52,12 @@ pub fn parse(text: &str, file: FileId) -> Parse {
                 span.end as usize
             };
             let body = &text[span.start as usize + 1..end];
-            lexer::unescape(body, span.start as usize + 1, file, &mut diagnostics);
+            let mut found = Vec::new();
+            escape::unescape(body, span.start as usize + 1, file, dialect, &mut found);
+            // An unterminated literal runs to the end of the file: its error says it all, so
+            // OpenSCAD's readings of what it swallowed are not worth a warning each.
+            found.retain(|d| terminated || d.is_error());
+            diagnostics.append(&mut found);
         }
     }
     let tokens: Vec<(lexer::Tok, chumsky::span::SimpleSpan)> = lexed
@@ -54,7 +69,8 @@ pub fn parse(text: &str, file: FileId) -> Parse {
         d.code == codes::UNTERMINATED_STRING || d.code == codes::UNTERMINATED_BLOCK_COMMENT
     });
     let eof_reported = eof_reported || tokens.last().is_some_and(|t| t.0 == lexer::Tok::TooDeep);
-    let (stmts, syntax) = parser::parse_tokens(text, &lexed.comments, &tokens, file, eof_reported);
+    let (stmts, syntax) =
+        parser::parse_tokens(text, &lexed.comments, &tokens, file, dialect, eof_reported);
     // What follows a too-deep region is not worth reporting: the region itself was.
     let too_deep_at = diagnostics
         .iter()

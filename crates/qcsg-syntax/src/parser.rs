@@ -19,7 +19,8 @@ use qcsg_diag::{Diagnostic, FileId, Span};
 
 use crate::ast::*;
 use crate::doc::doc_before;
-use crate::lexer::{Tok, unescape};
+use crate::escape::{Dialect, unescape};
+use crate::lexer::Tok;
 
 use errors::{SynErr, SyntaxError, to_diagnostic};
 
@@ -31,6 +32,8 @@ type In<'t> = MappedInput<'t, Tok, SimpleSpan, &'t [(Tok, SimpleSpan)]>;
 struct Ctx<'t> {
     text: &'t str,
     comments: &'t [Comment],
+    /// How string escapes read.
+    dialect: Dialect,
 }
 
 impl<'t> Ctx<'t> {
@@ -52,7 +55,13 @@ impl<'t> Ctx<'t> {
         };
         let body = self.text.get(span.start + 1..end).unwrap_or("");
         // Escape errors were reported once by `lex`; here only the value matters.
-        unescape(body, span.start + 1, FileId::default(), &mut Vec::new())
+        unescape(
+            body,
+            span.start + 1,
+            FileId::default(),
+            self.dialect,
+            &mut Vec::new(),
+        )
     }
     /// Whether a line break separates `offset` from the token before it.
     fn newline_before(self, offset: usize) -> bool {
@@ -87,9 +96,14 @@ pub(crate) fn parse_tokens(
     comments: &[Comment],
     tokens: &[(Tok, SimpleSpan)],
     file: FileId,
+    dialect: Dialect,
     eof_reported: bool,
 ) -> (Vec<Stmt>, Vec<Diagnostic>) {
-    let ctx = Ctx { text, comments };
+    let ctx = Ctx {
+        text,
+        comments,
+        dialect,
+    };
     let eoi = SimpleSpan::from(text.len()..text.len());
     // Fast pass without error details: most files are valid, and building chumsky's rich errors
     // for every failed alternative costs more than the parse itself.

@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use qcsg_syntax::{FileId, parse, sexpr::file_to_sexpr};
+use qcsg_syntax::{Dialect, FileId, parse, parse_as, sexpr::file_to_sexpr};
 
 /// An expected diagnostic: code, start, end (`None`: any end), message fragment.
 type Expected = (String, usize, Option<usize>, String);
@@ -60,9 +60,10 @@ fn parse_severity(text: &str) -> (String, String) {
     (code, fragment)
 }
 
-/// Parses `text` and checks its diagnostics against its annotations exactly.
+/// Parses `text` in the dialect of `name` and checks its diagnostics against its annotations
+/// exactly.
 fn check_annotated(name: &str, text: &str) {
-    let parse = parse(text, FileId::default());
+    let parse = parse_as(text, FileId::default(), Dialect::of_file(name));
     // The cases also carry the checker's diagnostics (the language suite runs them through
     // `qcsg check`); the parser answers for its own codes.
     let expected: Vec<_> = annotations(text)
