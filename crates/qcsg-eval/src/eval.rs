@@ -26,6 +26,7 @@ mod errors;
 mod expressions;
 mod extrusions;
 mod function_calls;
+mod hulls;
 mod instantiation;
 mod limits;
 mod meshes;

@@ -42,6 +42,8 @@ pub mod color;
 pub mod env;
 mod eval;
 pub mod extrude;
+pub mod hull;
+pub mod hull_2d;
 pub mod import;
 pub mod math;
 pub mod offset;

@@ -45,9 +45,9 @@ pub struct OffsetRefusal {
 
 /// A half-plane `normal · p ≤ offset` with a unit normal, in world coordinates of the plane.
 #[derive(Clone, Copy, Debug)]
-struct Line {
-    normal: DVec2,
-    offset: f64,
+pub(crate) struct Line {
+    pub(crate) normal: DVec2,
+    pub(crate) offset: f64,
 }
 
 impl Line {
@@ -67,7 +67,7 @@ impl Line {
 }
 
 /// The half-planes of a linear conic or of a strip (its two halves); `None` for a curve.
-fn lines_of(conic: &Conic) -> Option<Vec<Line>> {
+pub(crate) fn lines_of(conic: &Conic) -> Option<Vec<Line>> {
     let halves = if conic.is_linear() {
         vec![*conic]
     } else {
@@ -89,7 +89,7 @@ fn lines_of(conic: &Conic) -> Option<Vec<Line>> {
 }
 
 /// The centre and radius of a circle conic; `None` for anything else.
-fn circle_of(conic: &Conic) -> Option<(DVec2, f64)> {
+pub(crate) fn circle_of(conic: &Conic) -> Option<(DVec2, f64)> {
     let [a, b, d, g, h, j] = conic.coefficients();
     if a.is_nan() || a <= 0.0 || (a - b).abs() > 1e-12 * a || d.abs() > 1e-12 * a {
         return None;
@@ -101,7 +101,7 @@ fn circle_of(conic: &Conic) -> Option<(DVec2, f64)> {
 
 /// The vertices, counter-clockwise, of the bounded convex polygon `lines`, found by clipping a
 /// box `[min, max]` that contains it.
-fn convex_vertices(lines: &[Line], min: DVec2, max: DVec2) -> Vec<DVec2> {
+pub(crate) fn convex_vertices(lines: &[Line], min: DVec2, max: DVec2) -> Vec<DVec2> {
     let mut poly = vec![min, DVec2::new(max.x, min.y), max, DVec2::new(min.x, max.y)];
     for line in lines {
         let mut out = Vec::with_capacity(poly.len() + 1);

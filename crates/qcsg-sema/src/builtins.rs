@@ -307,6 +307,13 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "projection(cut = false): the 3-D children as a 2-D shape: their section by z = 0 (cut = true, exact) or their shadow on it (boxes, balls, ellipsoids, vertical cylinders and their unions)",
     },
     BuiltinModule {
+        name: "hull",
+        params: &[],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "hull(): the convex hull of the children, exactly, for convex polytopes (cubes, polyhedra, polygons, squares) and balls or circles of one radius (the rounded box of eight spheres, the capsule of two)",
+    },
+    BuiltinModule {
         name: "offset",
         params: &[
             pos("r", P::Number),
@@ -715,13 +722,6 @@ pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
         "text",
         "glyph outlines are 2-D curves of higher degree than quadrics",
         None,
-    ),
-    unsupported(
-        "hull",
-        "the convex hull of curved solids is bounded by surfaces that are not quadrics",
-        Some(
-            "write the hull's parts explicitly (e.g. a capsule is a cylinder and two spheres); a convex polytope is an `intersection()` of `halfspace`s",
-        ),
     ),
     unsupported(
         "minkowski",

@@ -1,0 +1,144 @@
+//! `hull()` in the evaluator: its children, 3-D ([`crate::hull`]) or 2-D
+//! ([`crate::hull_2d`]), and the errors for hulls that are not bounded by quadrics.
+
+use glam::DMat4;
+use qcsg_csg::{Edge, Source};
+use qcsg_diag::{Diagnostic, FileId, Span};
+
+use crate::codes;
+use crate::hull::{Collector, HullBuilder, HullRefusal, common_radius};
+use crate::hull_2d::{self, Collector2};
+use crate::planar::{PlanarError, planar_expression};
+
+use super::dimensions::Dim;
+use super::{Evaluator, R};
+
+impl<'a> Evaluator<'a> {
+    /// `hull()` of the children `edges`, for the call at `span` in `file`.
+    pub(super) fn hull(&mut self, edges: Vec<Edge>, file: FileId, span: Span) -> R<Option<Edge>> {
+        let source = Source::new(file, span);
+        let dims: Vec<Dim> = edges.iter().map(|e| self.dim(*e)).collect();
+        let planar = dims.contains(&Dim::Two) && !dims.contains(&Dim::Three);
+        let (edges, _) = self.keep_dimension(edges, if planar { Dim::Two } else { Dim::Three });
+        if edges.is_empty() {
+            return Ok(None);
+        }
+        let from = self.dag.len();
+        let built = if planar {
+            self.hull_2d(edges, source)?
+        } else {
+            let mut collector = Collector::new(&self.dag);
+            let collected = edges
+                .iter()
+                .try_for_each(|e| collector.add(*e, &DMat4::IDENTITY));
+            let pieces = collector.pieces;
+            collected
+                .and_then(|()| common_radius(&pieces).map(|r| (pieces, r)))
+                .and_then(|(pieces, r)| HullBuilder { source }.build(&mut self.dag, &pieces, r))
+        };
+        match built {
+            Ok(edge) => {
+                if planar {
+                    self.mark_planar(from, edge.child);
+                }
+                Ok(Some(edge))
+            }
+            Err(refusal) => Err(self.hull_refused(refusal, planar, file, span)),
+        }
+    }
+
+    fn hull_2d(&mut self, edges: Vec<Edge>, source: Source) -> R<Result<Edge, HullRefusal>> {
+        let Some(shape) = self.group(edges, source) else {
+            return Ok(Ok(self.dag.empty(source).into()));
+        };
+        let limit = usize::try_from(self.options.max_instances).unwrap_or(usize::MAX);
+        let expr = match planar_expression(&self.dag, shape, limit) {
+            Ok(expr) => expr,
+            Err(PlanarError::TooLarge(limit)) => {
+                return Err(self.error(
+                    codes::INSTANCE_LIMIT,
+                    format!(
+                        "the children of this hull have more than {limit} parts once their \
+                         transforms are applied"
+                    ),
+                    source.file,
+                    source.span,
+                ));
+            }
+            Err(PlanarError::NotPlanar(at)) => {
+                return Ok(Err(HullRefusal::Part(at, "a part that is not a 2-D shape")));
+            }
+        };
+        let mut collector = Collector2::new(&expr);
+        if let Err(refusal) = collector.add(expr.root) {
+            return Ok(Err(refusal));
+        }
+        let pieces = collector.pieces;
+        Ok(hull_2d::common_radius(&pieces)
+            .and_then(|r| hull_2d::build(&mut self.dag, &pieces, r, source)))
+    }
+
+    fn hull_refused(
+        &mut self,
+        refusal: HullRefusal,
+        planar: bool,
+        file: FileId,
+        span: Span,
+    ) -> super::Stop {
+        let (ball, point) = if planar {
+            ("circle", "point")
+        } else {
+            ("ball", "point")
+        };
+        let diagnostic = match refusal {
+            HullRefusal::Part(at, what) => Diagnostic::error(
+                qcsg_sema::codes::UNSUPPORTED_MODULE,
+                format!(
+                    "`hull` of {what} is not supported: qcsg computes hulls of convex polytopes \
+                     and {ball}s of one radius, whose hulls are bounded by quadrics"
+                ),
+                file,
+                span,
+            )
+            .with_label(at.file, at.span, "this part")
+            .with_help(if planar {
+                "use squares, polygons and circles of one radius as the hull's children"
+            } else {
+                "use cubes, polyhedra and spheres of one radius as the hull's children; an \
+                 ellipsoid's or a cylinder's hull can be modelled with intersections and unions"
+            }),
+            HullRefusal::UnequalRadii([(s1, r1), (s2, r2)]) => {
+                let name = |r: f64| {
+                    if r == 0.0 {
+                        format!("a {point} (radius 0)")
+                    } else {
+                        format!("a {ball} of radius {r}")
+                    }
+                };
+                Diagnostic::error(
+                    qcsg_sema::codes::UNSUPPORTED_MODULE,
+                    format!(
+                        "`hull` of {ball}s of different radii is not supported: it is bounded \
+                         by cones tangent to pairs of {ball}s, which qcsg does not build yet"
+                    ),
+                    file,
+                    span,
+                )
+                .with_label(s1.file, s1.span, name(r1))
+                .with_label(s2.file, s2.span, name(r2))
+                .with_help(format!(
+                    "give every {ball} the same radius (a corner of a box is a {ball} of the \
+                     box's rounding radius), or write the tapered part explicitly"
+                ))
+            }
+            HullRefusal::TooLarge(message) => Diagnostic::error(
+                qcsg_sema::codes::UNSUPPORTED_MODULE,
+                format!("`hull` is not supported here: {message}"),
+                file,
+                span,
+            )
+            .with_help("split the hull into hulls of fewer parts and unite them where that is the same solid"),
+        };
+        self.error_diagnostic(diagnostic)
+    }
+}

@@ -1,0 +1,231 @@
+//! `hull()` of 2-D children: the figure read as points (the corners of convex polygons:
+//! `square`s, cells of `polygon`s) and discs (`circle`s), and, as in 3-D ([`crate::hull`]):
+//!
+//! - points alone give their convex polygon K ([`qcsg_mesh::convex_hull_2d`], exact), an
+//!   intersection of half-planes (nothing when the points are collinear: no area);
+//! - discs of one radius r give K ⊕ disc(r): K ∪ a band per edge of K (the rectangle between the
+//!   edge and its copy moved out by r) ∪ a disc per vertex; a segment K is the stadium, a point
+//!   the disc.
+//!
+//! Discs of different radii (a point is a disc of radius 0) have lines tangent to two circles
+//! in their hull and are refused, like ellipses, differences and complements.
+
+use glam::{DVec2, DVec3};
+use qcsg_csg::{Dag, Edge, Source};
+use qcsg_mesh::convex_hull_2d;
+use qcsg_quadric::Quadric;
+
+use crate::hull::{HullRefusal, MAX_HULL_POINTS};
+use crate::offset::{circle_of, convex_vertices, lines_of};
+use crate::planar::{PlanarExpr, PlanarId, PlanarKind};
+use crate::primitives_2d::column;
+
+/// What a 2-D hull is made of.
+#[derive(Clone, Copy, Debug)]
+pub enum Piece2 {
+    /// A corner of a convex polygon.
+    Point(DVec2, Source),
+    /// A disc: centre, radius.
+    Disc(DVec2, f64, Source),
+}
+
+/// Collects the pieces of a plane figure.
+pub struct Collector2<'e> {
+    expr: &'e PlanarExpr,
+    /// The pieces found so far.
+    pub pieces: Vec<Piece2>,
+}
+
+impl<'e> Collector2<'e> {
+    /// A collector over `expr`.
+    pub fn new(expr: &'e PlanarExpr) -> Self {
+        Self {
+            expr,
+            pieces: Vec::new(),
+        }
+    }
+
+    /// Adds the pieces of the node `id`.
+    pub fn add(&mut self, id: PlanarId) -> Result<(), HullRefusal> {
+        stacker::maybe_grow(128 * 1024, 4 * 1024 * 1024, || self.node(id))
+    }
+
+    fn node(&mut self, id: PlanarId) -> Result<(), HullRefusal> {
+        let node = self.expr.node(id);
+        match &node.kind {
+            PlanarKind::Union(children) => {
+                for &c in children {
+                    self.add(c)?;
+                }
+                Ok(())
+            }
+            PlanarKind::Difference(_) => Err(HullRefusal::Part(node.source, "a difference")),
+            PlanarKind::Complement(_) => Err(HullRefusal::Part(node.source, "a complement")),
+            PlanarKind::Leaf(_) | PlanarKind::Intersection(_) => self.convex(id),
+        }
+    }
+
+    fn convex(&mut self, id: PlanarId) -> Result<(), HullRefusal> {
+        let node = self.expr.node(id);
+        let children = match &node.kind {
+            PlanarKind::Intersection(children) => children.clone(),
+            _ => vec![id],
+        };
+        let mut lines = Vec::new();
+        let mut circles = Vec::new();
+        for &c in &children {
+            let child = self.expr.node(c);
+            match &child.kind {
+                PlanarKind::Leaf(conic) => {
+                    if let Some(found) = lines_of(conic) {
+                        lines.extend(found);
+                    } else if let Some(circle) = circle_of(conic) {
+                        circles.push((circle, child.source));
+                    } else {
+                        return Err(HullRefusal::Part(child.source, "an ellipse"));
+                    }
+                }
+                PlanarKind::Intersection(_) if children.len() == 1 => return self.convex(c),
+                _ => {
+                    return Err(HullRefusal::Part(
+                        child.source,
+                        "an intersection with a union, difference or complement",
+                    ));
+                }
+            }
+        }
+        match (lines.is_empty(), circles.as_slice()) {
+            (true, [((centre, radius), source)]) => {
+                self.pieces.push(Piece2::Disc(*centre, *radius, *source));
+                Ok(())
+            }
+            (false, []) => {
+                let Some((min, max)) = node.bounds else {
+                    return Err(HullRefusal::Part(node.source, "an unbounded part"));
+                };
+                for v in convex_vertices(&lines, min, max) {
+                    self.pieces.push(Piece2::Point(v, node.source));
+                }
+                Ok(())
+            }
+            (true, []) => Ok(()),
+            _ => Err(HullRefusal::Part(
+                node.source,
+                "a circle cut by other parts",
+            )),
+        }
+    }
+}
+
+/// The common radius of the pieces (0 for points), or the two that differ.
+pub fn common_radius(pieces: &[Piece2]) -> Result<f64, HullRefusal> {
+    let radius = |p: &Piece2| match *p {
+        Piece2::Point(_, s) => (s, 0.0),
+        Piece2::Disc(_, r, s) => (s, r),
+    };
+    let Some(first) = pieces.first().map(radius) else {
+        return Ok(0.0);
+    };
+    for p in &pieces[1..] {
+        let (s, r) = radius(p);
+        if (r - first.1).abs() > 1e-9 * r.max(first.1) {
+            return Err(HullRefusal::UnequalRadii([first, (s, r)]));
+        }
+    }
+    Ok(first.1)
+}
+
+fn boxed(dag: &mut Dag, edge: Edge, points: &[DVec2], r: f64) -> Edge {
+    let min = points.iter().fold(DVec2::INFINITY, |m, p| m.min(*p)) - r;
+    let max = points.iter().fold(DVec2::NEG_INFINITY, |m, p| m.max(*p)) + r;
+    let pad = 1e-9 * (max - min).max_element() + 1e-15 * max.abs().max(min.abs()).max_element();
+    dag.bounded(edge.child, column(min - pad, max + pad)).into()
+}
+
+fn leaf(dag: &mut Dag, q: Option<Quadric>, source: Source) -> Edge {
+    match q {
+        Some(q) => dag.leaf(q, source).into(),
+        None => dag.empty(source).into(),
+    }
+}
+
+fn disc(dag: &mut Dag, c: DVec2, r: f64, source: Source) -> Edge {
+    let q = Quadric::cylinder(c.extend(0.0), DVec3::Z, r);
+    let e = leaf(dag, q, source);
+    boxed(dag, e, &[c], r)
+}
+
+/// The rectangle over the segment `a`–`b`, `r` wide on either side.
+fn band(dag: &mut Dag, a: DVec2, b: DVec2, r: f64, source: Source) -> Edge {
+    let mid = (0.5 * (a + b)).extend(0.0);
+    let along = (b - a).extend(0.0);
+    let across = DVec3::new(-along.y, along.x, 0.0);
+    let parts = vec![
+        leaf(dag, Quadric::slab(mid, along, 0.5 * along.length()), source),
+        leaf(dag, Quadric::slab(mid, across, r), source),
+    ];
+    let cut = dag.intersection(parts, source);
+    boxed(dag, cut.into(), &[a, b], r)
+}
+
+/// The hull of `pieces`, all of radius `r`, as a z-invariant solid.
+pub fn build(
+    dag: &mut Dag,
+    pieces: &[Piece2],
+    r: f64,
+    source: Source,
+) -> Result<Edge, HullRefusal> {
+    let centres: Vec<DVec2> = pieces
+        .iter()
+        .map(|p| match *p {
+            Piece2::Point(c, _) | Piece2::Disc(c, _, _) => c,
+        })
+        .collect();
+    if let Some(bad) = centres.iter().find(|c| !c.is_finite()) {
+        return Err(HullRefusal::TooLarge(format!(
+            "a point of the hull is not finite ({bad})"
+        )));
+    }
+    let mut distinct = centres.clone();
+    distinct.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    distinct.dedup();
+    if distinct.len() > MAX_HULL_POINTS * 64 {
+        return Err(HullRefusal::TooLarge(format!(
+            "the hull has more than {} distinct points",
+            MAX_HULL_POINTS * 64
+        )));
+    }
+    let k = convex_hull_2d(&distinct);
+    let round = r > 0.0;
+    let mut parts = Vec::new();
+    if k.len() >= 3 {
+        let mut cell = Vec::with_capacity(k.len());
+        for (i, &a) in k.iter().enumerate() {
+            let b = k[(i + 1) % k.len()];
+            let t = b - a;
+            // Counter-clockwise: the outward normal is the edge turned clockwise.
+            let n = DVec3::new(t.y, -t.x, 0.0);
+            cell.push(leaf(dag, Quadric::half_space(a.extend(0.0), n), source));
+        }
+        let cut = dag.intersection(cell, source);
+        parts.push(boxed(dag, cut.into(), &k, 0.0));
+    }
+    if round {
+        let edges = match k.len() {
+            0 | 1 => 0,
+            2 => 1,
+            n => n,
+        };
+        for i in 0..edges {
+            parts.push(band(dag, k[i], k[(i + 1) % k.len()], r, source));
+        }
+        for &c in &k {
+            parts.push(disc(dag, c, r, source));
+        }
+    }
+    if parts.is_empty() {
+        return Ok(dag.empty(source).into());
+    }
+    let union = dag.union(parts, source);
+    Ok(boxed(dag, union.into(), &k, r))
+}
