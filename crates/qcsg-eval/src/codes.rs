@@ -81,6 +81,9 @@ pub const POLYGON_OUTLINE: &str = "W0561";
 pub const MESH_FACES: &str = "W0562";
 /// A deprecated argument OpenSCAD still accepts with a warning (`polyhedron(triangles = …)`).
 pub const DEPRECATED_ARGUMENT: &str = "W0563";
+/// An imported DXF drawing with an open path (closed by a straight edge, as OpenSCAD closes it)
+/// or entities OpenSCAD does not read (skipped, as OpenSCAD skips them).
+pub const DRAWING_SKIPPED: &str = "W0564";
 
 /// The output of `echo`, formatted exactly as OpenSCAD prints it (`ECHO: …`).
 pub const ECHO: &str = "I0550";
@@ -164,6 +167,10 @@ pub const ALL: &[(&str, &str)] = &[
     (
         DEPRECATED_ARGUMENT,
         "deprecated argument (`polyhedron(triangles)`)",
+    ),
+    (
+        DRAWING_SKIPPED,
+        "imported DXF drawing with an open path or skipped entities",
     ),
     (ECHO, "output of `echo`"),
 ];

@@ -21,6 +21,7 @@ mod arguments;
 mod bindings;
 mod comprehensions;
 mod dimensions;
+mod drawings;
 mod echo_assert;
 mod errors;
 mod expressions;

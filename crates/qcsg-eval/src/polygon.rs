@@ -33,7 +33,7 @@ pub struct BuiltPolygon {
 
 /// The z-invariant half-space `normal · p ≤ offset`, normalised so that its numbers depend only on
 /// the half-plane (cells sharing an edge's line share the same quadric exactly).
-fn half_space(h: &HalfPlane) -> Option<Quadric> {
+pub(crate) fn half_space(h: &HalfPlane) -> Option<Quadric> {
     let scale = 1.0 / h.normal.length();
     let n = h.normal * scale;
     Quadric::new(
@@ -119,6 +119,33 @@ fn paths_of(value: &Value<'_>) -> Result<Option<Vec<Vec<usize>>>, PolygonFailure
     Ok(Some(out))
 }
 
+/// The union of a polygon's cells, each the intersection of its half-planes' z-invariant
+/// half-spaces within its box; `None` for an empty region.
+pub(crate) fn cells_node(
+    dag: &mut Dag,
+    shape: &qcsg_mesh::Polygon,
+    source: Source,
+) -> Result<Option<NodeId>, String> {
+    let mut cells: Vec<Edge> = Vec::with_capacity(shape.cells.len());
+    for cell in &shape.cells {
+        let mut sides: Vec<Edge> = Vec::with_capacity(cell.half_planes.len());
+        for h in &cell.half_planes {
+            let q = half_space(h).ok_or("an edge of the polygon is not representable")?;
+            sides.push(dag.leaf(q, source).into());
+        }
+        let node = dag.intersection(sides, source);
+        cells.push(dag.bounded(node, column(cell.min, cell.max)).into());
+    }
+    Ok(match cells.len() {
+        0 => None,
+        1 => Some(cells[0].child),
+        _ => {
+            let node = dag.union(cells, source);
+            Some(dag.bounded(node, column(shape.min, shape.max)))
+        }
+    })
+}
+
 /// `polygon(points, paths)`: the even–odd region of the paths (one outline through all points
 /// when `paths` is undefined), with at most `max_points` points and path entries.
 pub fn polygon(
@@ -137,26 +164,7 @@ pub fn polygon(
         PolygonError::TooManyPoints { .. } => PolygonFailure::TooLarge(e.to_string()),
         other => PolygonFailure::Argument(other.to_string()),
     })?;
-    let mut cells: Vec<Edge> = Vec::with_capacity(shape.cells.len());
-    for cell in &shape.cells {
-        let mut sides: Vec<Edge> = Vec::with_capacity(cell.half_planes.len());
-        for h in &cell.half_planes {
-            let q = half_space(h).ok_or_else(|| {
-                PolygonFailure::Argument("an edge of the polygon is not representable".into())
-            })?;
-            sides.push(dag.leaf(q, source).into());
-        }
-        let node = dag.intersection(sides, source);
-        cells.push(dag.bounded(node, column(cell.min, cell.max)).into());
-    }
-    let node = match cells.len() {
-        0 => None,
-        1 => Some(cells[0].child),
-        _ => {
-            let node = dag.union(cells, source);
-            Some(dag.bounded(node, column(shape.min, shape.max)))
-        }
-    };
+    let node = cells_node(dag, &shape, source).map_err(PolygonFailure::Argument)?;
     Ok(BuiltPolygon {
         node,
         warnings: shape.warnings,

@@ -237,16 +237,6 @@ impl<'a> Evaluator<'a> {
         }
     }
 
-    /// `import` of a `.dxf` drawing: not read yet, so E0301 at the `file` argument.
-    fn import_dxf(&mut self, call: &ImportCall<'_, 'a>) -> R<Option<Edge>> {
-        Err(self.error(
-            qcsg_sema::codes::UNSUPPORTED_MODULE,
-            "importing `.dxf` drawings is not supported yet: qcsg imports STL and OFF meshes",
-            call.file,
-            call.file_span,
-        ))
-    }
-
     /// The cells of the STL or OFF mesh `call` names.
     fn import_mesh(&mut self, format: &Format, call: &ImportCall<'_, 'a>) -> R<Polyhedron> {
         let bytes = self.import_bytes(call)?;
@@ -256,6 +246,12 @@ impl<'a> Evaluator<'a> {
         drop(bytes);
         mesh::cells(&mesh, max_len)
             .map_err(|failure| self.mesh_failure(failure, call.file, &|_| call.file_span))
+    }
+
+    /// `import` of a `.dxf` drawing: the even–odd region of its layer as a 2-D shape (see
+    /// `drawings`).
+    fn import_dxf(&mut self, call: &ImportCall<'_, 'a>) -> R<Option<Edge>> {
+        self.import_drawing(call)
     }
 
     /// The bytes of the imported file, at most `--max-import-bytes`; the path is recorded for

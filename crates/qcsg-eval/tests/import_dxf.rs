@@ -1,0 +1,319 @@
+//! `import` of DXF drawings: the even–odd region of a layer as an exact 2-D shape (lines, arcs,
+//! circles), `origin` and `scale`, OpenSCAD's bundled example drawings, and every failure a
+//! diagnostic at the `file` argument.
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use qcsg_csg::{DnfOptions, build_dnf};
+use qcsg_eval::{EvalOptions, Evaluation, evaluate};
+use qcsg_sema::{CheckOptions, FsLoader, check_file};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("import-dxf-tests")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+fn eval_in(dir: &Path, text: &str, options: &EvalOptions) -> Evaluation {
+    let main = dir.join("main.scad");
+    std::fs::write(&main, text).expect("write main.scad");
+    let name = main.to_string_lossy().into_owned();
+    let analysis = check_file(&name, text.to_owned(), &CheckOptions::default(), &FsLoader);
+    let errors: Vec<_> = analysis
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| format!("{} {}", d.code, d.message))
+        .collect();
+    assert!(errors.is_empty(), "static errors in {text:?}: {errors:?}");
+    evaluate(&analysis, options)
+}
+
+/// The first diagnostic of `code`'s severity class: code, the text it points at, message + help.
+fn first(
+    dir: &Path,
+    text: &str,
+    options: &EvalOptions,
+    error: bool,
+) -> (&'static str, String, String) {
+    let e = eval_in(dir, text, options);
+    let d = e
+        .diagnostics
+        .iter()
+        .find(|d| d.is_error() == error)
+        .unwrap_or_else(|| panic!("{text}: nothing in {:?}", e.diagnostics));
+    let message = format!("{} / {}", d.message, d.help.clone().unwrap_or_default());
+    (
+        d.code,
+        text[d.span.start as usize..d.span.end as usize].to_owned(),
+        message,
+    )
+}
+
+/// One entity: its kind, its layer and its `(code, value)` pairs.
+type Entity<'s> = (&'s str, &'s str, Vec<(i32, f64)>);
+
+/// A DXF file of `entities`.
+fn dxf(entities: &[Entity<'_>]) -> String {
+    let mut text = String::from("  0\nSECTION\n  2\nENTITIES\n");
+    for (kind, layer, pairs) in entities {
+        text.push_str(&format!("  0\n{kind}\n  8\n{layer}\n"));
+        for (c, v) in pairs {
+            text.push_str(&format!(" {c}\n{v:?}\n"));
+        }
+    }
+    text.push_str("  0\nENDSEC\n  0\nEOF\n");
+    text
+}
+
+fn line(layer: &str, a: [f64; 2], b: [f64; 2]) -> Entity<'_> {
+    (
+        "LINE",
+        layer,
+        vec![(10, a[0]), (20, a[1]), (11, b[0]), (21, b[1])],
+    )
+}
+
+fn circle(layer: &str, c: [f64; 2], r: f64) -> Entity<'_> {
+    ("CIRCLE", layer, vec![(10, c[0]), (20, c[1]), (40, r)])
+}
+
+fn arc(layer: &str, c: [f64; 2], r: f64, a: f64, b: f64) -> Entity<'_> {
+    (
+        "ARC",
+        layer,
+        vec![(10, c[0]), (20, c[1]), (40, r), (50, a), (51, b)],
+    )
+}
+
+/// A plate: a 20 × 10 rectangle with its right end rounded (a half circle about (20, 5)), a hole
+/// of radius 2 at (5, 5) and, on layer `b`, a square elsewhere.
+fn plate() -> String {
+    dxf(&[
+        line("a", [0.0, 0.0], [20.0, 0.0]),
+        arc("a", [20.0, 5.0], 5.0, 270.0, 90.0),
+        line("a", [20.0, 10.0], [0.0, 10.0]),
+        line("a", [0.0, 10.0], [0.0, 0.0]),
+        circle("a", [5.0, 5.0], 2.0),
+        line("b", [40.0, 0.0], [41.0, 0.0]),
+        line("b", [41.0, 0.0], [41.0, 1.0]),
+        line("b", [41.0, 1.0], [40.0, 1.0]),
+        line("b", [40.0, 1.0], [40.0, 0.0]),
+    ])
+}
+
+fn check(e: &Evaluation, cases: &[(DVec3, bool)]) {
+    assert!(!e.has_errors(), "{:?}", e.diagnostics);
+    let dnf = build_dnf(&e.dag, &DnfOptions::default()).expect("a bounded solid");
+    for &(p, inside) in cases {
+        assert_eq!(e.dag.contains(p), inside, "DAG at {p}");
+        assert_eq!(dnf.contains(p), inside, "DNF at {p}");
+    }
+}
+
+fn p(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+#[test]
+fn a_layer_with_an_arc_and_a_hole_is_exact() {
+    let dir = scratch("plate");
+    std::fs::write(dir.join("plate.dxf"), plate()).unwrap();
+    let e = eval_in(
+        &dir,
+        "linear_extrude(height = 2) import(file = \"plate.dxf\", layer = \"a\");",
+        &EvalOptions::default(),
+    );
+    assert!(e.diagnostics.is_empty(), "{:?}", e.diagnostics);
+    check(
+        &e,
+        &[
+            (p(1.0, 1.0, 1.0), true),
+            (p(5.0, 5.0, 1.0), false),
+            (p(6.9, 5.0, 1.0), false),
+            (p(7.1, 5.0, 1.0), true),
+            // On the arc's bulge, just inside and just outside radius 5.
+            (p(24.99, 5.0, 1.0), true),
+            (p(25.01, 5.0, 1.0), false),
+            (p(23.5, 8.5, 1.0), true),
+            (p(23.6, 8.6, 1.0), false),
+            (p(40.5, 0.5, 1.0), false),
+            (p(1.0, 1.0, 2.5), false),
+        ],
+    );
+    assert_eq!(e.imports.len(), 1);
+}
+
+#[test]
+fn all_layers_origin_and_scale() {
+    let dir = scratch("options");
+    std::fs::write(dir.join("plate.dxf"), plate()).unwrap();
+    let e = eval_in(
+        &dir,
+        "linear_extrude(1) import(\"plate.dxf\", origin = [40, 0], scale = 2);",
+        &EvalOptions::default(),
+    );
+    check(
+        &e,
+        &[
+            // The square of layer b, moved to the origin and doubled.
+            (p(1.9, 1.9, 0.5), true),
+            (p(2.1, 1.0, 0.5), false),
+            // The plate, at (0 − 40) · 2.
+            (p(-79.0, 1.0, 0.5), true),
+            (p(-70.0, 10.0, 0.5), false),
+        ],
+    );
+}
+
+#[test]
+fn openscad_examples_import() {
+    let examples = Path::new("/usr/share/openscad/examples/Old");
+    if !examples.exists() {
+        eprintln!("OpenSCAD's examples are not installed; skipped");
+        return;
+    }
+    let dir = scratch("examples");
+    for name in ["example007", "example008", "example009", "example013"] {
+        std::fs::copy(
+            examples.join(format!("{name}.dxf")),
+            dir.join(format!("{name}.dxf")),
+        )
+        .unwrap();
+    }
+    for (call, inside, outside) in [
+        (
+            "import(\"example013.dxf\");",
+            p(0.0, 0.0, 0.0),
+            p(100.0, 0.0, 0.0),
+        ),
+        (
+            "import(\"example008.dxf\", layer = \"B\");",
+            p(105.0, 125.0, 0.0),
+            p(120.0, 115.0, 0.0),
+        ),
+        (
+            "import(\"example009.dxf\", layer = \"body\");",
+            p(19.0, 0.0, 0.0),
+            p(0.0, 0.0, 0.0),
+        ),
+        (
+            "import(\"example009.dxf\", layer = \"plate\");",
+            p(0.0, 10.0, 0.0),
+            p(10.0, 10.0, 0.0),
+        ),
+        (
+            "import(\"example009.dxf\", layer = \"fan_top\");",
+            p(0.0, 10.0, 0.0),
+            p(10.0, 10.0, 0.0),
+        ),
+    ] {
+        let text = format!("linear_extrude(height = 1, center = true) {call}");
+        let e = eval_in(&dir, &text, &EvalOptions::default());
+        assert!(!e.has_errors(), "{call}: {:?}", e.diagnostics);
+        check(&e, &[(inside, true), (outside, false)]);
+    }
+}
+
+#[test]
+fn failures_are_diagnostics_at_the_file_argument() {
+    let dir = scratch("failures");
+    let options = EvalOptions::default();
+    // Two circles that cross: no exact composition, E0301 naming both DXF lines.
+    std::fs::write(
+        dir.join("cross.dxf"),
+        dxf(&[circle("0", [0.0, 0.0], 1.0), circle("0", [1.5, 0.0], 1.0)]),
+    )
+    .unwrap();
+    let (code, at, message) = first(&dir, "import(file = \"cross.dxf\");", &options, true);
+    assert_eq!((code, at.as_str()), ("E0301", "\"cross.dxf\""), "{message}");
+    assert!(
+        message.contains("DXF line 5") && message.contains("DXF line 15"),
+        "{message}"
+    );
+    // A malformed file: E0567 with the line.
+    std::fs::write(
+        dir.join("bad.dxf"),
+        "  0\nSECTION\n  2\nENTITIES\n  0\nLINE\n 10\nx\n",
+    )
+    .unwrap();
+    let (code, at, message) = first(&dir, "import(\"bad.dxf\");", &options, true);
+    assert_eq!((code, at.as_str()), ("E0567", "\"bad.dxf\""), "{message}");
+    assert!(message.contains("line 8"), "{message}");
+    // A missing file: E0566.
+    let (code, _, _) = first(&dir, "import(\"none.dxf\");", &options, true);
+    assert_eq!(code, "E0566");
+    // The vector-length limit bounds entities: E0558.
+    std::fs::write(dir.join("plate.dxf"), plate()).unwrap();
+    let few = EvalOptions {
+        max_vector_len: 3,
+        ..EvalOptions::default()
+    };
+    let (code, at, message) = first(&dir, "import(\"plate.dxf\");", &few, true);
+    assert_eq!((code, at.as_str()), ("E0558", "\"plate.dxf\""), "{message}");
+    // An open path is closed, with warning W0564.
+    std::fs::write(
+        dir.join("open.dxf"),
+        dxf(&[
+            line("0", [0.0, 0.0], [1.0, 0.0]),
+            line("0", [1.0, 0.0], [1.0, 1.0]),
+        ]),
+    )
+    .unwrap();
+    let (code, at, _) = first(&dir, "import(\"open.dxf\");", &options, false);
+    assert_eq!((code, at.as_str()), ("W0564", "\"open.dxf\""));
+}
+
+#[test]
+fn a_far_drawing_and_a_tiny_one() {
+    let dir = scratch("stiff");
+    let far = dxf(&[
+        line("0", [1e6, 1e6], [1e6 + 2.0, 1e6]),
+        arc("0", [1e6 + 2.0, 1e6 + 1.0], 1.0, 270.0, 90.0),
+        line("0", [1e6 + 2.0, 1e6 + 2.0], [1e6, 1e6 + 2.0]),
+        line("0", [1e6, 1e6 + 2.0], [1e6, 1e6]),
+        circle("0", [1e6 + 1.0, 1e6 + 1.0], 0.5),
+    ]);
+    std::fs::write(dir.join("far.dxf"), far).unwrap();
+    let e = eval_in(
+        &dir,
+        "linear_extrude(1) import(\"far.dxf\");",
+        &EvalOptions::default(),
+    );
+    let o = p(1e6, 1e6, 0.5);
+    check(
+        &e,
+        &[
+            (o + p(0.2, 0.2, 0.0), true),
+            (o + p(1.0, 1.0, 0.0), false),
+            (o + p(2.9, 1.0, 0.0), true),
+            (o + p(3.1, 1.0, 0.0), false),
+        ],
+    );
+    let tiny = dxf(&[
+        line("0", [0.0, 0.0], [2e-6, 0.0]),
+        arc("0", [2e-6, 1e-6], 1e-6, 270.0, 90.0),
+        line("0", [2e-6, 2e-6], [0.0, 2e-6]),
+        line("0", [0.0, 2e-6], [0.0, 0.0]),
+        circle("0", [1e-6, 1e-6], 0.5e-6),
+    ]);
+    std::fs::write(dir.join("tiny.dxf"), tiny).unwrap();
+    let e = eval_in(
+        &dir,
+        "linear_extrude(1) import(\"tiny.dxf\");",
+        &EvalOptions::default(),
+    );
+    check(
+        &e,
+        &[
+            (p(0.2e-6, 0.2e-6, 0.5), true),
+            (p(1e-6, 1e-6, 0.5), false),
+            (p(2.9e-6, 1e-6, 0.5), true),
+            (p(3.1e-6, 1e-6, 0.5), false),
+        ],
+    );
+}
