@@ -441,6 +441,29 @@ fn saves_of_the_file_and_its_includes_rebuild_and_errors_keep_the_last_image() {
 }
 
 #[test]
+fn saves_of_an_imported_mesh_rebuild() {
+    let dir = std::env::temp_dir().join(format!("qcsg-view-import-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let main = dir.join("main.scad");
+    let mesh = dir.join("part.off");
+    let tetra = |s: u32| {
+        format!(
+            "OFF\n4 4 0\n0 0 0\n{s} 0 0\n0 {s} 0\n0 0 {s}\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"
+        )
+    };
+    std::fs::write(&mesh, tetra(2)).unwrap();
+    std::fs::write(&main, "import(\"part.off\");\n").unwrap();
+    let server = Server::start(&main, &[]);
+    let first = wait_for_change(&server, |e| e["ok"] == true);
+    let generation = first["generation"].as_u64().unwrap();
+    std::fs::write(&mesh, tetra(3)).unwrap();
+    let changed = wait_for_change(&server, |e| e["generation"].as_u64() > Some(generation));
+    assert_eq!(changed["ok"], true);
+    drop(server);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn a_program_that_never_compiled_answers_409_with_its_errors() {
     let dir = std::env::temp_dir().join(format!("qcsg-view-bad-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -36,6 +36,9 @@ pub struct Compilation {
     /// [`qcsg_eval::Evaluation::instantiations`]), for tools that go from a part back to the
     /// calls that made it; empty when evaluation did not run.
     pub instantiations: Vec<(Source, NodeId)>,
+    /// The files `import` read or tried to read (see [`qcsg_eval::Evaluation::imports`]), which
+    /// a viewer watches beside the sources; empty when evaluation did not run.
+    pub imports: Vec<std::path::PathBuf>,
 }
 
 impl Compilation {
@@ -74,10 +77,12 @@ pub fn compile_source(
     let mut analysis = check_source(name, source, &options.check_options(), loader);
     let built = build(&analysis, options, stage);
     let mut instantiations = Vec::new();
+    let mut imports = Vec::new();
     let dag = built.evaluation.and_then(|evaluation| {
         let failed = evaluation.has_errors();
         analysis.diagnostics.extend(evaluation.diagnostics);
         instantiations = evaluation.instantiations;
+        imports = evaluation.imports;
         (!failed).then_some(evaluation.dag)
     });
     analysis.diagnostics.extend(built.diagnostics);
@@ -86,6 +91,7 @@ pub fn compile_source(
         dag,
         layers: built.layers,
         instantiations,
+        imports,
     }
 }
 

@@ -21,7 +21,8 @@ pub struct Snapshot {
     pub image: Option<(u64, Arc<Preview>)>,
     /// The `change` event of this generation (JSON).
     pub event: String,
-    /// Every file the program read (absolute where they could be resolved), to watch.
+    /// Every file the program read, imported meshes included (absolute where they could be
+    /// resolved), to watch.
     pub files: Vec<PathBuf>,
 }
 
@@ -58,6 +59,7 @@ pub fn rebuild(file: &str, options: &Options, previous: Option<&Snapshot>) -> Sn
                 .sources
                 .iter()
                 .map(|(_, source)| absolute(Path::new(&source.name)))
+                .chain(compilation.imports.iter().map(|path| absolute(path)))
                 .collect();
             let image = match (ok, compilation.dag, compilation.layers) {
                 (true, Some(dag), Some(layers)) => Some((
