@@ -84,6 +84,9 @@ pub const DEPRECATED_ARGUMENT: &str = "W0563";
 /// An imported DXF drawing with an open path (closed by a straight edge, as OpenSCAD closes it)
 /// or entities OpenSCAD does not read (skipped, as OpenSCAD skips them).
 pub const DRAWING_SKIPPED: &str = "W0564";
+/// `dxf_dim` or `dxf_cross` found no such dimension or cross in the drawing: `undef`, as OpenSCAD
+/// returns it.
+pub const DRAWING_LOOKUP: &str = "W0565";
 
 /// The output of `echo`, formatted exactly as OpenSCAD prints it (`ECHO: …`).
 pub const ECHO: &str = "I0550";
@@ -171,6 +174,10 @@ pub const ALL: &[(&str, &str)] = &[
     (
         DRAWING_SKIPPED,
         "imported DXF drawing with an open path or skipped entities",
+    ),
+    (
+        DRAWING_LOOKUP,
+        "`dxf_dim` or `dxf_cross` found nothing in the drawing: undef",
     ),
     (ECHO, "output of `echo`"),
 ];

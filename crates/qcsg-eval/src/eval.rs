@@ -21,6 +21,7 @@ mod arguments;
 mod bindings;
 mod comprehensions;
 mod dimensions;
+mod drawing_functions;
 mod drawings;
 mod echo_assert;
 mod errors;

@@ -317,3 +317,37 @@ fn a_far_drawing_and_a_tiny_one() {
         ],
     );
 }
+
+#[test]
+fn dxf_dim_and_dxf_cross_read_example009() {
+    let examples = Path::new("/usr/share/openscad/examples/Old");
+    if !examples.exists() {
+        eprintln!("OpenSCAD's examples are not installed; skipped");
+        return;
+    }
+    let dir = scratch("functions");
+    std::fs::copy(examples.join("example009.dxf"), dir.join("example009.dxf")).unwrap();
+    let text = "f = \"example009.dxf\";\n\
+                echo(dxf_dim(file = f, name = \"bodywidth\"), dxf_dim(file = f, name = \"fanrot\"), \
+                dxf_cross(file = f, layer = \"fan_side_center\"), \
+                dxf_cross(file = f, layer = \"fan_side_center\", origin = [0, -40], scale = 2), \
+                dxf_dim(file = f, name = \"none\"));";
+    let e = eval_in(&dir, text, &EvalOptions::default());
+    assert!(!e.has_errors(), "{:?}", e.diagnostics);
+    let echo: Vec<_> = e
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == "I0550")
+        .map(|d| d.message.clone())
+        .collect();
+    // As OpenSCAD 2021.01 echoes it.
+    assert_eq!(echo, ["ECHO: 22, 57.5288, [0, -40], [0, 0], undef"]);
+    assert!(e.diagnostics.iter().any(|d| d.code == "W0565"));
+    let (code, _, _) = first(
+        &dir,
+        "echo(dxf_dim(file = \"none.dxf\"));",
+        &EvalOptions::default(),
+        true,
+    );
+    assert_eq!(code, "E0566");
+}

@@ -275,7 +275,7 @@ pub const MODULES: &[BuiltinModule] = &[
         ],
         variadic: false,
         kind: ModuleKind::Primitive,
-        doc: "import(file): the solid a closed STL or OFF mesh bounds, exact; the path is relative to the file that calls it",
+        doc: "import(file): the solid a closed STL or OFF mesh bounds, or the 2-D shape of a DXF drawing's layer, exact; the path is relative to the file that calls it",
     },
     BuiltinModule {
         name: "linear_extrude",
@@ -653,6 +653,33 @@ pub const FUNCTIONS: &[BuiltinFunction] = &[
         returns: Returns::String,
         doc: "parent_module(n = 1): the name of the n-th enclosing module instantiation (0: the current one)",
     },
+    BuiltinFunction {
+        name: "dxf_dim",
+        params: &[
+            named("file", P::String),
+            named("layer", P::String),
+            named("name", P::String),
+            named("origin", P::NumberVector(&[2])),
+            named("scale", P::Number),
+        ],
+        rest: None,
+        min_args: 1,
+        returns: Returns::Number,
+        doc: "dxf_dim(file, layer, name, origin, scale): the measure of the DXF drawing's dimension `name` (undef when absent)",
+    },
+    BuiltinFunction {
+        name: "dxf_cross",
+        params: &[
+            named("file", P::String),
+            named("layer", P::String),
+            named("origin", P::NumberVector(&[2])),
+            named("scale", P::Number),
+        ],
+        rest: None,
+        min_args: 1,
+        returns: Returns::Vector,
+        doc: "dxf_cross(file, layer, origin, scale): where the first two lines of the DXF drawing's layer cross (undef when they do not)",
+    },
 ];
 
 /// Built-in special variables: never undefined.
@@ -731,10 +758,7 @@ pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
 ];
 
 /// OpenSCAD built-in functions the language does not provide.
-pub const UNSUPPORTED_FUNCTIONS: &[Unsupported] = &[
-    unsupported("dxf_dim", "DXF drawings are 2-D and not supported", None),
-    unsupported("dxf_cross", "DXF drawings are 2-D and not supported", None),
-];
+pub const UNSUPPORTED_FUNCTIONS: &[Unsupported] = &[];
 
 /// The built-in module called `name`.
 pub fn module(name: &str) -> Option<&'static BuiltinModule> {

@@ -9,8 +9,6 @@ translate([0, 0, 0]) text("hello");
 //                   ^^^^ error[E0301]
 translate([0, 0, 0]) surface(file = "h.dat");
 //                   ^^^^^^^ error[E0301]
-echo(dxf_cross(file = "a.dxf"));
-//   ^^^^^^^^^ error[E0302]
 
 // A user definition of the same name is fine: it shadows the OpenSCAD built-in (here only in
 // the module's scope, since definitions are hoisted to the whole scope they are in).

@@ -201,6 +201,9 @@ impl<'a> Evaluator<'a> {
             let n = positional.first().cloned().unwrap_or(Value::Number(1.0));
             return self.parent_module(&n, file, span);
         }
+        if name == "dxf_dim" || name == "dxf_cross" {
+            return self.drawing_function(name, &positional, file, span);
+        }
         let mut warnings = Vec::new();
         let result = builtins_fn::call(name, &positional, self.options, &mut warnings);
         for w in warnings {

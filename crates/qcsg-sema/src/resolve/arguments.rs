@@ -363,7 +363,9 @@ pub(super) fn builtin_function_signature(function: &BuiltinFunction) -> Signatur
         any_named: false,
         min_args: function.min_args,
         defined_at: None,
-        positional_only: true,
+        // OpenSCAD reads `dxf_dim` and `dxf_cross` by argument name, every other built-in
+        // function by position.
+        positional_only: !matches!(function.name, "dxf_dim" | "dxf_cross"),
     }
 }
 
