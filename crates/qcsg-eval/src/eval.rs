@@ -114,6 +114,8 @@ pub(crate) struct Evaluator<'a> {
     pub imports: Vec<std::path::PathBuf>,
     /// The cells of each mesh file imported so far, by resolved path.
     imported_meshes: HashMap<std::path::PathBuf, Rc<qcsg_mesh::Polyhedron>>,
+    /// The cells of each `surface` built so far, by resolved path, `invert` and `center`.
+    surfaces: HashMap<(std::path::PathBuf, bool, bool), Rc<qcsg_mesh::Polyhedron>>,
 }
 
 impl<'a> Evaluator<'a> {
@@ -150,6 +152,7 @@ impl<'a> Evaluator<'a> {
             node_boxes: Vec::new(),
             imports: Vec::new(),
             imported_meshes: HashMap::new(),
+            surfaces: HashMap::new(),
         }
     }
 }

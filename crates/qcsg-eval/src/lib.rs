@@ -56,6 +56,7 @@ pub mod primitives_2d;
 pub mod printer;
 pub mod revolve;
 pub mod section;
+pub mod surface;
 pub mod text;
 pub mod transforms;
 pub mod value;

@@ -278,6 +278,18 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "import(file): the solid a closed STL or OFF mesh bounds, or the 2-D shape of a DXF drawing's layer, exact; the path is relative to the file that calls it",
     },
     BuiltinModule {
+        name: "surface",
+        params: &[
+            pos("file", P::String),
+            pos("center", P::Bool),
+            pos("convexity", P::Number),
+            named("invert", P::Bool),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "surface(file, center = false, invert = false): the solid under a height map (a .dat table of numbers or a PNG image's luminance, 0 to 100) down to one below its lowest point, exactly as OpenSCAD meshes it",
+    },
+    BuiltinModule {
         name: "linear_extrude",
         params: &[
             pos("height", P::Number),
@@ -740,11 +752,6 @@ const fn unsupported(
 
 /// OpenSCAD modules with no exact quadric representation.
 pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
-    unsupported(
-        "surface",
-        "a heightfield is a triangle mesh, not a quadric surface",
-        None,
-    ),
     unsupported(
         "text",
         "glyph outlines are 2-D curves of higher degree than quadrics",

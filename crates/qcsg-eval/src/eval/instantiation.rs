@@ -135,6 +135,9 @@ impl<'a> Evaluator<'a> {
                         return self.polyhedron(&named, args, builtin.params, cx.file, span);
                     }
                     "import" => return self.import(&named, args, builtin.params, cx.file, span),
+                    "surface" => {
+                        return self.surface(&named, args, builtin.params, cx.file, span);
+                    }
                     _ => {}
                 }
                 let built = match name {

@@ -1,7 +1,8 @@
-//! `polyhedron(points, faces)` and `import(file)`: meshes as solids, with every failure a
-//! diagnostic at the argument it is about.
+//! `polyhedron(points, faces)`, `import(file)` and `surface(file)`: meshes as solids, with every
+//! failure a diagnostic at the argument it is about.
 //!
-//! Both end in [`crate::polyhedron::build`]. `import` resolves its path against the calling
+//! All end in [`crate::polyhedron::build`]; `surface` reads its height map with
+//! [`crate::surface`] and builds the mesh OpenSCAD builds. `import` resolves its path against the calling
 //! file ([`crate::import::resolve`]), then dispatches on the extension: STL and OFF are read
 //! into a mesh here; `.dxf` goes to [`Evaluator::import_dxf`]; anything else is E0301 at the
 //! `file` argument, naming the format, before the file is touched. A mesh file's cells are kept
@@ -235,6 +236,85 @@ impl<'a> Evaluator<'a> {
                 ))
             }
         }
+    }
+
+    /// `surface(file, center, convexity, invert)`: the closed mesh of a height map (a `.dat`
+    /// table or a PNG image), as OpenSCAD builds it. As in OpenSCAD, `center` and `invert` count
+    /// only when they are booleans; `convexity` has no effect.
+    pub(super) fn surface(
+        &mut self,
+        named: &BuiltinArgs<'a>,
+        args: &'a [Arg],
+        params: &'static [BuiltinParam],
+        file: FileId,
+        span: Span,
+    ) -> R<Option<Edge>> {
+        let file_span = arg_span(params, args, "file").unwrap_or(span);
+        let written = match &named.get("file") {
+            Value::String(s) => s.to_string(),
+            other => {
+                let got = match other {
+                    Value::Undef => String::new(),
+                    other => format!(", got {}", other.type_name()),
+                };
+                return Err(self.error(
+                    codes::MODULE_ARGUMENT,
+                    format!("surface needs the name of a height map file (a string){got}"),
+                    file,
+                    file_span,
+                ));
+            }
+        };
+        let flag = |name: &str| matches!(named.get(name), Value::Bool(true));
+        let (center, invert) = (flag("center"), flag("invert"));
+        let caller = self
+            .sources
+            .iter()
+            .find(|(id, _)| *id == file)
+            .map_or("", |(_, f)| f.name.as_str());
+        let call = ImportCall {
+            path: import::resolve(caller, &written),
+            written,
+            file,
+            span,
+            file_span,
+            named,
+            args,
+            params,
+        };
+        let key = (call.path.clone(), invert, center);
+        let shape = match self.surfaces.get(&key) {
+            Some(shape) => shape.clone(),
+            None => {
+                let shape = Rc::new(self.surface_cells(&call, invert, center)?);
+                self.surfaces.insert(key, shape.clone());
+                shape
+            }
+        };
+        match mesh::solid(&mut self.dag, &shape, Source::new(file, span)) {
+            Ok(built) => self.mesh_solid(built, file, span, file_span),
+            Err(failure) => Err(self.mesh_failure(failure, file, &|_| file_span)),
+        }
+    }
+
+    /// The cells of the surface of the height map `call` names.
+    fn surface_cells(
+        &mut self,
+        call: &ImportCall<'_, 'a>,
+        invert: bool,
+        center: bool,
+    ) -> R<Polyhedron> {
+        let bytes = self.import_bytes(call)?;
+        let max_len = usize::try_from(self.options.max_vector_len).unwrap_or(usize::MAX);
+        let map = crate::surface::read_height_map(&bytes, invert, max_len)
+            .map_err(|f| self.import_failure(f, call))?;
+        drop(bytes);
+        let shape = crate::surface::mesh(&map, center);
+        drop(map);
+        // The grid limit above bounds the mesh: some 2 points and 13 face entries per grid
+        // point, which the mesh limits must let through.
+        mesh::cells(&shape, max_len.saturating_mul(16))
+            .map_err(|failure| self.mesh_failure(failure, call.file, &|_| call.file_span))
     }
 
     /// The cells of the STL or OFF mesh `call` names.
