@@ -146,6 +146,19 @@ impl Analysis {
                 {
                     local_names.extend(bindings.iter().map(|b| b.name.span));
                 }
+                // `assign(a = 1) child` and `intersection_for(i = r) child` bind their named
+                // arguments for the child only.
+                if let StmtKind::Instantiate {
+                    name,
+                    args,
+                    child: Some(child),
+                    ..
+                } = &stmt.kind
+                    && matches!(name.name.as_str(), "assign" | "intersection_for")
+                    && inside(child.span)
+                {
+                    local_names.extend(args.iter().filter_map(|a| a.name.as_ref().map(|n| n.span)));
+                }
             }
             Node::Expr(expr) => match &expr.kind {
                 ExprKind::Let { bindings, .. } if inside(expr.span) => {

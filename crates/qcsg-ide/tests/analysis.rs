@@ -367,3 +367,44 @@ fn broken_text_still_answers() {
         });
     }
 }
+
+/// OpenSCAD's deprecated `assign` binds its named arguments for its child as `let` does: hover,
+/// go to definition and completion treat them alike; `child` hovers as a built-in.
+#[test]
+fn assign_bindings_are_let_bindings() {
+    let text = "module m() child(0);\nassign(depth = 2, wide = 3) {\n    m() cube([wide, depth, 1]);\n    \n}\nd\n";
+    let analysis = Analysis::new(
+        "dir/old.scad",
+        text.to_owned(),
+        &CheckOptions::default(),
+        &Files::default(),
+    );
+    let codes: Vec<_> = analysis.sema().diagnostics.iter().map(|d| d.code).collect();
+    assert!(!codes.iter().any(|c| c.starts_with("E01")), "{codes:?}");
+    let hover = analysis
+        .hover(at(text, "wide, depth", 0, 0))
+        .expect("hover")
+        .markdown;
+    assert!(
+        hover.contains("wide") && hover.contains("`let` variable"),
+        "{hover}"
+    );
+    let definition = analysis
+        .goto_definition(at(text, "depth, 1", 0, 0))
+        .expect("definition");
+    assert_eq!(definition.range.start, at(text, "depth = 2", 0, 0));
+    let inside = analysis.completions(at(text, "    \n", 0, 4));
+    let labels: Vec<_> = inside.iter().map(|c| c.label.as_str()).collect();
+    assert!(
+        labels.contains(&"depth") && labels.contains(&"wide"),
+        "{labels:?}"
+    );
+    let outside = analysis.completions(at(text, "d\n", 0, 1));
+    let labels: Vec<_> = outside.iter().map(|c| c.label.as_str()).collect();
+    assert!(!labels.contains(&"depth"), "{labels:?}");
+    let child = analysis
+        .hover(at(text, "child(0)", 0, 0))
+        .expect("hover")
+        .markdown;
+    assert!(child.contains("children(i)"), "{child}");
+}

@@ -445,6 +445,20 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "children(), children(i), children([i, j]): the children of the current module instance",
     },
     BuiltinModule {
+        name: "child",
+        params: &[pos("index", P::Any)],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "child(i): deprecated OpenSCAD name of children(i); child() is children(0)",
+    },
+    BuiltinModule {
+        name: "assign",
+        params: &[],
+        variadic: true,
+        kind: ModuleKind::Other,
+        doc: "assign(a = 1, b = 2): deprecated OpenSCAD form of let; every value is computed in the enclosing scope, then bound for the child",
+    },
+    BuiltinModule {
         name: "echo",
         params: &[],
         variadic: true,

@@ -76,6 +76,8 @@ pub const BACKGROUND_SUBTREE: &str = "W0106";
 pub const DISABLED_SUBTREE: &str = "W0107";
 /// A user special variable (`$x`) that is read but set nowhere (it is always `undef`).
 pub const SPECIAL_NEVER_SET: &str = "W0108";
+/// OpenSCAD's deprecated `child()` or `assign()`: accepted with OpenSCAD's meaning.
+pub const DEPRECATED_MODULE: &str = "W0109";
 
 /// `$fn`, `$fa` or `$fs`: accepted, but surfaces are exact, so they change nothing.
 pub const TESSELLATION_NO_OP: &str = "H0101";
@@ -135,6 +137,10 @@ pub const ALL: &[(&str, &str)] = &[
     (BACKGROUND_SUBTREE, "`%` subtree is not part of the solid"),
     (DISABLED_SUBTREE, "`*` subtree is not part of the solid"),
     (SPECIAL_NEVER_SET, "special variable read but never set"),
+    (
+        DEPRECATED_MODULE,
+        "deprecated OpenSCAD module (`child`, `assign`)",
+    ),
     (
         TESSELLATION_NO_OP,
         "`$fn`, `$fa` and `$fs` have no effect on exact surfaces",

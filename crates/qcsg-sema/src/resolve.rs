@@ -22,6 +22,7 @@
 
 mod arguments;
 mod calls;
+mod deprecated;
 mod expressions;
 mod names;
 mod references;

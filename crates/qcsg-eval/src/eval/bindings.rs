@@ -1,12 +1,14 @@
 //! Loop and `let` bindings: a `for` runs its body once per combination of its bindings' values,
 //! counted against the iteration limit first; `let` binds in order, each binding seeing the ones
-//! before it.
+//! before it; OpenSCAD's deprecated `assign` computes every value first, in the scope around it.
 
 use std::rc::Rc;
 
+use qcsg_csg::{Edge, Source};
 use qcsg_diag::{FileId, Span};
-use qcsg_syntax::ast::{Binding, Expr};
+use qcsg_syntax::ast::{Arg, Binding, Expr, Stmt};
 
+use crate::codes;
 use crate::env::Frame;
 use crate::value::Value;
 
@@ -70,6 +72,52 @@ impl<'a> Evaluator<'a> {
             frame.set(&b.name.name, v);
         }
         Ok(frame)
+    }
+}
+
+impl<'a> Evaluator<'a> {
+    /// `assign(a = 1, b = 2) child` (deprecated in OpenSCAD; warning W0109 is static), as
+    /// OpenSCAD 2021.01 evaluates it: each named value in turn, in a new scope that holds the
+    /// `$`-variables bound so far (special variables are looked up dynamically, so
+    /// `assign($r = 5, s = $r)` gives `s = 5`) but no ordinary binding until all are evaluated
+    /// (`assign(a = 1, b = a + 1)` sees the outer `a`). Positional arguments are ignored,
+    /// unevaluated, as OpenSCAD ignores them.
+    pub(super) fn assign_module(
+        &mut self,
+        args: &'a [Arg],
+        child: Option<&'a Stmt>,
+        span: Span,
+        cx: &Cx<'a>,
+    ) -> R<Option<Edge>> {
+        let frame = Frame::nested(&cx.frame);
+        let inner = Cx {
+            frame: frame.clone(),
+            file: cx.file,
+        };
+        let mut ordinary = Vec::with_capacity(args.len());
+        for arg in args {
+            let Some(name) = &arg.name else {
+                self.warn(
+                    codes::IGNORED_ARGUMENT,
+                    "`assign` binds named arguments only: OpenSCAD ignores this one",
+                    cx.file,
+                    arg.span,
+                );
+                continue;
+            };
+            let value = self.eval_expr(&arg.value, &inner)?;
+            if name.is_special() {
+                frame.set(&name.name, value);
+            } else {
+                ordinary.push((name.name.as_str(), value));
+            }
+        }
+        for (name, value) in ordinary {
+            frame.set(name, value);
+        }
+        let items = self.collect_body(cx.file, child);
+        let edges = self.eval_scope(&items, &frame)?;
+        Ok(self.group(edges, Source::new(cx.file, span)))
     }
 }
 

@@ -50,6 +50,8 @@ impl<'a> Evaluator<'a> {
                 return Ok(self.group(edges, source));
             }
             "children" => return self.children(args, span, cx),
+            "child" => return self.child(args, span, cx),
+            "assign" => return self.assign_module(args, child, span, cx),
             "intersection_for" => return self.intersection_for(args, child, span, cx),
             _ => {}
         }

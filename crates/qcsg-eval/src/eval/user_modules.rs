@@ -1,6 +1,7 @@
 //! User modules: a call's own scope (its parameters, `$children`, `$parent_modules`, and its
 //! children kept with the caller's scope), `parent_module(n)`, and `children()`, which evaluates the chosen children where the module was
-//! instantiated while `$`-variables set by the module reach them.
+//! instantiated while `$`-variables set by the module reach them, and OpenSCAD's deprecated
+//! `child(i)`.
 
 use std::rc::Rc;
 
@@ -164,6 +165,56 @@ impl<'a> Evaluator<'a> {
                 ));
             }
         }
+        self.instantiate_children(&children, indices, span, cx)
+    }
+
+    /// `child(i)`, OpenSCAD's deprecated `children(i)` for one child (warning W0109 is static):
+    /// OpenSCAD reads the first argument whatever its name, truncates it, and takes child 0 when
+    /// there is none or it is not a number.
+    pub(super) fn child(&mut self, args: &'a [Arg], span: Span, cx: &Cx<'a>) -> R<Option<Edge>> {
+        let values = self.eval_args(args, cx)?;
+        let Some(children) = cx.frame.module_children() else {
+            return Ok(None);
+        };
+        let n = children.items.len();
+        let index = match (values.first().map(|a| &a.value), args.first()) {
+            (Some(Value::Number(x)), _) => x.trunc(),
+            (Some(other), Some(arg)) => {
+                self.warn(
+                    codes::IGNORED_ARGUMENT,
+                    format!(
+                        "`child` takes a number, got {}: OpenSCAD takes child 0",
+                        other.type_name()
+                    ),
+                    cx.file,
+                    arg.span,
+                );
+                0.0
+            }
+            _ => 0.0,
+        };
+        if !(index >= 0.0 && index < n as f64) {
+            return Err(self.error(
+                codes::MODULE_ARGUMENT,
+                format!(
+                    "child index {} out of bounds ({n} children)",
+                    crate::value::format_number(index)
+                ),
+                cx.file,
+                span,
+            ));
+        }
+        self.instantiate_children(&children, vec![index as usize], span, cx)
+    }
+
+    /// Evaluates the chosen children of the current module instance, in order.
+    fn instantiate_children(
+        &mut self,
+        children: &Children<'a>,
+        indices: Vec<usize>,
+        span: Span,
+        cx: &Cx<'a>,
+    ) -> R<Option<Edge>> {
         // The children's own scope, entered from here so that `$`-variables set by the module
         // reach them.
         let frame = Frame::child(&children.env, &cx.frame);

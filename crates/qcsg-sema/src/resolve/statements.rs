@@ -172,8 +172,16 @@ impl<'a> Resolver<'a> {
                 self.pop_scope();
                 return;
             }
+            ModuleLookup::Builtin(module) if module.name == "assign" => {
+                self.reference(file, name.span, Namespace::Module, Target::Builtin);
+                self.assign(file, name, args, child, item.chain);
+                return;
+            }
             ModuleLookup::Builtin(module) => {
                 self.reference(file, name.span, Namespace::Module, Target::Builtin);
+                if module.name == "child" {
+                    self.deprecated_child(file, name);
+                }
                 let tys = self.args(file, args);
                 let signature = builtin_module_signature(module);
                 self.check_args(file, name, args_span, args, &tys, &signature);

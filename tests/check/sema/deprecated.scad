@@ -1,0 +1,37 @@
+// OpenSCAD's deprecated child() and assign(): accepted with OpenSCAD's meaning, with a warning.
+
+module first() child(0);
+//             ^^^^^ warning[W0109]: `child` is deprecated
+first() cube(1);
+
+a = 10;
+    assign(a = 1, b = a + 1) cube([a, b, 1]);
+//  ^^^^^^ warning[W0109]: `assign` is deprecated
+
+// The bindings are visible in the child only, as `let`'s are.
+    assign(w = 2) {
+//  ^^^^^^ warning[W0109]
+    translate([w, 0, 0]) cube(w);
+}
+echo(w);
+//   ^ error[E0101]: undefined variable
+
+// Each value is resolved in the enclosing scope: `b2` is not yet bound for `c`.
+    assign(b2 = 1, c = b2 + 1) echo(c);
+//  ^^^^^^ warning[W0109]
+//         ^^ warning[W0101]: `b2`
+//                     ^^ error[E0101]
+
+    assign(unused = 3, $fn = 8) sphere(1);
+//  ^^^^^^ warning[W0109]
+//         ^^^^^^ warning[W0101]
+//                     ^^^ hint[H0101]
+
+// A module of the program named like a deprecated one is that module.
+module assign2() children();
+assign2() cube(1);
+module own() {
+    module child() children();
+    child() cube(1);
+}
+own();
