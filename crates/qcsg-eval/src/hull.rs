@@ -11,6 +11,10 @@
 //!   nearest to, and every piece lies within r of K, so the union is exact. A flat K (coplanar
 //!   centres) is its one face seen from both sides, a segment the capsule, a point the ball.
 //!
+//! Circular cylinders (cut square across their axes) whose axes are parallel and whose ends lie
+//! on the same two planes have the hull of their discs in one plane, extruded between the two
+//! ([`crate::hull_2d::build_prism`]).
+//!
 //! Balls of different radii (a point being a ball of radius 0) have cones and planes tangent to
 //! several balls in their hull; they are refused ([`HullRefusal::UnequalRadii`]), as are parts
 //! that are neither (an ellipsoid, a cylinder, a difference: [`HullRefusal::Part`]).
@@ -34,6 +38,26 @@ pub enum Piece {
     Point(DVec3, Source),
     /// A ball.
     Ball(DVec3, f64, Source),
+    /// A circular cylinder cut square across its axis: its discs.
+    Cylinder(Cylinder),
+}
+
+/// A circular cylinder between two planes across its unit axis `axis`: the points `p` with
+/// `|p − centre|` off the axis at most `radius` and `axis · p` in `[low, high]`.
+#[derive(Clone, Copy, Debug)]
+pub struct Cylinder {
+    /// A point of the axis.
+    pub centre: DVec3,
+    /// The unit axis.
+    pub axis: DVec3,
+    /// The radius.
+    pub radius: f64,
+    /// The extent along the axis, as `axis · p`.
+    pub low: f64,
+    /// See `low`.
+    pub high: f64,
+    /// The part's source.
+    pub source: Source,
 }
 
 /// Why the hull is not computed here.
@@ -58,7 +82,7 @@ struct Plane {
 fn ball_of(q: &Quadric) -> Option<(DVec3, Option<f64>)> {
     let a = q.matrix_a();
     let lambda = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
-    if !(lambda > 0.0) {
+    if lambda.is_nan() || lambda <= 0.0 {
         return None;
     }
     let mut off = 0.0f64;
@@ -76,6 +100,42 @@ fn ball_of(q: &Quadric) -> Option<(DVec3, Option<f64>)> {
     let centre = q.origin() - l / lambda;
     let r2 = l.length_squared() / (lambda * lambda) - q.constant() / lambda;
     Some((centre, (r2 > 0.0 && r2.is_finite()).then(|| r2.sqrt())))
+}
+
+/// The axis (unit), a point of the axis and the radius of `q` when it is an infinite circular
+/// cylinder (`None` radius: empty).
+fn cylinder_of(q: &Quadric) -> Option<(DVec3, DVec3, Option<f64>)> {
+    let a = q.matrix_a();
+    let lambda = 0.5 * (a[0][0] + a[1][1] + a[2][2]);
+    if lambda.is_nan() || lambda <= 0.0 {
+        return None;
+    }
+    // A = λ (I − u uᵀ): the axis is along the rows' cross product of largest norm.
+    let rows = a.map(DVec3::from_array);
+    let u = [
+        rows[0].cross(rows[1]),
+        rows[1].cross(rows[2]),
+        rows[2].cross(rows[0]),
+    ]
+    .into_iter()
+    .max_by(|x, y| x.length_squared().total_cmp(&y.length_squared()))?
+    .try_normalize()?;
+    let ua = u.to_array();
+    for (r, row) in a.iter().enumerate() {
+        for (c, &x) in row.iter().enumerate() {
+            let expected = lambda * (f64::from(u8::from(r == c)) - ua[r] * ua[c]);
+            if (x - expected).abs() > 1e-9 * lambda {
+                return None;
+            }
+        }
+    }
+    let l = q.linear();
+    if l.dot(u).abs() > 1e-9 * (l.length() + f64::MIN_POSITIVE) + 1e-300 {
+        return None;
+    }
+    let centre = q.origin() - l / lambda;
+    let r2 = l.length_squared() / (lambda * lambda) - q.constant() / lambda;
+    Some((u, centre, (r2 > 0.0 && r2.is_finite()).then(|| r2.sqrt())))
 }
 
 /// Whether `q` is positive definite (an ellipsoid or nothing).
@@ -103,7 +163,7 @@ fn planes_of(q: &Quadric) -> Option<Vec<Plane>> {
         return Some(vec![plane(l, -0.5 * j)?]);
     }
     let k = (0..3).max_by(|&x, &y| a[x][x].total_cmp(&a[y][y]))?;
-    if !(a[k][k] > 0.0) {
+    if a[k][k].is_nan() || a[k][k] <= 0.0 {
         return None;
     }
     let u = DVec3::from_array(a[k]) / a[k][k].sqrt();
@@ -121,7 +181,7 @@ fn planes_of(q: &Quadric) -> Option<Vec<Plane>> {
         return None;
     }
     let h2 = mu * mu - j;
-    if !(h2 > 0.0) {
+    if h2.is_nan() || h2 <= 0.0 {
         return Some(Vec::new());
     }
     let h = h2.sqrt();
@@ -256,6 +316,7 @@ impl<'d> Collector<'d> {
     /// A convex part: an intersection of half-spaces and slabs, within its boxes.
     fn convex(&mut self, id: NodeId, world: &DMat4) -> Result<(), HullRefusal> {
         let mut planes = Vec::new();
+        let mut cylinder = None;
         let mut bounds = Aabb::EVERYTHING;
         let mut stack = vec![(id, *world)];
         let source = self.dag.node(id).map(|n| n.source).unwrap_or_default();
@@ -272,10 +333,14 @@ impl<'d> Collector<'d> {
                         source,
                         "a part with a singular transform",
                     ))?;
-                    match planes_of(&q) {
-                        Some(found) if found.is_empty() => return Ok(()),
-                        Some(found) => planes.extend(found),
-                        None => {
+                    match (planes_of(&q), cylinder_of(&q)) {
+                        (Some(found), _) if found.is_empty() => return Ok(()),
+                        (Some(found), _) => planes.extend(found),
+                        (None, Some((_, _, None))) => return Ok(()),
+                        (None, Some((axis, centre, Some(radius)))) if cylinder.is_none() => {
+                            cylinder = Some((axis, centre, radius, node.source));
+                        }
+                        _ => {
                             return Err(HullRefusal::Part(
                                 node.source,
                                 "a curved surface cut by others",
@@ -301,6 +366,9 @@ impl<'d> Collector<'d> {
         }
         if bounds.is_empty() {
             return Ok(());
+        }
+        if let Some((axis, centre, radius, at)) = cylinder {
+            return self.cylinder(axis, centre, radius, &planes, source, at);
         }
         if !bounds.is_bounded() {
             return Err(HullRefusal::Part(source, "an unbounded part"));
@@ -329,11 +397,59 @@ impl<'d> Collector<'d> {
     }
 }
 
+impl Collector<'_> {
+    /// A cylinder about `axis` cut by `planes`, which must all be square to the axis.
+    fn cylinder(
+        &mut self,
+        axis: DVec3,
+        centre: DVec3,
+        radius: f64,
+        planes: &[Plane],
+        source: Source,
+        at: Source,
+    ) -> Result<(), HullRefusal> {
+        // One sign for the axis whatever the transform: its largest component positive.
+        let axis = if axis.abs().max_element() == axis.max_element() {
+            axis
+        } else {
+            -axis
+        };
+        let (mut low, mut high) = (f64::NEG_INFINITY, f64::INFINITY);
+        for p in planes {
+            let along = p.normal.dot(axis);
+            if p.normal.cross(axis).length() > 1e-9 {
+                return Err(HullRefusal::Part(at, "a cylinder cut across at a slant"));
+            }
+            // p.normal = ±axis: ±(axis · x) ≤ offset.
+            if along > 0.0 {
+                high = high.min(p.offset);
+            } else {
+                low = low.max(-p.offset);
+            }
+        }
+        if !(low.is_finite() && high.is_finite()) {
+            return Err(HullRefusal::Part(source, "an unbounded part"));
+        }
+        if low < high {
+            self.pieces.push(Piece::Cylinder(Cylinder {
+                centre,
+                axis,
+                radius,
+                low,
+                high,
+                source,
+            }));
+        }
+        Ok(())
+    }
+}
+
 /// The common radius of the pieces (0 for points), or the two that differ.
 pub fn common_radius(pieces: &[Piece]) -> Result<f64, HullRefusal> {
     let radius = |p: &Piece| match *p {
         Piece::Point(_, s) => (s, 0.0),
         Piece::Ball(_, r, s) => (s, r),
+        Piece::Cylinder(c) => (c.source, c.radius),
     };
     let Some(first) = pieces.first().map(radius) else {
         return Ok(0.0);
@@ -351,6 +467,7 @@ pub fn common_radius(pieces: &[Piece]) -> Result<f64, HullRefusal> {
 fn centre_of(p: &Piece) -> DVec3 {
     match *p {
         Piece::Point(c, _) | Piece::Ball(c, _, _) => c,
+        Piece::Cylinder(c) => c.centre,
     }
 }
 

@@ -7,15 +7,19 @@
 //!   edge and its copy moved out by r) ∪ a disc per vertex; a segment K is the stadium, a point
 //!   the disc.
 //!
+//! The hull of circular cylinders with parallel axes, cut by the same two planes across them,
+//! is the 2-D hull of their sections extruded between the planes ([`build_prism`]): the rounded
+//! box of four vertical cylinders.
+//!
 //! Discs of different radii (a point is a disc of radius 0) have lines tangent to two circles
 //! in their hull and are refused, like ellipses, differences and complements.
 
-use glam::{DVec2, DVec3};
+use glam::{DMat4, DVec2, DVec3, DVec4};
 use qcsg_csg::{Dag, Edge, Source};
 use qcsg_mesh::convex_hull_2d;
 use qcsg_quadric::Quadric;
 
-use crate::hull::{HullRefusal, MAX_HULL_POINTS};
+use crate::hull::{Cylinder, HullRefusal, MAX_HULL_POINTS};
 use crate::offset::{circle_of, convex_vertices, lines_of};
 use crate::planar::{PlanarExpr, PlanarId, PlanarKind};
 use crate::primitives_2d::column;
@@ -228,4 +232,79 @@ pub fn build(
     }
     let union = dag.union(parts, source);
     Ok(boxed(dag, union.into(), &k, r))
+}
+
+/// The hull of `cylinders`: parallel axes, the same two end planes, one radius (else refused).
+pub fn build_prism(
+    dag: &mut Dag,
+    cylinders: &[Cylinder],
+    source: Source,
+) -> Result<Edge, HullRefusal> {
+    let Some(first) = cylinders.first() else {
+        return Ok(dag.empty(source).into());
+    };
+    let u = first.axis;
+    let scale = cylinders
+        .iter()
+        .map(|c| c.high - c.low + c.radius)
+        .fold(0.0f64, f64::max);
+    for c in &cylinders[1..] {
+        if c.axis.cross(u).length() > 1e-9 {
+            return Err(HullRefusal::Part(
+                c.source,
+                "cylinders whose axes are not parallel",
+            ));
+        }
+        let tol = 1e-9 * scale + 1e-15 * c.low.abs().max(c.high.abs());
+        if (c.low - first.low).abs() > tol || (c.high - first.high).abs() > tol {
+            return Err(HullRefusal::Part(
+                c.source,
+                "cylinders whose ends do not lie on the same two planes",
+            ));
+        }
+    }
+    // A frame (e1, e2, u), the axes themselves when u is one.
+    let (e1, e2) = if u == DVec3::Z {
+        (DVec3::X, DVec3::Y)
+    } else if u == DVec3::X {
+        (DVec3::Y, DVec3::Z)
+    } else if u == DVec3::Y {
+        (DVec3::Z, DVec3::X)
+    } else {
+        let helper = if u.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
+        let e1 = u.cross(helper).normalize();
+        (e1, u.cross(e1))
+    };
+    let pieces: Vec<Piece2> = cylinders
+        .iter()
+        .map(|c| {
+            Piece2::Disc(
+                DVec2::new(e1.dot(c.centre), e2.dot(c.centre)),
+                c.radius,
+                c.source,
+            )
+        })
+        .collect();
+    let r = common_radius(&pieces)?;
+    let section = build(dag, &pieces, r, source)?;
+    let (low, high) = (first.low, first.high);
+    let mid = 0.5 * (low + high);
+    let slab = match Quadric::slab(DVec3::new(0.0, 0.0, mid), DVec3::Z, 0.5 * (high - low)) {
+        Some(q) => dag.leaf(q, source).into(),
+        None => return Ok(dag.empty(source).into()),
+    };
+    let section_box = dag.edge_bounds(section);
+    let cut = dag.intersection(vec![section, slab], source);
+    let mut local = section_box;
+    local.min.z = low;
+    local.max.z = high;
+    let cut = dag.bounded(cut, local);
+    let frame = DMat4::from_cols(
+        e1.extend(0.0),
+        e2.extend(0.0),
+        u.extend(0.0),
+        DVec4::new(0.0, 0.0, 0.0, 1.0),
+    );
+    dag.edge(cut, &frame)
+        .map_err(|_| HullRefusal::TooLarge("the cylinders' frame is not representable".into()))
 }

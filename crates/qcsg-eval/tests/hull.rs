@@ -278,8 +278,21 @@ fn hulls_not_bounded_by_quadrics_are_refused_at_their_parts() {
         ("hull() { cube(1); sphere(1); }", "sphere(1)"),
         ("hull() { scale([1, 2, 1]) sphere(1); }", "sphere(1)"),
         (
-            "hull() { cylinder(h = 1, r = 1); }",
+            "hull() { cylinder(h = 1, r = 1); translate([3, 0, 0]) cylinder(h = 2, r = 1); }",
+            "cylinder(h = 2, r = 1)",
+        ),
+        (
+            "hull() { cylinder(h = 1, r = 1); rotate([0, 90, 0]) cylinder(h = 1, r = 1); }",
             "cylinder(h = 1, r = 1)",
+        ),
+        (
+            "hull() { cylinder(h = 1, r = 1); translate([3, 0, 0]) cylinder(h = 1, r = 2); }",
+            "cylinder(h = 1, r = 1)",
+        ),
+        ("hull() { cylinder(h = 1, r = 1); sphere(1); }", "sphere(1)"),
+        (
+            "hull() { cylinder(h = 1, r1 = 1, r2 = 0.5); }",
+            "cylinder(h = 1, r1 = 1, r2 = 0.5)",
         ),
         (
             "hull() { difference() { cube(2); cube(1); } }",
@@ -301,5 +314,41 @@ fn hulls_not_bounded_by_quadrics_are_refused_at_their_parts() {
             "{text}: {:?}",
             d.labels
         );
+    }
+}
+
+#[test]
+fn parallel_cylinders_of_one_height_are_their_discs_hull_extruded() {
+    // The rounded plate of four vertical cylinders, and the same turned and moved far away.
+    let plate = "hull() for (x = [1, 9], y = [1, 5]) translate([x, y, 0]) cylinder(h = 2, r = 1);";
+    let cases = [
+        (DVec3::new(5.0, 3.0, 1.0), true),
+        (DVec3::new(5.0, 0.01, 1.0), true),
+        (DVec3::new(5.0, -0.01, 1.0), false),
+        (DVec3::new(5.0, 3.0, 2.01), false),
+        (DVec3::new(5.0, 3.0, 1.99), true),
+        (DVec3::new(0.25, 0.25, 1.0), false),
+        (DVec3::new(0.32, 0.32, 1.0), true),
+    ];
+    let e = eval(plate);
+    assert!(!e.has_errors(), "{:?}", e.diagnostics);
+    let dnf = build_dnf(&e.dag, &DnfOptions::default()).expect("a solid");
+    for (p, inside) in cases {
+        assert_eq!(e.dag.contains(p), inside, "plate at {p}");
+        assert_eq!(dnf.contains(p), inside, "plate DNF at {p}");
+    }
+    let far = format!("translate([1e6, -1e6, 5e5]) rotate([30, 60, 10]) {plate}");
+    let e = eval(&far);
+    assert!(!e.has_errors(), "{:?}", e.diagnostics);
+    let m = glam::DMat4::from_translation(DVec3::new(1e6, -1e6, 5e5))
+        * glam::DMat4::from_euler(
+            glam::EulerRot::ZYX,
+            10f64.to_radians(),
+            60f64.to_radians(),
+            30f64.to_radians(),
+        );
+    for (p, inside) in cases {
+        let q = m.transform_point3(p);
+        assert_eq!(e.dag.contains(q), inside, "far plate at {p}");
     }
 }

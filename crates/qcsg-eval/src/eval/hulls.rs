@@ -6,7 +6,7 @@ use qcsg_csg::{Edge, Source};
 use qcsg_diag::{Diagnostic, FileId, Span};
 
 use crate::codes;
-use crate::hull::{Collector, HullBuilder, HullRefusal, common_radius};
+use crate::hull::{Collector, Cylinder, HullBuilder, HullRefusal, Piece, common_radius};
 use crate::hull_2d::{self, Collector2};
 use crate::planar::{PlanarError, planar_expression};
 
@@ -27,14 +27,7 @@ impl<'a> Evaluator<'a> {
         let built = if planar {
             self.hull_2d(edges, source)?
         } else {
-            let mut collector = Collector::new(&self.dag);
-            let collected = edges
-                .iter()
-                .try_for_each(|e| collector.add(*e, &DMat4::IDENTITY));
-            let pieces = collector.pieces;
-            collected
-                .and_then(|()| common_radius(&pieces).map(|r| (pieces, r)))
-                .and_then(|(pieces, r)| HullBuilder { source }.build(&mut self.dag, &pieces, r))
+            self.hull_3d(&edges, source)
         };
         match built {
             Ok(edge) => {
@@ -45,6 +38,35 @@ impl<'a> Evaluator<'a> {
             }
             Err(refusal) => Err(self.hull_refused(refusal, planar, file, span)),
         }
+    }
+
+    fn hull_3d(&mut self, edges: &[Edge], source: Source) -> Result<Edge, HullRefusal> {
+        let mut collector = Collector::new(&self.dag);
+        for e in edges {
+            collector.add(*e, &DMat4::IDENTITY)?;
+        }
+        let pieces = collector.pieces;
+        let cylinders: Vec<Cylinder> = pieces
+            .iter()
+            .filter_map(|p| match p {
+                Piece::Cylinder(c) => Some(*c),
+                _ => None,
+            })
+            .collect();
+        if cylinders.is_empty() {
+            let r = common_radius(&pieces)?;
+            return HullBuilder { source }.build(&mut self.dag, &pieces, r);
+        }
+        if let Some(at) = pieces.iter().find_map(|p| match *p {
+            Piece::Point(_, s) | Piece::Ball(_, _, s) => Some(s),
+            Piece::Cylinder(_) => None,
+        }) {
+            return Err(HullRefusal::Part(
+                at,
+                "a ball or a polytope together with cylinders",
+            ));
+        }
+        hull_2d::build_prism(&mut self.dag, &cylinders, source)
     }
 
     fn hull_2d(&mut self, edges: Vec<Edge>, source: Source) -> R<Result<Edge, HullRefusal>> {
