@@ -500,3 +500,27 @@ fn openscad_examples_read() {
         .unwrap();
     assert!((cross - DVec2::new(0.0, -40.0)).length() < 1e-12);
 }
+
+#[test]
+fn many_open_chains_and_a_busy_vertex_join_in_linear_time() {
+    // 20,000 separate segments (each an open chain) and 20,000 segments from one vertex: a
+    // search that restarted from the first edge, or scanned the busy vertex's edges at every
+    // step, would take billions of steps.
+    let mut e = Vec::new();
+    for i in 0..20_000 {
+        let x = i as f64 * 3.0;
+        e.extend(line("0", [x, 0.0], [x + 1.0, 0.0]));
+    }
+    for i in 0..20_000 {
+        let a = i as f64 * 1e-4;
+        e.extend(line(
+            "0",
+            [0.0, 50.0],
+            [100.0 * a.cos(), 50.0 + 100.0 * a.sin()],
+        ));
+    }
+    let start = std::time::Instant::now();
+    let d = read(&dxf(&[], &pairs(&e)), &all()).unwrap();
+    assert_eq!(d.paths.len(), 20_000 + 10_000);
+    assert!(start.elapsed().as_secs() < 20, "{:?}", start.elapsed());
+}

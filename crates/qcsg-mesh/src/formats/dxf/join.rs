@@ -12,7 +12,8 @@
 //! OpenSCAD closes with a straight edge; here also a warning), then loops from the remaining edges
 //! in file order; at each vertex the walk continues along the first unused edge there.
 
-use std::collections::HashMap;
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, HashMap};
 
 use glam::DVec2;
 
@@ -126,29 +127,54 @@ pub(super) fn join(pieces: &[Piece], drawing: &mut Drawing) {
         at[link.ends[0]].push(i);
         at[link.ends[1]].push(i);
     }
-    let mut used = vec![false; links.len()];
     let mut walker = Walker {
         links: &links,
         at: &at,
         vertices: &grid.vertices,
-        used: &mut used,
+        used: vec![false; links.len()],
+        free: at.iter().map(Vec::len).collect(),
+        next_at: vec![0; at.len()],
+        down_to_one: Vec::new(),
     };
-    // Open chains first: from an end no other unused edge touches.
+    // Open chains first: from an end no other unused edge touches, the lowest such edge first,
+    // as OpenSCAD's scan from the start finds it. Edges are scanned once in order; one passed
+    // over can only become a start when its end is left with it alone (`free` falls to 1), and
+    // is then queued, so the whole search is linear.
+    let mut cursor = 0;
+    let mut queued: BinaryHeap<Reverse<usize>> = BinaryHeap::new();
     loop {
-        let start = (0..links.len()).filter(|&i| !walker.used[i]).find_map(|i| {
-            (0..2).find_map(|j| {
-                let lonely = walker.at[links[i].ends[j]]
-                    .iter()
-                    .all(|&k| k == i || walker.used[k]);
-                lonely.then_some((i, j))
-            })
-        });
-        let Some((i, j)) = start else { break };
+        let i = match queued.peek() {
+            Some(&Reverse(q)) if q < cursor => {
+                queued.pop();
+                q
+            }
+            _ if cursor < links.len() => {
+                cursor += 1;
+                cursor - 1
+            }
+            _ => break,
+        };
+        if walker.used[i] {
+            continue;
+        }
+        let Some(j) = (0..2).find(|&j| walker.free[links[i].ends[j]] == 1) else {
+            continue;
+        };
         let edges = walker.walk(i, j);
         push_path(drawing, edges, false);
+        for v in std::mem::take(&mut walker.down_to_one) {
+            if let Some(k) = walker.next_unused(v)
+                && k < cursor
+            {
+                queued.push(Reverse(k));
+            }
+        }
     }
     // Then loops, from the remaining edges in file order.
-    while let Some(i) = (0..links.len()).find(|&i| !walker.used[i]) {
+    for i in 0..links.len() {
+        if walker.used[i] {
+            continue;
+        }
         let edges = walker.walk(i, 0);
         let closed = edges.first().map(|e| e.from) == edges.last().map(|e| e.to);
         push_path(drawing, edges, closed);
@@ -183,16 +209,40 @@ struct Walker<'a> {
     links: &'a [Link],
     at: &'a [Vec<usize>],
     vertices: &'a [DVec2],
-    used: &'a mut [bool],
+    used: Vec<bool>,
+    /// The unused edges at each vertex.
+    free: Vec<usize>,
+    /// Where the search for an unused edge at each vertex resumes (edges before it are used).
+    next_at: Vec<usize>,
+    /// Vertices whose unused edges fell to one during the last walk.
+    down_to_one: Vec<usize>,
 }
 
 impl Walker<'_> {
+    /// The first unused edge at vertex `v`, in the order edges reached it.
+    fn next_unused(&mut self, v: usize) -> Option<usize> {
+        let list = &self.at[v];
+        while self.next_at[v] < list.len() && self.used[list[self.next_at[v]]] {
+            self.next_at[v] += 1;
+        }
+        list.get(self.next_at[v]).copied()
+    }
+
+    fn mark_used(&mut self, i: usize) {
+        self.used[i] = true;
+        for v in self.links[i].ends {
+            self.free[v] -= 1;
+            if self.free[v] == 1 {
+                self.down_to_one.push(v);
+            }
+        }
+    }
+
     /// Follows unused edges from end `j` of edge `i` until none continues.
     fn walk(&mut self, mut i: usize, mut j: usize) -> Vec<Edge> {
         let mut edges = Vec::new();
         loop {
             let link = &self.links[i];
-            self.used[i] = true;
             let (a, b) = (link.ends[j], link.ends[1 - j]);
             let arc = link.arc.map(|arc| Arc {
                 ccw: if j == 0 { arc.ccw } else { !arc.ccw },
@@ -204,8 +254,8 @@ impl Walker<'_> {
                 arc,
                 line: link.line,
             });
-            let next = self.at[b].iter().copied().find(|&k| !self.used[k]);
-            let Some(k) = next else { break };
+            self.mark_used(i);
+            let Some(k) = self.next_unused(b) else { break };
             i = k;
             j = if self.links[k].ends[0] == b { 0 } else { 1 };
         }
