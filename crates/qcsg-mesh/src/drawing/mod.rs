@@ -22,11 +22,14 @@
 //! coordinates' magnitude): a line that ends on a circle or runs tangent to it touches, it does not
 //! cross, even when the file's digits put its end a little inside.
 
+mod grid;
+
 use std::f64::consts::TAU;
 use std::fmt;
 
 use glam::DVec2;
 
+use self::grid::BoxGrid;
 use crate::formats::{Drawing, DrawingPath};
 use crate::polygon::{HalfPlane, Polygon, PolygonError, PolygonLimits, polygon_cells};
 
@@ -186,6 +189,7 @@ impl fmt::Display for RegionError {
 impl std::error::Error for RegionError {}
 
 /// A curved piece with where it comes from.
+#[derive(Clone)]
 struct Item {
     piece: CurvedPiece,
     /// The circle's arc as an angle interval `(start, sweep)`, counter-clockwise.
@@ -194,6 +198,20 @@ struct Item {
     own_edge: Option<usize>,
     line: usize,
     name: &'static str,
+}
+
+impl Item {
+    /// A box around the piece (its circle's).
+    fn bounds(&self) -> (DVec2, DVec2) {
+        let (c, r) = (self.piece.center(), self.piece.radius());
+        (c - r, c + r)
+    }
+}
+
+/// What lies near a piece: the straight edges and the applied pieces whose boxes meet its box.
+struct Near {
+    straights: Vec<usize>,
+    done: Vec<usize>,
 }
 
 /// A straight edge of a chord polygon.
@@ -273,19 +291,57 @@ pub fn drawing_region(
     // Larger pieces first, so a container comes before what it contains; among those, the first
     // whose interior no boundary of the region built so far enters.
     items.sort_by(|a, b| area(&b.piece).total_cmp(&area(&a.piece)));
+    // Grids over everything, so each test looks only at what lies near a piece's box.
+    let mut lo = polygon.min;
+    let mut hi = polygon.max;
+    for s in &straights {
+        lo = lo.min(s.a.min(s.b));
+        hi = hi.max(s.a.max(s.b));
+    }
+    for item in &items {
+        let (a, b) = item.bounds();
+        lo = lo.min(a);
+        hi = hi.max(b);
+    }
+    let mut straight_grid = BoxGrid::new(lo, hi, straights.len());
+    for (k, s) in straights.iter().enumerate() {
+        straight_grid.insert(k, s.a.min(s.b), s.a.max(s.b));
+    }
+    let mut cell_grid = BoxGrid::new(lo, hi, polygon.cells.len());
+    for (k, c) in polygon.cells.iter().enumerate() {
+        cell_grid.insert(k, c.min, c.max);
+    }
+    let mut done_grid = BoxGrid::new(lo, hi, items.len());
     let mut chord_done = vec![false; straights.len()];
     let mut done: Vec<Item> = Vec::with_capacity(items.len());
     let mut steps: Vec<Step> = Vec::with_capacity(items.len());
     let mut work = 0usize;
-    while !items.is_empty() {
+    // Items are taken in place (not removed: that would move the rest each time).
+    let mut taken = vec![false; items.len()];
+    let mut first = 0;
+    loop {
+        while first < items.len() && taken[first] {
+            first += 1;
+        }
+        if first == items.len() {
+            break;
+        }
         let mut first_obstacle = None;
         let mut pick = None;
-        for (i, item) in items.iter().enumerate() {
-            work += straights.len() + done.len();
+        for (i, item) in items.iter().enumerate().skip(first) {
+            if taken[i] {
+                continue;
+            }
+            let (a, b) = item.bounds();
+            let near = Near {
+                straights: straight_grid.query(a, b),
+                done: done_grid.query(a, b),
+            };
+            work += 1 + near.straights.len() + near.done.len();
             if work > MAX_WORK {
                 return Err(RegionError::TooComplex { line: item.line });
             }
-            match obstacle(item, &straights, &chord_done, &done, tol) {
+            match obstacle(item, &straights, &chord_done, &done, &near, tol) {
                 None => {
                     pick = Some(i);
                     break;
@@ -304,11 +360,22 @@ pub fn drawing_region(
                 other_line,
             });
         };
-        let item = items.remove(i);
-        let p = deep_point(&item.piece, &straights, &done);
-        let mut inside = even_odd(&points, &paths, p);
-        for s in &steps {
-            if s.piece.contains(p) {
+        taken[i] = true;
+        let item = items[i].clone();
+        let (a, b) = item.bounds();
+        let near = Near {
+            straights: straight_grid.query(a, b),
+            done: done_grid.query(a, b),
+        };
+        let p = deep_point(&item.piece, &straights, &done, &near);
+        // The parity of the region built so far at `p`: in a cell of the chord polygons, then
+        // flipped by each piece applied before that holds it.
+        let mut inside = cell_grid
+            .query(p, p)
+            .into_iter()
+            .any(|k| polygon.cells[k].contains(p));
+        for j in done_grid.query(p, p) {
+            if steps[j].piece.contains(p) {
                 inside = !inside;
             }
         }
@@ -320,6 +387,7 @@ pub fn drawing_region(
         if let Some(k) = item.own_edge {
             chord_done[k] = true;
         }
+        done_grid.insert(done.len(), a, b);
         done.push(item);
     }
     Ok(DrawingRegion { polygon, steps })
@@ -376,6 +444,7 @@ fn obstacle(
     straights: &[Straight],
     chord_done: &[bool],
     done: &[Item],
+    near: &Near,
     tol: f64,
 ) -> Option<(&'static str, usize)> {
     let c = item.piece.center();
@@ -383,7 +452,8 @@ fn obstacle(
     if r <= 0.0 {
         return None;
     }
-    for (k, s) in straights.iter().enumerate() {
+    for &k in &near.straights {
+        let s = &straights[k];
         if Some(k) == item.own_edge || (s.chord && chord_done[k]) {
             continue;
         }
@@ -411,7 +481,9 @@ fn obstacle(
             return Some((what, s.line));
         }
     }
-    done.iter()
+    near.done
+        .iter()
+        .map(|&j| &done[j])
         .find(|d| arc_enters(d, &item.piece, tol))
         .map(|d| (d.name, d.line))
 }
@@ -501,7 +573,7 @@ fn area(piece: &CurvedPiece) -> f64 {
 /// A point well inside the piece, where the parity is counted: among a few candidates inside it
 /// (its centre and a ring for a disc; points between chord and arc for a segment), the one
 /// farthest from every straight edge (chords included) and every circle applied before it.
-fn deep_point(piece: &CurvedPiece, straights: &[Straight], before: &[Item]) -> DVec2 {
+fn deep_point(piece: &CurvedPiece, straights: &[Straight], before: &[Item], near: &Near) -> DVec2 {
     let (center, radius) = (piece.center(), piece.radius());
     let mut candidates = Vec::new();
     match piece.chord() {
@@ -537,10 +609,13 @@ fn deep_point(piece: &CurvedPiece, straights: &[Straight], before: &[Item]) -> D
         if let Some(h) = piece.chord() {
             d = d.min(h.value(p).abs() / h.normal.length());
         }
-        for s in straights {
+        // Anything outside the piece's box is farther than the piece's own boundary.
+        for &k in &near.straights {
+            let s = &straights[k];
             d = d.min(distance_to_segment(p, s.a, s.b));
         }
-        for item in before {
+        for &j in &near.done {
+            let item = &before[j];
             let c = item.piece.center();
             d = d.min(((p - c).length() - item.piece.radius()).abs());
         }
@@ -551,22 +626,4 @@ fn deep_point(piece: &CurvedPiece, straights: &[Straight], before: &[Item]) -> D
         .map(|p| (clearance(p), p))
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .map_or(center, |(_, p)| p)
-}
-
-/// The even–odd parity of `p` over the index paths (a crossing count along +x).
-fn even_odd(points: &[DVec2], paths: &[Vec<usize>], p: DVec2) -> bool {
-    let mut inside = false;
-    for path in paths {
-        for (k, &i) in path.iter().enumerate() {
-            let a = points[i];
-            let b = points[path[(k + 1) % path.len()]];
-            if (a.y > p.y) != (b.y > p.y) {
-                let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-                if x > p.x {
-                    inside = !inside;
-                }
-            }
-        }
-    }
-    inside
 }
