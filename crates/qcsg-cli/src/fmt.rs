@@ -45,7 +45,7 @@ pub fn run(args: FmtArgs) -> u8 {
             continue;
         }
         let text = source.text;
-        let formatted = match qcsg_ide::format::format(&text) {
+        let formatted = match qcsg_ide::format::format_file(file, &text) {
             Ok(formatted) => formatted,
             Err(error) => {
                 eprintln!("error: {file}: {error}");

@@ -10,6 +10,7 @@
 use std::fmt;
 
 use qcsg_diag::{Diagnostic, FileId, Span};
+use qcsg_syntax::Dialect;
 use qcsg_syntax::lexer::{self, Tok};
 
 /// The indentation of one level.
@@ -52,9 +53,21 @@ struct Open {
     head: bool,
 }
 
-/// Formats `text`, or refuses if it has syntax errors.
+/// Formats `text` as a `.qcsg` file, or refuses if it has syntax errors.
 pub fn format(text: &str) -> Result<String, FormatError> {
-    let parse = qcsg_syntax::parse(text, FileId(0));
+    format_as(text, Dialect::Qcsg)
+}
+
+/// Formats the text of the file called `name`, read in that file's dialect (a `.scad` file's
+/// escapes that OpenSCAD accepts are warnings, not errors, so they do not stop formatting).
+pub fn format_file(name: &str, text: &str) -> Result<String, FormatError> {
+    format_as(text, Dialect::of_file(name))
+}
+
+/// Formats `text` read in `dialect`, or refuses if it has syntax errors. String literals are
+/// kept as written, so formatting never changes what they mean.
+pub fn format_as(text: &str, dialect: Dialect) -> Result<String, FormatError> {
+    let parse = qcsg_syntax::parse_as(text, FileId(0), dialect);
     let errors: Vec<Diagnostic> = parse
         .diagnostics
         .into_iter()

@@ -124,3 +124,16 @@ fn syntax_errors_are_refused() {
     assert!(format("x = ;").is_err());
     assert!(format("module m( {").is_err());
 }
+
+/// A `.scad` file's escapes that OpenSCAD accepts (`\q`, `\0`) are warnings there, so the file
+/// formats, with its strings kept as written; the same text as `.qcsg` has errors and is refused.
+#[test]
+fn scad_escapes_do_not_stop_formatting() {
+    let text = "echo(  \"a\\0b\\qc\" );\n";
+    assert_eq!(
+        qcsg_ide::format::format_file("dir/old.scad", text).expect("formats"),
+        "echo(\"a\\0b\\qc\");\n"
+    );
+    assert!(qcsg_ide::format::format_file("dir/new.qcsg", text).is_err());
+    assert!(format(text).is_err());
+}

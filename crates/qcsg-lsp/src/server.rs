@@ -635,8 +635,11 @@ impl LanguageServer for Backend {
         let Some((text, _)) = self.documents.text(&params.text_document.uri) else {
             return Ok(None);
         };
+        let path = document_path(&params.text_document.uri);
         let formatted = tokio::task::spawn_blocking(move || {
-            catch_unwind(AssertUnwindSafe(|| (ide::format::format(&text), text)))
+            catch_unwind(AssertUnwindSafe(|| {
+                (ide::format::format_file(&path, &text), text)
+            }))
         })
         .await;
         match formatted {
