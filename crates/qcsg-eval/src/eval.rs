@@ -113,9 +113,11 @@ pub(crate) struct Evaluator<'a> {
     /// The files `import` read (or tried to), in order, each once.
     pub imports: Vec<std::path::PathBuf>,
     /// The cells of each mesh file imported so far, by resolved path.
-    imported_meshes: HashMap<std::path::PathBuf, Rc<qcsg_mesh::Polyhedron>>,
+    imported_meshes: HashMap<std::path::PathBuf, Rc<crate::polyhedron::MeshShape>>,
     /// The cells of each `surface` built so far, by resolved path, `invert` and `center`.
-    surfaces: HashMap<(std::path::PathBuf, bool, bool), Rc<qcsg_mesh::Polyhedron>>,
+    surfaces: HashMap<(std::path::PathBuf, bool, bool), Rc<crate::polyhedron::MeshShape>>,
+    /// The triangles of each mesh node (polyhedron, import, surface), for its shadow.
+    mesh_faces: HashMap<NodeId, Rc<crate::mesh_shadow::MeshFaces>>,
 }
 
 impl<'a> Evaluator<'a> {
@@ -153,6 +155,7 @@ impl<'a> Evaluator<'a> {
             imports: Vec::new(),
             imported_meshes: HashMap::new(),
             surfaces: HashMap::new(),
+            mesh_faces: HashMap::new(),
         }
     }
 }

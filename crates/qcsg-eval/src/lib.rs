@@ -46,6 +46,7 @@ pub mod hull;
 pub mod hull_2d;
 pub mod import;
 pub mod math;
+pub mod mesh_shadow;
 pub mod offset;
 pub mod ops;
 pub mod planar;

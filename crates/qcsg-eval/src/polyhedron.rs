@@ -5,12 +5,18 @@
 //! Every cell declares its box, so the union of many cells stays cheap to bound and its DNF has
 //! one short term per cell. A plane is computed once per triangle in `qcsg-mesh` and normalised
 //! here the same way wherever it occurs, so cells sharing a plane share its quadric exactly.
+//!
+//! A built mesh also keeps its triangles ([`MeshShape::faces`]): `projection` casts a mesh's
+//! shadow from them ([`crate::mesh_shadow`]), which the cells' half-spaces do not give exactly.
+
+use std::rc::Rc;
 
 use glam::DVec3;
 use qcsg_csg::{Aabb, Dag, Edge, NodeId, Source};
 use qcsg_mesh::{Mesh, MeshError, MeshLimits, Plane, Polyhedron, polyhedron_cells};
 use qcsg_quadric::Quadric;
 
+use crate::mesh_shadow::MeshFaces;
 use crate::value::Value;
 
 /// Which argument of `polyhedron` a failure is about, for its span.
@@ -40,6 +46,17 @@ pub struct BuiltMesh {
     pub node: Option<NodeId>,
     /// Non-planar faces and inside-out meshes, as the cell decomposition found them.
     pub warnings: Vec<String>,
+    /// The mesh's triangles, for the shadow of `node`.
+    pub faces: Rc<MeshFaces>,
+}
+
+/// A mesh's solid as convex cells, with the triangles that bound it (what `import` and
+/// `surface` keep per file).
+pub struct MeshShape {
+    /// The convex cells.
+    pub cells: Polyhedron,
+    /// The mesh's triangles, as the cells were cut from them.
+    pub faces: Rc<MeshFaces>,
 }
 
 /// The half-space `normal · p ≤ offset`, normalised so that its numbers depend only on the
@@ -166,7 +183,15 @@ pub fn build(
     max_len: usize,
     source: Source,
 ) -> Result<BuiltMesh, MeshFailure> {
-    solid(dag, &cells(mesh, max_len)?, source)
+    solid(dag, &shape(mesh, max_len)?, source)
+}
+
+/// The cells of the solid `mesh` bounds, with its triangles.
+pub fn shape(mesh: &Mesh, max_len: usize) -> Result<MeshShape, MeshFailure> {
+    Ok(MeshShape {
+        cells: cells(mesh, max_len)?,
+        faces: Rc::new(MeshFaces::of(mesh)),
+    })
 }
 
 /// The convex cells of the solid `mesh` bounds (the costly part, which `import` keeps per file).
@@ -185,7 +210,8 @@ pub fn cells(mesh: &Mesh, max_len: usize) -> Result<Polyhedron, MeshFailure> {
 }
 
 /// The union of `shape`'s cells, each the intersection of its half-spaces with its box.
-pub fn solid(dag: &mut Dag, shape: &Polyhedron, source: Source) -> Result<BuiltMesh, MeshFailure> {
+pub fn solid(dag: &mut Dag, mesh: &MeshShape, source: Source) -> Result<BuiltMesh, MeshFailure> {
+    let shape = &mesh.cells;
     let mut cells: Vec<Edge> = Vec::with_capacity(shape.cells.len());
     for cell in &shape.cells {
         let mut sides: Vec<Edge> = Vec::with_capacity(cell.planes.len());
@@ -212,5 +238,6 @@ pub fn solid(dag: &mut Dag, shape: &Polyhedron, source: Source) -> Result<BuiltM
     Ok(BuiltMesh {
         node,
         warnings: shape.warnings.clone(),
+        faces: mesh.faces.clone(),
     })
 }

@@ -13,13 +13,20 @@
 //! slab or half-space in z, a tilted plane, a hyperboloid). So boxes, balls, ellipsoids and
 //! vertical cylinders, their unions and their cuts by z-invariant parts project exactly; a cone
 //! cut by a slab does not, and [`ShadowError`] names it.
+//!
+//! **Meshes.** A mesh's cells are intersections of several tilted half-spaces, which the rule
+//! above refuses; the walker is given each mesh node's triangles instead and casts the shadow
+//! from them ([`crate::mesh_shadow`]): a union of convex polygons, each an intersection of
+//! half-planes, not z-invariant as a part (so it may be cut by z-invariant parts).
 
 use std::collections::HashMap;
+use std::rc::Rc;
 
 use glam::{DMat3, DMat4, DVec2, DVec3};
 use qcsg_csg::{Dag, Edge, NodeId, NodeKind, Source};
 use qcsg_quadric::Quadric;
 
+use crate::mesh_shadow::{MeshFaces, shadow_polygons};
 use crate::planar::{Conic, PlanarError, PlanarExpr, PlanarId, PlanarKind, PlanarNode};
 
 /// Why a subtree has no shadow computed here: the part whose projection is not exact this way.
@@ -122,26 +129,34 @@ pub fn section_expression(
     edge: Edge,
     max_nodes: usize,
 ) -> Result<PlanarExpr, PlanarError> {
-    walk(dag, edge, max_nodes, Mode::Section).map_err(|e| match e {
+    walk(dag, edge, max_nodes, Mode::Section, &HashMap::new()).map_err(|e| match e {
         ShadowError::Inexact(source) => PlanarError::NotPlanar(source),
         ShadowError::TooLarge(n) => PlanarError::TooLarge(n),
     })
 }
 
 /// The shadow on z = 0 of the 3-D subtree behind `edge`, where it is exact (see the module's
-/// documentation).
+/// documentation); `meshes` holds the triangles of the mesh nodes.
 pub fn shadow_expression(
     dag: &Dag,
     edge: Edge,
     max_nodes: usize,
+    meshes: &HashMap<NodeId, Rc<MeshFaces>>,
 ) -> Result<PlanarExpr, ShadowError> {
-    walk(dag, edge, max_nodes, Mode::Shadow)
+    walk(dag, edge, max_nodes, Mode::Shadow, meshes)
 }
 
-fn walk(dag: &Dag, edge: Edge, max_nodes: usize, mode: Mode) -> Result<PlanarExpr, ShadowError> {
+fn walk(
+    dag: &Dag,
+    edge: Edge,
+    max_nodes: usize,
+    mode: Mode,
+    meshes: &HashMap<NodeId, Rc<MeshFaces>>,
+) -> Result<PlanarExpr, ShadowError> {
     let mut walker = Walker {
         dag,
         mode,
+        meshes,
         nodes: Vec::new(),
         memo: HashMap::new(),
         max_nodes,
@@ -156,6 +171,7 @@ fn walk(dag: &Dag, edge: Edge, max_nodes: usize, mode: Mode) -> Result<PlanarExp
 struct Walker<'d> {
     dag: &'d Dag,
     mode: Mode,
+    meshes: &'d HashMap<NodeId, Rc<MeshFaces>>,
     nodes: Vec<PlanarNode>,
     /// (node, transform) → the figure and whether the node is z-invariant.
     memo: HashMap<(NodeId, [u64; 16]), (PlanarId, bool)>,
@@ -163,6 +179,52 @@ struct Walker<'d> {
 }
 
 impl Walker<'_> {
+    /// The union of convex `polygons` (corners counter-clockwise), each the intersection of the
+    /// half-planes left of its edges, written about the edge's first corner.
+    fn mesh_shadow(
+        &mut self,
+        polygons: &[Vec<DVec2>],
+        source: Source,
+    ) -> Result<PlanarId, ShadowError> {
+        let mut parts = Vec::with_capacity(polygons.len());
+        let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+        for polygon in polygons {
+            let mut sides = Vec::with_capacity(polygon.len());
+            let (mut min, mut max) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+            for (k, &a) in polygon.iter().enumerate() {
+                let b = polygon[(k + 1) % polygon.len()];
+                let d = b - a;
+                // Inside: (p − a) × d ≤ 0, with the outward normal (d.y, −d.x) normalised so
+                // that an edge's numbers depend on its line's direction only.
+                let n = DVec2::new(d.y, -d.x) / d.length();
+                let matrix = DMat3::from_cols(
+                    DVec3::new(0.0, 0.0, 0.5 * n.x),
+                    DVec3::new(0.0, 0.0, 0.5 * n.y),
+                    DVec3::new(0.5 * n.x, 0.5 * n.y, 0.0),
+                );
+                let conic = Conic { origin: a, matrix };
+                sides.push(self.push(PlanarNode {
+                    kind: PlanarKind::Leaf(conic),
+                    source,
+                    bounds: None,
+                })?);
+                (min, max) = (min.min(a), max.max(a));
+            }
+            (lo, hi) = (lo.min(min), hi.max(max));
+            parts.push(self.push(PlanarNode {
+                kind: PlanarKind::Intersection(sides),
+                source,
+                bounds: Some((min, max)),
+            })?);
+        }
+        let bounds = (lo.is_finite() && hi.is_finite()).then_some((lo, hi));
+        self.push(PlanarNode {
+            kind: PlanarKind::Union(parts),
+            source,
+            bounds,
+        })
+    }
+
     fn push(&mut self, node: PlanarNode) -> Result<PlanarId, ShadowError> {
         if self.nodes.len() >= self.max_nodes {
             return Err(ShadowError::TooLarge(self.max_nodes));
@@ -199,6 +261,14 @@ impl Walker<'_> {
             })?;
             self.memo.insert(key, (empty, true));
             return Ok((empty, true));
+        }
+        if self.mode == Mode::Shadow
+            && let Some(faces) = self.meshes.get(&id)
+        {
+            let polygons = shadow_polygons(faces, world).ok_or(ShadowError::Inexact(source))?;
+            let made = self.mesh_shadow(&polygons, source)?;
+            self.memo.insert(key, (made, false));
+            return Ok((made, false));
         }
         let children = |this: &mut Self, edges: &[Edge]| {
             edges

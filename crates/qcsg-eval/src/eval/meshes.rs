@@ -13,13 +13,12 @@ use std::rc::Rc;
 
 use qcsg_csg::{Edge, Source};
 use qcsg_diag::{FileId, Span};
-use qcsg_mesh::Polyhedron;
 use qcsg_sema::builtins::BuiltinParam;
 use qcsg_syntax::ast::Arg;
 
 use crate::codes;
 use crate::import::{self, Format, ImportFailure};
-use crate::polyhedron::{self as mesh, MeshFailure, MeshPart};
+use crate::polyhedron::{self as mesh, MeshFailure, MeshPart, MeshShape};
 use crate::primitives::ArgLookup;
 use crate::value::Value;
 
@@ -113,7 +112,8 @@ impl<'a> Evaluator<'a> {
         }
     }
 
-    /// The node of a built mesh (an empty solid for an empty mesh), its warnings at `warn_span`.
+    /// The node of a built mesh (an empty solid for an empty mesh), its warnings at `warn_span`;
+    /// its triangles are kept for `projection`.
     fn mesh_solid(
         &mut self,
         built: mesh::BuiltMesh,
@@ -125,7 +125,10 @@ impl<'a> Evaluator<'a> {
             self.warn(codes::MESH_FACES, w, file, warn_span);
         }
         Ok(Some(match built.node {
-            Some(node) => node.into(),
+            Some(node) => {
+                self.mesh_faces.insert(node, built.faces);
+                node.into()
+            }
             None => self.dag.empty(Source::new(file, span)).into(),
         }))
     }
@@ -303,7 +306,7 @@ impl<'a> Evaluator<'a> {
         call: &ImportCall<'_, 'a>,
         invert: bool,
         center: bool,
-    ) -> R<Polyhedron> {
+    ) -> R<MeshShape> {
         let bytes = self.import_bytes(call)?;
         let max_len = usize::try_from(self.options.max_vector_len).unwrap_or(usize::MAX);
         let map = crate::surface::read_height_map(&bytes, invert, max_len)
@@ -313,18 +316,18 @@ impl<'a> Evaluator<'a> {
         drop(map);
         // The grid limit above bounds the mesh: some 2 points and 13 face entries per grid
         // point, which the mesh limits must let through.
-        mesh::cells(&shape, max_len.saturating_mul(16))
+        mesh::shape(&shape, max_len.saturating_mul(16))
             .map_err(|failure| self.mesh_failure(failure, call.file, &|_| call.file_span))
     }
 
     /// The cells of the STL or OFF mesh `call` names.
-    fn import_mesh(&mut self, format: &Format, call: &ImportCall<'_, 'a>) -> R<Polyhedron> {
+    fn import_mesh(&mut self, format: &Format, call: &ImportCall<'_, 'a>) -> R<MeshShape> {
         let bytes = self.import_bytes(call)?;
         let max_len = usize::try_from(self.options.max_vector_len).unwrap_or(usize::MAX);
         let mesh =
             import::read_mesh(format, &bytes, max_len).map_err(|f| self.import_failure(f, call))?;
         drop(bytes);
-        mesh::cells(&mesh, max_len)
+        mesh::shape(&mesh, max_len)
             .map_err(|failure| self.mesh_failure(failure, call.file, &|_| call.file_span))
     }
 

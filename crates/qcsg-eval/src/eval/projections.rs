@@ -40,7 +40,7 @@ impl<'a> Evaluator<'a> {
                 PlanarError::NotPlanar(at) => ShadowError::Inexact(at),
             })
         } else {
-            shadow_expression(&self.dag, solid, limit)
+            shadow_expression(&self.dag, solid, limit, &self.mesh_faces)
         };
         let expr = match expr {
             Ok(expr) => expr,
@@ -70,8 +70,8 @@ impl<'a> Evaluator<'a> {
                     qcsg_sema::codes::UNSUPPORTED_MODULE,
                     "`projection(cut = false)` of this part is not supported: its shadow is not \
                      known to be bounded by conics (qcsg projects boxes, balls, ellipsoids, \
-                     vertical cylinders and z-invariant parts, their unions, and their cuts by \
-                     z-invariant parts)",
+                     vertical cylinders, meshes and z-invariant parts, their unions, and their \
+                     cuts by z-invariant parts)",
                     file,
                     span,
                 )
