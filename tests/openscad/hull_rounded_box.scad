@@ -1,5 +1,5 @@
-// hull of eight balls of one radius: the rounded box of OpenSCAD's example006, centred, and a
-// turned copy with a hole through it.
+// hull of eight balls of one radius: the rounded box of OpenSCAD's example006, turned and moved
+// (one object: OpenSCAD's union of such meshes takes minutes).
 $fn = 128;
 module rounded_cube(size, r, center = false) {
     s = is_list(size) ? size : [size, size, size];
@@ -9,8 +9,4 @@ module rounded_cube(size, r, center = false) {
                 translate([x, y, z]) sphere(r = r);
         }
 }
-rounded_cube([12, 8, 6], 2, center = true);
-translate([16, 0, 0]) rotate([20, 30, 40]) difference() {
-    rounded_cube(8, 1.5);
-    translate([4, 4, -1]) cylinder(h = 10, r = 2);
-}
+translate([3, 2, 1]) rotate([20, 30, 40]) rounded_cube([12, 8, 6], 2, center = true);

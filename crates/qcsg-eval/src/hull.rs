@@ -249,6 +249,10 @@ pub struct Collector<'d> {
     dag: &'d Dag,
     /// The pieces found so far.
     pub pieces: Vec<Piece>,
+    /// For each piece, the convex part it belongs to (a ball, a cylinder and each convex
+    /// polytope are one part each), numbered from 0.
+    pub parts: Vec<usize>,
+    next_part: usize,
     seen: HashSet<(NodeId, [u64; 16])>,
 }
 
@@ -258,6 +262,8 @@ impl<'d> Collector<'d> {
         Self {
             dag,
             pieces: Vec::new(),
+            parts: Vec::new(),
+            next_part: 0,
             seen: HashSet::new(),
         }
     }
@@ -297,7 +303,8 @@ impl<'d> Collector<'d> {
                 ))?;
                 if let Some((centre, radius)) = ball_of(&q) {
                     if let Some(r) = radius {
-                        self.pieces.push(Piece::Ball(centre, r, source));
+                        self.push(Piece::Ball(centre, r, source));
+                        self.next_part += 1;
                     }
                     return Ok(());
                 }
@@ -391,13 +398,19 @@ impl<'d> Collector<'d> {
             )));
         }
         for v in vertices(&unique, &bounds) {
-            self.pieces.push(Piece::Point(v, source));
+            self.push(Piece::Point(v, source));
         }
+        self.next_part += 1;
         Ok(())
     }
 }
 
 impl Collector<'_> {
+    fn push(&mut self, piece: Piece) {
+        self.pieces.push(piece);
+        self.parts.push(self.next_part);
+    }
+
     /// A cylinder about `axis` cut by `planes`, which must all be square to the axis.
     fn cylinder(
         &mut self,
@@ -431,7 +444,7 @@ impl Collector<'_> {
             return Err(HullRefusal::Part(source, "an unbounded part"));
         }
         if low < high {
-            self.pieces.push(Piece::Cylinder(Cylinder {
+            self.push(Piece::Cylinder(Cylinder {
                 centre,
                 axis,
                 radius,
@@ -439,6 +452,7 @@ impl Collector<'_> {
                 high,
                 source,
             }));
+            self.next_part += 1;
         }
         Ok(())
     }

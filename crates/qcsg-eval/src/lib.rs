@@ -47,6 +47,7 @@ pub mod hull_2d;
 pub mod import;
 pub mod math;
 pub mod mesh_shadow;
+pub mod minkowski;
 pub mod offset;
 pub mod ops;
 pub mod planar;

@@ -326,6 +326,13 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "hull(): the convex hull of the children, exactly, for convex polytopes (cubes, polyhedra, polygons, squares) and balls or circles of one radius (the rounded box of eight spheres, the capsule of two)",
     },
     BuiltinModule {
+        name: "minkowski",
+        params: &[named("convexity", P::Number)],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "minkowski(): the Minkowski sum of the children, exactly, for unions of convex polytopes and balls (a box with a sphere: the box with rounded edges and corners)",
+    },
+    BuiltinModule {
         name: "offset",
         params: &[
             pos("r", P::Number),
@@ -770,11 +777,6 @@ pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
         "text",
         "glyph outlines are 2-D curves of higher degree than quadrics",
         None,
-    ),
-    unsupported(
-        "minkowski",
-        "a Minkowski sum of curved solids has offset surfaces that are not quadrics",
-        Some("round edges explicitly with cylinders and spheres"),
     ),
 ];
 

@@ -3,8 +3,8 @@
 
 // (`hull` is evaluated exactly for convex polytopes and balls of one radius; its refusals are
 // runtime errors, tested in qcsg-eval.)
-minkowski() { cube(1); sphere(0.1); }
-//@ 6:1 error[E0301]
+// (`minkowski` is evaluated exactly for unions of convex polytopes and balls; its refusals are
+// runtime errors too.)
 translate([0, 0, 0]) text("hello");
 //                   ^^^^ error[E0301]
 translate([0, 0, 0]) surface(file = "h.dat");

@@ -1,5 +1,6 @@
-//! `hull()` in the evaluator: its children, 3-D ([`crate::hull`]) or 2-D
-//! ([`crate::hull_2d`]), and the errors for hulls that are not bounded by quadrics.
+//! `hull()` and `minkowski()` in the evaluator: their children, 3-D ([`crate::hull`],
+//! [`crate::minkowski`]) or 2-D ([`crate::hull_2d`]), and the errors for results that are not
+//! bounded by quadrics.
 
 use glam::DMat4;
 use qcsg_csg::{Edge, Source};
@@ -8,6 +9,7 @@ use qcsg_diag::{Diagnostic, FileId, Span};
 use crate::codes;
 use crate::hull::{Collector, Cylinder, HullBuilder, HullRefusal, Piece, common_radius};
 use crate::hull_2d::{self, Collector2};
+use crate::minkowski;
 use crate::planar::{PlanarError, planar_expression};
 
 use super::dimensions::Dim;
@@ -36,8 +38,51 @@ impl<'a> Evaluator<'a> {
                 }
                 Ok(Some(edge))
             }
-            Err(refusal) => Err(self.hull_refused(refusal, planar, file, span)),
+            Err(refusal) => Err(self.hull_refused("hull", refusal, planar, file, span)),
         }
+    }
+
+    /// `minkowski()` of the children `edges`, for the call at `span` in `file`.
+    pub(super) fn minkowski(
+        &mut self,
+        edges: Vec<Edge>,
+        file: FileId,
+        span: Span,
+    ) -> R<Option<Edge>> {
+        let source = Source::new(file, span);
+        let dims: Vec<Dim> = edges.iter().map(|e| self.dim(*e)).collect();
+        if dims.contains(&Dim::Two) && !dims.contains(&Dim::Three) {
+            let diagnostic = Diagnostic::error(
+                qcsg_sema::codes::UNSUPPORTED_MODULE,
+                "`minkowski` of 2-D shapes is not supported yet",
+                file,
+                span,
+            )
+            .with_help("a 2-D shape's Minkowski sum with a circle is `offset(r)`");
+            return Err(self.error_diagnostic(diagnostic));
+        }
+        let (edges, _) = self.keep_dimension(edges, Dim::Three);
+        if edges.is_empty() {
+            return Ok(None);
+        }
+        match self.minkowski_3d(&edges, source) {
+            Ok(edge) => Ok(Some(edge)),
+            Err(refusal) => Err(self.hull_refused("minkowski", refusal, false, file, span)),
+        }
+    }
+
+    fn minkowski_3d(&mut self, edges: &[Edge], source: Source) -> Result<Edge, HullRefusal> {
+        let mut total: Option<Vec<minkowski::Part>> = None;
+        for e in edges {
+            let mut collector = Collector::new(&self.dag);
+            collector.add(*e, &DMat4::IDENTITY)?;
+            let parts = minkowski::parts_of(&collector.pieces, &collector.parts)?;
+            total = Some(match total {
+                None => parts,
+                Some(sum) => minkowski::sum(&sum, &parts)?,
+            });
+        }
+        minkowski::build(&mut self.dag, &total.unwrap_or_default(), source)
     }
 
     fn hull_3d(&mut self, edges: &[Edge], source: Source) -> Result<Edge, HullRefusal> {
@@ -102,6 +147,7 @@ impl<'a> Evaluator<'a> {
 
     fn hull_refused(
         &mut self,
+        op: &str,
         refusal: HullRefusal,
         planar: bool,
         file: FileId,
@@ -115,15 +161,25 @@ impl<'a> Evaluator<'a> {
         let diagnostic = match refusal {
             HullRefusal::Part(at, what) => Diagnostic::error(
                 qcsg_sema::codes::UNSUPPORTED_MODULE,
-                format!(
-                    "`hull` of {what} is not supported: qcsg computes hulls of convex polytopes \
-                     and {ball}s of one radius, whose hulls are bounded by quadrics"
-                ),
+                if op == "hull" {
+                    format!(
+                        "`hull` of {what} is not supported: qcsg computes hulls of convex \
+                         polytopes and {ball}s of one radius, whose hulls are bounded by quadrics"
+                    )
+                } else {
+                    format!(
+                        "`{op}` of {what} is not supported: qcsg computes Minkowski sums of \
+                         convex polytopes and balls, which are bounded by quadrics"
+                    )
+                },
                 file,
                 span,
             )
             .with_label(at.file, at.span, "this part")
-            .with_help(if planar {
+            .with_help(if op != "hull" {
+                "use unions of cubes, polyhedra and spheres as the children; round a box's edges \
+                 with the sum of the box and a sphere"
+            } else if planar {
                 "use squares, polygons and circles of one radius as the hull's children"
             } else {
                 "use cubes, polyhedra and spheres of one radius as the hull's children; an \
@@ -155,7 +211,7 @@ impl<'a> Evaluator<'a> {
             }
             HullRefusal::TooLarge(message) => Diagnostic::error(
                 qcsg_sema::codes::UNSUPPORTED_MODULE,
-                format!("`hull` is not supported here: {message}"),
+                format!("`{op}` is not supported here: {message}"),
                 file,
                 span,
             )

@@ -100,6 +100,10 @@ impl<'a> Evaluator<'a> {
             let edges = self.eval_body(child, &child_cx)?;
             return self.offset(&named, args, edges, cx.file, span);
         }
+        if name == "minkowski" {
+            let edges = self.eval_body(child, &child_cx)?;
+            return self.minkowski(edges, cx.file, span);
+        }
         if name == "hull" {
             let edges = self.eval_body(child, &child_cx)?;
             return self.hull(edges, cx.file, span);
