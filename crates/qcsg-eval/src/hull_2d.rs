@@ -38,6 +38,9 @@ pub struct Collector2<'e> {
     expr: &'e PlanarExpr,
     /// The pieces found so far.
     pub pieces: Vec<Piece2>,
+    /// For each piece, the convex part it belongs to (a disc and each convex polygon are one
+    /// part each), numbered from 0.
+    pub parts: Vec<usize>,
 }
 
 impl<'e> Collector2<'e> {
@@ -46,6 +49,7 @@ impl<'e> Collector2<'e> {
         Self {
             expr,
             pieces: Vec::new(),
+            parts: Vec::new(),
         }
     }
 
@@ -101,14 +105,17 @@ impl<'e> Collector2<'e> {
         match (lines.is_empty(), circles.as_slice()) {
             (true, [((centre, radius), source)]) => {
                 self.pieces.push(Piece2::Disc(*centre, *radius, *source));
+                self.parts.push(self.parts.last().map_or(0, |n| n + 1));
                 Ok(())
             }
             (false, []) => {
                 let Some((min, max)) = node.bounds else {
                     return Err(HullRefusal::Part(node.source, "an unbounded part"));
                 };
+                let part = self.parts.last().map_or(0, |n| n + 1);
                 for v in convex_vertices(&lines, min, max) {
                     self.pieces.push(Piece2::Point(v, node.source));
+                    self.parts.push(part);
                 }
                 Ok(())
             }
@@ -307,4 +314,87 @@ pub fn build_prism(
     );
     dag.edge(cut, &frame)
         .map_err(|_| HullRefusal::TooLarge("the cylinders' frame is not representable".into()))
+}
+
+/// A convex part of a 2-D Minkowski sum: the hull of `points` grown by `radius`.
+#[derive(Clone, Debug)]
+pub struct Part2 {
+    /// The corners of the hull.
+    pub points: Vec<DVec2>,
+    /// The radius.
+    pub radius: f64,
+}
+
+/// The convex parts of one 2-D child from its pieces and their part numbers.
+pub fn parts_of(pieces: &[Piece2], numbers: &[usize]) -> Vec<Part2> {
+    let mut parts: Vec<Part2> = Vec::new();
+    let mut last = None;
+    for (piece, &n) in pieces.iter().zip(numbers) {
+        let (point, radius) = match *piece {
+            Piece2::Point(p, _) => (p, 0.0),
+            Piece2::Disc(c, r, _) => (c, r),
+        };
+        if last != Some(n) {
+            parts.push(Part2 {
+                points: Vec::new(),
+                radius,
+            });
+            last = Some(n);
+        }
+        if let Some(part) = parts.last_mut() {
+            part.points.push(point);
+        }
+    }
+    for part in &mut parts {
+        part.points = convex_hull_2d(&part.points);
+    }
+    parts
+}
+
+/// The Minkowski sum of two unions of 2-D parts (see [`crate::minkowski`]).
+pub fn sum(a: &[Part2], b: &[Part2]) -> Result<Vec<Part2>, HullRefusal> {
+    if a.len().saturating_mul(b.len()) > crate::minkowski::MAX_SUM_PARTS {
+        return Err(HullRefusal::TooLarge(format!(
+            "the Minkowski sum is a union of more than {} convex parts",
+            crate::minkowski::MAX_SUM_PARTS
+        )));
+    }
+    let mut out = Vec::with_capacity(a.len() * b.len());
+    for p in a {
+        for q in b {
+            if p.points.len().saturating_mul(q.points.len()) > MAX_HULL_POINTS * 64 {
+                return Err(HullRefusal::TooLarge(format!(
+                    "a convex part of the Minkowski sum has more than {} points",
+                    MAX_HULL_POINTS * 64
+                )));
+            }
+            let points: Vec<DVec2> = p
+                .points
+                .iter()
+                .flat_map(|x| q.points.iter().map(move |y| *x + *y))
+                .collect();
+            out.push(Part2 {
+                points: convex_hull_2d(&points),
+                radius: p.radius + q.radius,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The union of 2-D parts as a z-invariant solid.
+pub fn build_parts(dag: &mut Dag, parts: &[Part2], source: Source) -> Result<Edge, HullRefusal> {
+    let mut edges = Vec::with_capacity(parts.len());
+    for part in parts {
+        let pieces: Vec<Piece2> = part
+            .points
+            .iter()
+            .map(|&p| Piece2::Disc(p, part.radius, source))
+            .collect();
+        edges.push(build(dag, &pieces, part.radius, source)?);
+    }
+    Ok(match edges.len() {
+        1 => edges[0],
+        _ => dag.union(edges, source).into(),
+    })
 }

@@ -147,6 +147,50 @@ fn sums_not_bounded_by_quadrics_are_refused_at_their_parts() {
         );
         assert!(d.help.is_some());
     }
-    let e = eval("linear_extrude(1) minkowski() { square(1); circle(1); }");
+    let text = "linear_extrude(1) minkowski() { square(1); scale([2, 1]) circle(1); }";
+    let e = eval(text);
     assert_eq!(codes(&e), vec!["E0301"], "{:?}", e.diagnostics);
+}
+
+#[test]
+fn two_d_sums_are_rounded_polygons() {
+    let p = |x: f64, y: f64| DVec3::new(x, y, 0.5);
+    for (text, cases) in [
+        (
+            "linear_extrude(1) minkowski() { square(2); circle(1); }",
+            vec![
+                (p(1.0, -0.99), true),
+                (p(1.0, -1.01), false),
+                (p(-0.65, -0.65), true),
+                (p(-0.75, -0.75), false),
+                (p(2.5, 2.5), true),
+            ],
+        ),
+        (
+            // A non-convex L grown by 0.5: its reflex corner stays sharp.
+            "linear_extrude(1) minkowski() { polygon([[0, 0], [4, 0], [4, 1], [1, 1], [1, 4], [0, 4]]); circle(0.5); }",
+            vec![
+                (p(1.45, 1.45), true),
+                (p(1.55, 1.55), false),
+                (p(4.45, 0.5), true),
+                (p(4.55, 0.5), false),
+            ],
+        ),
+        (
+            "linear_extrude(1) minkowski() { square(2); translate([1, 1]) square(1); }",
+            vec![
+                (p(3.9, 3.9), true),
+                (p(0.9, 2.0), false),
+                (p(4.1, 2.0), false),
+            ],
+        ),
+    ] {
+        let e = eval(text);
+        assert!(!e.has_errors(), "{text}: {:?}", e.diagnostics);
+        let dnf = build_dnf(&e.dag, &DnfOptions::default()).expect("a solid");
+        for (q, inside) in cases {
+            assert_eq!(e.dag.contains(q), inside, "{text} at {q}");
+            assert_eq!(dnf.contains(q), inside, "{text}: DNF at {q}");
+        }
+    }
 }

@@ -52,14 +52,18 @@ impl<'a> Evaluator<'a> {
         let source = Source::new(file, span);
         let dims: Vec<Dim> = edges.iter().map(|e| self.dim(*e)).collect();
         if dims.contains(&Dim::Two) && !dims.contains(&Dim::Three) {
-            let diagnostic = Diagnostic::error(
-                qcsg_sema::codes::UNSUPPORTED_MODULE,
-                "`minkowski` of 2-D shapes is not supported yet",
-                file,
-                span,
-            )
-            .with_help("a 2-D shape's Minkowski sum with a circle is `offset(r)`");
-            return Err(self.error_diagnostic(diagnostic));
+            let (edges, _) = self.keep_dimension(edges, Dim::Two);
+            if edges.is_empty() {
+                return Ok(None);
+            }
+            let from = self.dag.len();
+            return match self.minkowski_2d(&edges, source)? {
+                Ok(edge) => {
+                    self.mark_planar(from, edge.child);
+                    Ok(Some(edge))
+                }
+                Err(refusal) => Err(self.hull_refused("minkowski", refusal, true, file, span)),
+            };
         }
         let (edges, _) = self.keep_dimension(edges, Dim::Three);
         if edges.is_empty() {
@@ -112,6 +116,47 @@ impl<'a> Evaluator<'a> {
             ));
         }
         hull_2d::build_prism(&mut self.dag, &cylinders, source)
+    }
+
+    fn minkowski_2d(&mut self, edges: &[Edge], source: Source) -> R<Result<Edge, HullRefusal>> {
+        let limit = usize::try_from(self.options.max_instances).unwrap_or(usize::MAX);
+        let mut total: Option<Vec<hull_2d::Part2>> = None;
+        for e in edges {
+            let expr = match planar_expression(&self.dag, *e, limit) {
+                Ok(expr) => expr,
+                Err(PlanarError::TooLarge(limit)) => {
+                    return Err(self.error(
+                        codes::INSTANCE_LIMIT,
+                        format!(
+                            "the children of this minkowski have more than {limit} parts once \
+                             their transforms are applied"
+                        ),
+                        source.file,
+                        source.span,
+                    ));
+                }
+                Err(PlanarError::NotPlanar(at)) => {
+                    return Ok(Err(HullRefusal::Part(at, "a part that is not a 2-D shape")));
+                }
+            };
+            let mut collector = Collector2::new(&expr);
+            if let Err(refusal) = collector.add(expr.root) {
+                return Ok(Err(refusal));
+            }
+            let parts = hull_2d::parts_of(&collector.pieces, &collector.parts);
+            total = Some(match total {
+                None => parts,
+                Some(sum) => match hull_2d::sum(&sum, &parts) {
+                    Ok(sum) => sum,
+                    Err(refusal) => return Ok(Err(refusal)),
+                },
+            });
+        }
+        Ok(hull_2d::build_parts(
+            &mut self.dag,
+            &total.unwrap_or_default(),
+            source,
+        ))
     }
 
     fn hull_2d(&mut self, edges: Vec<Edge>, source: Source) -> R<Result<Edge, HullRefusal>> {
