@@ -104,6 +104,8 @@ pub(crate) struct Evaluator<'a> {
     module_stack: Vec<&'a str>,
     /// The leaves that belong to 2-D shapes.
     planar_leaves: HashSet<NodeId>,
+    /// The inner nodes built for 2-D shapes (see [`Evaluator::mark_planar`]).
+    planar_nodes: HashSet<NodeId>,
     /// The nodes that made solids of 2-D shapes (extrusions): 3-D whatever their children.
     extruded: HashSet<NodeId>,
     /// The dimension of each DAG node so far (see [`dimensions`]).
@@ -149,6 +151,7 @@ impl<'a> Evaluator<'a> {
             reported: HashSet::new(),
             module_stack: Vec::new(),
             planar_leaves: HashSet::new(),
+            planar_nodes: HashSet::new(),
             extruded: HashSet::new(),
             node_dims: Vec::new(),
             node_boxes: Vec::new(),

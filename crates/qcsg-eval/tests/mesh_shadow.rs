@@ -232,3 +232,27 @@ fn an_imported_stl_projects_as_its_polyhedron() {
     }
     assert!(inside > 50, "{inside}");
 }
+
+#[test]
+fn a_surface_casts_its_grid() {
+    // A 3 × 4 height map: OpenSCAD's mesh covers x in [0, 3], y in [0, 2] (columns, rows), with
+    // hills and a pit; seen from above and turned on its side.
+    let dir = std::env::temp_dir().join(format!("qcsg-mesh-shadow-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("map.dat"), "1 4 2 0\n3 -2 5 1\n0 2 2 7\n").unwrap();
+    let map = dir.join("map.dat");
+    let e = eval(&format!(
+        "linear_extrude(1) projection() surface(\"{}\");
+         translate([10, 0, 0]) linear_extrude(1) projection() rotate([90, 0, 0]) surface(\"{}\");",
+        map.display(),
+        map.display()
+    ));
+    assert!(!e.has_errors(), "{:?}", e.diagnostics);
+    let at = |x: f64, y: f64| e.dag.contains(DVec3::new(x, y, 0.5));
+    assert!(at(0.1, 0.1) && at(2.9, 1.9) && at(1.5, 1.0));
+    assert!(!at(-0.1, 1.0) && !at(3.1, 1.0) && !at(1.0, 2.1) && !at(1.0, -0.1));
+    // On its side the shadow spans x in [0, 3] and the heights, from the base at z = −3 (the
+    // lowest height less one) up to 7 at x = 3, y = 2 (6.75 at x = 2.95), seen as y from −7 to 3.
+    assert!(at(10.1, 2.9) && at(12.95, -6.5) && at(11.5, 0.0));
+    assert!(!at(10.1, -6.9) && !at(13.1, 0.0) && !at(11.0, 3.1));
+}

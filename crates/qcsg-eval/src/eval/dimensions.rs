@@ -42,6 +42,11 @@ impl<'a> Evaluator<'a> {
         for (i, n) in self.dag.nodes().iter().enumerate().skip(from) {
             if matches!(n.kind, NodeKind::Leaf(_)) {
                 self.planar_leaves.insert(NodeId(i as u32));
+            } else {
+                // A leaf the shape shares with an earlier solid (hash-consed: a mesh's vertical
+                // wall is a half-plane) keeps that solid's dimension, so the new inner nodes
+                // are marked themselves.
+                self.planar_nodes.insert(NodeId(i as u32));
             }
         }
         if matches!(
@@ -100,6 +105,8 @@ impl<'a> Evaluator<'a> {
             };
             let dim = if self.extruded.contains(&NodeId(i as u32)) {
                 Dim::Three
+            } else if self.planar_nodes.contains(&NodeId(i as u32)) {
+                Dim::Two
             } else {
                 dim
             };
