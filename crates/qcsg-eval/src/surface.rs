@@ -193,9 +193,17 @@ pub fn base_height(map: &HeightMap) -> f64 {
 }
 
 /// The closed mesh OpenSCAD builds from `map`, faces clockwise seen from outside (the order of
-/// [`qcsg_mesh::Mesh`]); OpenSCAD lists them counter-clockwise, so each is reversed.
+/// [`qcsg_mesh::Mesh`]); OpenSCAD lists them counter-clockwise, so each is reversed. A map of
+/// fewer than 2 rows or columns gives an empty mesh.
 pub fn mesh(map: &HeightMap, center: bool) -> Mesh {
     let (rows, cols) = (map.rows, map.columns);
+    if rows < 2 || cols < 2 || map.heights.len() != rows * cols {
+        // No area (read_height_map refuses such maps): no solid.
+        return Mesh {
+            points: Vec::new(),
+            faces: Vec::new(),
+        };
+    }
     let ox = if center {
         -((cols - 1) as f64) / 2.0
     } else {

@@ -299,6 +299,7 @@ fn failures_are_errors_at_the_file_argument() {
     std::fs::write(dir.join("broken.png"), &broken).unwrap();
     std::fs::write(dir.join("big.dat"), "1 2 3\n4 5 6\n7 8 9\n").unwrap();
     std::fs::create_dir_all(dir.join("folder")).unwrap();
+    std::fs::write(dir.join("huge.dat"), "1e300 1e300\n1e300 1e300\n").unwrap();
     let options = EvalOptions::default();
     for (call, code, arg, says) in [
         (
