@@ -353,6 +353,8 @@ fn failures_are_errors_at_the_file_argument() {
             "f(3)",
             "number",
         ),
+        // Heights so large that the base (one below) is no lower: no solid.
+        ("surface(\"huge.dat\");", "E0565", "\"huge.dat\"", ""),
     ] {
         let (c, at, message) = first_error(&dir, call, &options);
         assert_eq!((c, at.as_str()), (code, arg), "{call}: {message}");
