@@ -4,11 +4,10 @@
 // (`hull` is evaluated exactly for convex polytopes and balls of one radius; its refusals are
 // runtime errors, tested in qcsg-eval.)
 // (`minkowski` is evaluated exactly for unions of convex polytopes and balls; its refusals are
-// runtime errors too.)
+// runtime errors too. `surface` builds OpenSCAD's mesh of its height map: its failures are runtime
+// errors, tested in qcsg-eval.)
 translate([0, 0, 0]) text("hello");
 //                   ^^^^ error[E0301]
-translate([0, 0, 0]) surface(file = "h.dat");
-//                   ^^^^^^^ error[E0301]
 
 // A user definition of the same name is fine: it shadows the OpenSCAD built-in (here only in
 // the module's scope, since definitions are hoisted to the whole scope they are in).
