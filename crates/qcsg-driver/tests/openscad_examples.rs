@@ -237,14 +237,15 @@ fn run(examples: &Path, path: &str) -> Outcome {
         Err(e) => return Outcome::Failed(e.to_string()),
     };
     let fragments = smallest_fragments(&text, fragments);
-    compare(&mesh, dnf, fragments, largest_radius, &scene)
+    compare(&mesh, dnf, fragments, largest_radius, planar, &scene)
 }
 
 /// A copy of `scene` whose solids are extruded to `-0.5 <= z <= 0.5`, as qcsg's plate of a
 /// top-level 2-D result: the top-level statements that make solids move, in their order, into one
 /// `linear_extrude(height = 1, center = true) { … }` at the end (OpenSCAD allows no definitions
 /// inside a block, and its assignments are hoisted, so the rest stays where it is). The copy
-/// lives in `cache`: relative `include`s of a 2-D example would need its folder.
+/// lives in a folder of `cache` beside copies of the files beside `scene`, so that relative
+/// `include`s and `import`s find what they find in the example's own folder.
 fn extruded_wrapper(scene: &Path, cache: &Path) -> std::io::Result<PathBuf> {
     use qcsg_syntax::ast::{Stmt, StmtKind};
 
@@ -280,9 +281,18 @@ fn extruded_wrapper(scene: &Path, cache: &Path) -> std::io::Result<PathBuf> {
     wrapped.push_str("\nlinear_extrude(height = 1, center = true) {\n");
     wrapped.push_str(&solids);
     wrapped.push_str("}\n");
-    std::fs::create_dir_all(cache)?;
     let stem = scene.file_stem().unwrap_or_default().to_string_lossy();
-    let wrapper = cache.join(format!("{stem}-extruded.scad"));
+    let folder = cache.join(format!("{stem}-extruded"));
+    let original = scene.parent().unwrap_or(Path::new("."));
+    for file in files_beside(scene) {
+        if let Ok(relative) = file.strip_prefix(original) {
+            let copy = folder.join(relative);
+            std::fs::create_dir_all(copy.parent().unwrap_or(&folder))?;
+            std::fs::copy(&file, &copy)?;
+        }
+    }
+    let wrapper = folder.join(scene.file_name().unwrap_or_default());
+    std::fs::create_dir_all(&folder)?;
     std::fs::write(&wrapper, wrapped)?;
     Ok(wrapper)
 }
@@ -292,10 +302,28 @@ fn compare(
     dnf: &qcsg_csg::Dnf,
     fragments: f64,
     largest_radius: Option<f64>,
+    planar: bool,
     scene: &Path,
 ) -> Outcome {
     let half_diagonal = 0.5 * (mesh.max - mesh.min).length();
     let tolerance = tessellation_tolerance(fragments, largest_radius.unwrap_or(half_diagonal));
+    // A plate's faces are exact on both sides; only its walls stray from the exact outline. So
+    // a 2-D result is compared in its middle plane, away from its walls only, however thin the
+    // plate is against the tolerance.
+    let walls;
+    let near_surface = if planar {
+        walls = TriangleMesh::new(
+            mesh.triangles
+                .iter()
+                .filter(|[a, b, c]| (b - a).cross(c - a).normalize_or_zero().z.abs() < 0.5)
+                .copied()
+                .collect(),
+        )
+        .unwrap_or_else(|_| mesh.clone());
+        &walls
+    } else {
+        mesh
+    };
     let margin = 0.15 * (mesh.max - mesh.min) + glam::DVec3::splat(0.5);
     let (low, high) = (mesh.min - margin, mesh.max + margin);
     let mut rng = Rng::new(scene.to_string_lossy().len() as u64 * 7919 + POINTS as u64);
@@ -322,7 +350,8 @@ fn compare(
             let offset = side * scale * 10f64.powf(-3.0 * rng.unit());
             a + (b - a) * u + (c - a) * v + normal * offset
         };
-        if mesh.is_within(p, tolerance) {
+        let p = if planar { p.with_z(0.0) } else { p };
+        if near_surface.is_within(p, tolerance) {
             continue;
         }
         let in_mesh = mesh.contains(p);
