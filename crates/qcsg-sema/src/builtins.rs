@@ -772,13 +772,11 @@ const fn unsupported(
 }
 
 /// OpenSCAD modules with no exact quadric representation.
-pub const UNSUPPORTED_MODULES: &[Unsupported] = &[
-    unsupported(
-        "text",
-        "glyph outlines are 2-D curves of higher degree than quadrics",
-        None,
-    ),
-];
+pub const UNSUPPORTED_MODULES: &[Unsupported] = &[unsupported(
+    "text",
+    "glyph outlines are 2-D curves of higher degree than quadrics",
+    None,
+)];
 
 /// OpenSCAD built-in functions the language does not provide.
 pub const UNSUPPORTED_FUNCTIONS: &[Unsupported] = &[];
