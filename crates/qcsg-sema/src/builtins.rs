@@ -128,6 +128,20 @@ use ParamTy as P;
 const VEC23: &[u32] = &[2, 3];
 const VEC3: &[u32] = &[3];
 
+/// The parameters of `import` and of its deprecated aliases, in OpenSCAD's positional order.
+const IMPORT_PARAMS: &[BuiltinParam] = &[
+    pos("file", P::String),
+    pos("layer", P::String),
+    pos("convexity", P::Number),
+    pos("origin", P::NumberVector(&[2])),
+    pos("scale", P::Number),
+    named("width", P::Number),
+    named("height", P::Number),
+    named("center", P::Bool),
+    named("dpi", P::Number),
+    named("id", P::String),
+];
+
 /// Every built-in module, OpenSCAD's supported subset and the quadric-native additions.
 pub const MODULES: &[BuiltinModule] = &[
     BuiltinModule {
@@ -261,21 +275,31 @@ pub const MODULES: &[BuiltinModule] = &[
     },
     BuiltinModule {
         name: "import",
-        params: &[
-            pos("file", P::String),
-            pos("layer", P::String),
-            pos("convexity", P::Number),
-            pos("origin", P::NumberVector(&[2])),
-            pos("scale", P::Number),
-            named("width", P::Number),
-            named("height", P::Number),
-            named("center", P::Bool),
-            named("dpi", P::Number),
-            named("id", P::String),
-        ],
+        params: IMPORT_PARAMS,
         variadic: false,
         kind: ModuleKind::Primitive,
         doc: "import(file): the solid a closed STL or OFF mesh bounds, or the 2-D shape of a DXF drawing's layer, exact; the path is relative to the file that calls it",
+    },
+    BuiltinModule {
+        name: "import_stl",
+        params: IMPORT_PARAMS,
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "import_stl(file): deprecated OpenSCAD name of import(file)",
+    },
+    BuiltinModule {
+        name: "import_off",
+        params: IMPORT_PARAMS,
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "import_off(file): deprecated OpenSCAD name of import(file)",
+    },
+    BuiltinModule {
+        name: "import_dxf",
+        params: IMPORT_PARAMS,
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "import_dxf(file, layer, convexity, origin, scale): deprecated OpenSCAD name of import(file, layer, …)",
     },
     BuiltinModule {
         name: "surface",
@@ -310,6 +334,37 @@ pub const MODULES: &[BuiltinModule] = &[
         variadic: false,
         kind: ModuleKind::Other,
         doc: "rotate_extrude(angle = 360): the 2-D children, read as (r, z) with r = x, swept about Z, counter-clockwise from +X (outlines off the axis, which sweep tori, are not supported)",
+    },
+    BuiltinModule {
+        name: "dxf_linear_extrude",
+        params: &[
+            pos("file", P::String),
+            pos("layer", P::String),
+            pos("height", P::Number),
+            pos("center", P::Bool),
+            pos("convexity", P::Number),
+            pos("twist", P::Number),
+            pos("slices", P::Number),
+            named("origin", P::NumberVector(&[2])),
+            named("scale", P::Number),
+        ],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "dxf_linear_extrude(file, layer, height): deprecated OpenSCAD form of linear_extrude(height) import(file, layer); `scale` scales the drawing and, as in OpenSCAD, the top",
+    },
+    BuiltinModule {
+        name: "dxf_rotate_extrude",
+        params: &[
+            pos("file", P::String),
+            pos("layer", P::String),
+            pos("origin", P::NumberVector(&[2])),
+            pos("scale", P::Number),
+            named("convexity", P::Number),
+            named("angle", P::Number),
+        ],
+        variadic: false,
+        kind: ModuleKind::Other,
+        doc: "dxf_rotate_extrude(file, layer, origin, scale): deprecated OpenSCAD form of rotate_extrude() import(file, layer, origin = origin, scale = scale)",
     },
     BuiltinModule {
         name: "projection",
@@ -401,6 +456,13 @@ pub const MODULES: &[BuiltinModule] = &[
         variadic: false,
         kind: ModuleKind::Other,
         doc: "color(c, alpha = 1): colours the children (a name, \"#rrggbb\" or [r, g, b, a]); no effect on geometry",
+    },
+    BuiltinModule {
+        name: "group",
+        params: &[],
+        variadic: false,
+        kind: ModuleKind::Boolean,
+        doc: "group(): OpenSCAD's internal name of union(): everything inside any child",
     },
     BuiltinModule {
         name: "union",

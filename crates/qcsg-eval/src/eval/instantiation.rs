@@ -116,6 +116,20 @@ impl<'a> Evaluator<'a> {
             let edges = self.eval_body(child, &child_cx)?;
             return self.rotate_extrude(&named, args, edges, cx.file, span);
         }
+        if name == "dxf_linear_extrude" || name == "dxf_rotate_extrude" {
+            // OpenSCAD's deprecated extrusions of a drawing: the `import` of `file`, `layer`,
+            // `origin` and `scale` (OpenSCAD also scales a linear extrusion's top by `scale`).
+            let params = builtin.params;
+            let edges = self
+                .import(&named, args, params, cx.file, span)?
+                .into_iter()
+                .collect();
+            return if name == "dxf_linear_extrude" {
+                self.linear_extrude(&named, args, edges, cx.file, span)
+            } else {
+                self.rotate_extrude(&named, args, edges, cx.file, span)
+            };
+        }
         if name == "linear_extrude" {
             let edges = self.eval_body(child, &child_cx)?;
             return self.linear_extrude(&named, args, edges, cx.file, span);
@@ -140,7 +154,9 @@ impl<'a> Evaluator<'a> {
                     "polyhedron" => {
                         return self.polyhedron(&named, args, builtin.params, cx.file, span);
                     }
-                    "import" => return self.import(&named, args, builtin.params, cx.file, span),
+                    "import" | "import_stl" | "import_off" | "import_dxf" => {
+                        return self.import(&named, args, builtin.params, cx.file, span);
+                    }
                     "surface" => {
                         return self.surface(&named, args, builtin.params, cx.file, span);
                     }

@@ -1,6 +1,8 @@
 //! OpenSCAD's deprecated modules that old files and libraries (MCAD) still use: `child(i)`, the
-//! old name of `children(i)`, and `assign(a = 1, …) child`, the old form of `let`. Both keep
-//! OpenSCAD 2021.01's meaning and get warning `W0109` at the name, with the modern form as help.
+//! old name of `children(i)`; `import_stl`, `import_off`, `import_dxf`, old names of `import`;
+//! `dxf_linear_extrude` and `dxf_rotate_extrude`, extrusions of an `import`; and
+//! `assign(a = 1, …) child`, the old form of `let`. All keep OpenSCAD 2021.01's meaning and get
+//! warning `W0109` at the name, with the modern form as help.
 //!
 //! `assign` binds its named arguments for its child like `let`, except that OpenSCAD evaluates
 //! every value in the scope around it before binding any (`assign(a = 1, b = a + 1)` sees the
@@ -14,18 +16,14 @@ use crate::{DefKind, codes};
 use super::Resolver;
 
 impl<'a> Resolver<'a> {
-    /// `child(i)`: `children(i)` under its old name.
-    pub(super) fn deprecated_child(&mut self, file: FileId, name: &Ident) {
+    /// A deprecated module that is another under an old name (`child`, `import_stl`, …): warning
+    /// `W0109` with the modern form; nothing for a module that is not deprecated.
+    pub(super) fn deprecated_module(&mut self, file: FileId, name: &Ident) {
+        let Some((message, help)) = deprecation(&name.name) else {
+            return;
+        };
         self.diagnostics.push(
-            Diagnostic::warning(
-                codes::DEPRECATED_MODULE,
-                "`child` is deprecated in OpenSCAD: it is `children` with one child",
-                file,
-                name.span,
-            )
-            .with_help(
-                "write `children(i)`: `child()` is `children(0)`, `child(i)` is `children(i)`",
-            ),
+            Diagnostic::warning(codes::DEPRECATED_MODULE, message, file, name.span).with_help(help),
         );
     }
 
@@ -66,4 +64,35 @@ impl<'a> Resolver<'a> {
         }
         self.pop_scope();
     }
+}
+
+/// The warning and help for a deprecated built-in module that is another under an old name.
+fn deprecation(name: &str) -> Option<(&'static str, &'static str)> {
+    Some(match name {
+        "child" => (
+            "`child` is deprecated in OpenSCAD: it is `children` with one child",
+            "write `children(i)`: `child()` is `children(0)`, `child(i)` is `children(i)`",
+        ),
+        "import_stl" => (
+            "`import_stl` is deprecated in OpenSCAD: it is `import`",
+            "write `import(\"part.stl\")`",
+        ),
+        "import_off" => (
+            "`import_off` is deprecated in OpenSCAD: it is `import`",
+            "write `import(\"part.off\")`",
+        ),
+        "import_dxf" => (
+            "`import_dxf` is deprecated in OpenSCAD: it is `import`",
+            "write `import(\"drawing.dxf\", layer = …)`",
+        ),
+        "dxf_linear_extrude" => (
+            "`dxf_linear_extrude` is deprecated in OpenSCAD: it is `linear_extrude` of an `import`",
+            "write `linear_extrude(height = …) import(\"drawing.dxf\", layer = …);`",
+        ),
+        "dxf_rotate_extrude" => (
+            "`dxf_rotate_extrude` is deprecated in OpenSCAD: it is `rotate_extrude` of an `import`",
+            "write `rotate_extrude() import(\"drawing.dxf\", layer = …);`",
+        ),
+        _ => return None,
+    })
 }

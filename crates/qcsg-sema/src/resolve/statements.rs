@@ -179,9 +179,7 @@ impl<'a> Resolver<'a> {
             }
             ModuleLookup::Builtin(module) => {
                 self.reference(file, name.span, Namespace::Module, Target::Builtin);
-                if module.name == "child" {
-                    self.deprecated_child(file, name);
-                }
+                self.deprecated_module(file, name);
                 let tys = self.args(file, args);
                 let signature = builtin_module_signature(module);
                 self.check_args(file, name, args_span, args, &tys, &signature);
