@@ -35,3 +35,17 @@ module own() {
     child() cube(1);
 }
 own();
+
+// import_stl, import_off and import_dxf are import under old names; dxf_linear_extrude and
+// dxf_rotate_extrude extrude an import; group is union, without a warning.
+    import_stl("part.stl", convexity = 3);
+//  ^^^^^^^^^^ warning[W0109]: `import_stl` is deprecated
+    import_off(file = "part.off");
+//  ^^^^^^^^^^ warning[W0109]: `import_off` is deprecated
+    import_dxf("drawing.dxf", "layer", origin = [1, 2], scale = 2);
+//  ^^^^^^^^^^ warning[W0109]: `import_dxf` is deprecated
+    dxf_linear_extrude(file = "drawing.dxf", layer = "0", height = 2, twist = 0);
+//  ^^^^^^^^^^^^^^^^^^ warning[W0109]: `dxf_linear_extrude` is deprecated
+    dxf_rotate_extrude("drawing.dxf", "0", [0, 0], 1, angle = 90);
+//  ^^^^^^^^^^^^^^^^^^ warning[W0109]: `dxf_rotate_extrude` is deprecated
+group() { cube(1); sphere(1); }
