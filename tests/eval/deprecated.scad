@@ -43,3 +43,6 @@ echo("\U01F600|\U0263A|\U110000|\U000041");
 echo(len("\U01F600"), len("\x4"), len("\u263"), len("a\\b"));
 echo("line
 break");
+
+// group() is a union: its children are evaluated in order, without a warning.
+group() { echo("in a group"); group() echo("in a nested group"); }
