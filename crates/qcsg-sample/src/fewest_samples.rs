@@ -212,7 +212,7 @@ mod tests {
             basic_regions(
                 &frame,
                 &heightfield,
-                (&bounds, 0.0),
+                &bounds,
                 (0, 0),
                 &mut regions,
                 &mut stats,

@@ -37,13 +37,8 @@ pub(super) fn term_box(dnf: &Dnf, term: usize) -> Option<Aabb> {
 
 /// Every basic region of every literal of every term, in a fixed order (term, literal, plane,
 /// sheet, rectangle), with the patch each belongs to. Literals are decomposed in parallel (a
-/// scene of many parts has thousands of them), and so are each literal's sampling planes. Border
-/// rectangles of footprint at most `radius` are not refined further ([`basic_regions`]).
-pub(super) fn all_regions(
-    dnf: &Dnf,
-    radius: f64,
-    stats: &mut SampleStats,
-) -> (Vec<Patch>, Vec<PlacedRegion>) {
+/// scene of many parts has thousands of them), and so are each literal's sampling planes.
+pub(super) fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedRegion>) {
     let mut literals = Vec::new();
     for (term_index, term) in dnf.terms.iter().enumerate() {
         let Some(bounds) = term_box(dnf, term_index) else {
@@ -75,13 +70,6 @@ pub(super) fn all_regions(
                 return None;
             }
             let frame = entry.quadric.frame();
-            // Around a cone's apex the normal turns all the way round within any distance: its
-            // rectangles there are refined as far as they go and settled at the apex ([`apex`]).
-            let coarsest = if kind == QuadricKind::Cone {
-                0.0
-            } else {
-                radius
-            };
             // The three sampling planes each on its own: a scene of a few quadrics has too few
             // literals to share out.
             let planes: Vec<_> = (frame.heightfields().into_par_iter())
@@ -91,7 +79,7 @@ pub(super) fn all_regions(
                     let reach = basic_regions(
                         &frame,
                         &heightfield,
-                        (&bounds, coarsest),
+                        &bounds,
                         key,
                         &mut found,
                         &mut counters,

@@ -38,17 +38,6 @@
 //! distortion is undefined, like a cone's apex seen from the side, at `2⁻⁴⁰` of the domain) are
 //! counted in [`RegionStats::unresolved`] and dropped; around a cone's apex [`crate::apex`]
 //! then settles them.
-//!
-//! **Small rectangles.** The refinement stops at the radius: a rectangle still to be split
-//! whose world footprint is at most the radius (its diagonal times its distortion bound, or,
-//! across a `Root` heightfield's rim where the slope is unbounded, the diagonal of a box around
-//! the surface over it) is kept as a border region, which the subdivision covers with one
-//! sample ([`crate::subdivide`], "Small regions"); cones are refined as before, their apex
-//! settled by [`crate::apex`]. Across a rim, a rectangle is cut where the radicand varies more
-//! (`radicand_cut`), not at its longer edge. The partition's work then follows the surface's
-//! area over the radius squared, not the length of a rim over the fine scale of the band
-//! beside it where another plane is the best (a needle paraboloid, a flat hyperboloid:
-//! `tests/region_work.rs`).
 
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DVec3, Heightfield, HeightfieldForm, PrincipalFrame};
@@ -252,16 +241,13 @@ pub fn plane_domain(frame: &PrincipalFrame, heightfield: &Heightfield, bounds: &
 }
 
 /// The basic regions of `heightfield` over the world box `bounds`, appended to `out` in a
-/// deterministic order (quadrants, then depth-first, lower half first). A rectangle across the
-/// border of the plane's region whose world footprint (its diagonal times its distortion bound)
-/// is at most `footprint` is kept as a border region whatever its distortion (see "Small
-/// rectangles" in the module doc); `0` refines every one to [`KEEP_DISTORTION`]. Returns how
-/// far from the frame's centre the surface over the rectangles given up reaches (0 when none
-/// was; [`crate::apex`] settles those around a cone's apex).
+/// deterministic order (quadrants, then depth-first, lower half first). Returns how far from
+/// the frame's centre the surface over the rectangles given up reaches (0 when none was;
+/// [`crate::apex`] settles those around a cone's apex).
 pub fn basic_regions(
     frame: &PrincipalFrame,
     heightfield: &Heightfield,
-    (bounds, footprint): (&Aabb, f64),
+    bounds: &Aabb,
     (quadric, term): (u32, u32),
     out: &mut Vec<BasicRegion>,
     stats: &mut RegionStats,
@@ -297,27 +283,9 @@ pub fn basic_regions(
         while let Some(((rect, slopes), depth)) = stack.pop() {
             stats.examined += 1;
             budget = budget.saturating_sub(1);
-            let distortion = corner_bounds(slopes);
-            match classify_rect(heightfield, &best, (&rect, distortion)) {
+            match classify_rect(heightfield, &best, (&rect, corner_bounds(slopes))) {
                 RectClass::Keep(max_distortion, border) => {
                     kept.push((rect, max_distortion, border))
-                }
-                // Small enough for one sample: refining it for distortion would only multiply
-                // regions that each get a sample of their own.
-                RectClass::Split
-                    if distortion.is_some_and(|(_, high)| high * rect.diagonal() <= footprint) =>
-                {
-                    let high = distortion.map_or(f64::INFINITY, |(_, high)| high);
-                    kept.push((rect, high, true))
-                }
-                // Across the rim of a `Root` heightfield, where the slope is unbounded: the
-                // world box of the surface over it stands for its footprint.
-                RectClass::Split
-                    if distortion.is_none()
-                        && let Some(extent) = surface_extent(frame, heightfield, &rect)
-                        && extent <= footprint =>
-                {
-                    kept.push((rect, (extent / rect.diagonal()).max(1.0), true))
                 }
                 RectClass::Drop => {}
                 RectClass::Split if depth >= MAX_REGION_DEPTH || budget == 0 => {
@@ -325,8 +293,7 @@ pub fn basic_regions(
                     given_up_reach = given_up_reach.max(reach_from_centre(heightfield, &rect));
                 }
                 RectClass::Split => {
-                    let cut = |rect: &Rect| radicand_cut(heightfield, rect);
-                    let [low, high] = split_at_corners(heightfield, &rect, slopes, cut);
+                    let [low, high] = split_for_distortion_at_corners(heightfield, &rect, slopes);
                     stack.push((high, depth + 1));
                     stack.push((low, depth + 1));
                 }
@@ -348,26 +315,6 @@ pub fn basic_regions(
         );
     }
     given_up_reach
-}
-
-/// The diagonal of a world box holding the surface over `rect` (both sheets), `None` where
-/// there is none to bound.
-fn surface_extent(frame: &PrincipalFrame, heightfield: &Heightfield, rect: &Rect) -> Option<f64> {
-    let region = |sheet: f64| BasicRegion {
-        quadric: 0,
-        term: 0,
-        heightfield: *heightfield,
-        sheet,
-        rect: *rect,
-        max_distortion: f64::INFINITY,
-        border: None,
-    };
-    let upper = patch_bounds(frame, &region(1.0))?;
-    let lower = patch_bounds(frame, &region(-1.0))?;
-    let extent = (upper.max - upper.min)
-        .length()
-        .max((lower.max - lower.min).length());
-    extent.is_finite().then_some(extent)
 }
 
 /// How far from the frame's centre the surface over `rect` reaches: `√(x² + y² + S)` at most,
@@ -414,19 +361,6 @@ pub fn split_for_distortion_at_corners(
     rect: &Rect,
     slopes: [f64; 4],
 ) -> [(Rect, [f64; 4]); 2] {
-    split_at_corners(heightfield, rect, slopes, |rect| {
-        rect.width() >= rect.height()
-    })
-}
-
-/// [`split_for_distortion_at_corners`], cutting across `x` where `undecided(rect)` says so
-/// when the halves' distortion bounds do not decide.
-fn split_at_corners(
-    heightfield: &Heightfield,
-    rect: &Rect,
-    slopes: [f64; 4],
-    undecided: impl Fn(&Rect) -> bool,
-) -> [(Rect, [f64; 4]); 2] {
     let slope = |x: f64, y: f64| heightfield.slope_squared(x, y).unwrap_or(f64::NAN);
     let (mx, my) = rect.centre();
     let [a, b, c, d] = slopes;
@@ -436,48 +370,10 @@ fn split_at_corners(
     let by_x = [(x_low, [a, bottom, c, top]), (x_high, [bottom, b, top, d])];
     let by_y = [(y_low, [a, b, left, right]), (y_high, [left, right, c, d])];
     let bounds = |halves: &[(Rect, [f64; 4]); 2]| halves.map(|(_, s)| corner_bounds(s));
-    let along_x = match cut_scores([bounds(&by_x), bounds(&by_y)]) {
-        (x, y) if x.is_finite() && y.is_finite() && x != y => x < y,
-        _ => undecided(rect),
-    };
-    if along_x { by_x } else { by_y }
-}
-
-/// The cut of a rectangle of [`basic_regions`] whose halves' distortion bounds do not decide
-/// it (a `Root` heightfield's rim crosses it, where the slope is unbounded): across the
-/// coordinate along which the radicand `S` varies more, so that the halves' ranges of `S`
-/// shrink, which is what decides such a rectangle ([`partially_defined`]). The longer edge
-/// would cut a long thin sheet (a paraboloid `10⁸` long and `74` wide) into squares of its
-/// width all along its rim, millions of rectangles however coarse the radius.
-fn radicand_cut(heightfield: &Heightfield, rect: &Rect) -> bool {
-    let HeightfieldForm::Root {
-        alpha_x,
-        alpha_y,
-        beta_x,
-        beta_y,
-        ..
-    } = heightfield.form
-    else {
-        return rect.width() >= rect.height();
-    };
-    let spread = |alpha: f64, beta: f64, (a, b): (f64, f64)| {
-        let parabola = Parabola::new(alpha, beta);
-        let mid = 0.5 * (a + b);
-        let halves = [(a, mid), (mid, b)].map(|half| {
-            let (low, high) = parabola.range(half);
-            high - low
-        });
-        let (low, high) = parabola.range((a, b));
-        (high - low, halves[0].max(halves[1]))
-    };
-    let (whole_x, halved_x) = spread(alpha_x, beta_x, rect.x);
-    let (whole_y, halved_y) = spread(alpha_y, beta_y, rect.y);
-    // The largest range of `S` over a half, for each cut.
-    let (by_x, by_y) = (halved_x + whole_y, whole_x + halved_y);
-    if by_x.is_finite() && by_y.is_finite() && by_x != by_y {
-        by_x < by_y
+    if cut_along_x(rect, [bounds(&by_x), bounds(&by_y)]) {
+        by_x
     } else {
-        rect.width() >= rect.height()
+        by_y
     }
 }
 
@@ -497,24 +393,18 @@ pub fn corner_bounds(slopes: [f64; 4]) -> Option<(f64, f64)> {
 
 /// Whether [`split_for_distortion`] cuts across `x`, from the bounds of the halves of the cut
 /// across `x` and of the cut across `y`.
-fn cut_along_x(rect: &Rect, cuts: [[Option<(f64, f64)>; 2]; 2]) -> bool {
-    let (score_x, score_y) = cut_scores(cuts);
-    if score_x.is_finite() && score_y.is_finite() && score_x != score_y {
-        score_x < score_y
-    } else {
-        rect.width() >= rect.height()
-    }
-}
-
-/// The largest spread of the distortion bounds over the halves of the cut across `x` and of
-/// the cut across `y` (infinite where a half has none).
-fn cut_scores([by_x, by_y]: [[Option<(f64, f64)>; 2]; 2]) -> (f64, f64) {
+fn cut_along_x(rect: &Rect, [by_x, by_y]: [[Option<(f64, f64)>; 2]; 2]) -> bool {
     let score = |halves: [Option<(f64, f64)>; 2]| {
         let spread =
             |bounds: Option<(f64, f64)>| bounds.map_or(f64::INFINITY, |(low, high)| high - low);
         spread(halves[0]).max(spread(halves[1]))
     };
-    (score(by_x), score(by_y))
+    let (score_x, score_y) = (score(by_x), score(by_y));
+    if score_x.is_finite() && score_y.is_finite() && score_x != score_y {
+        score_x < score_y
+    } else {
+        rect.width() >= rect.height()
+    }
 }
 
 /// A rectangle with its distortion bounds ([`Heightfield::distortion_bounds`]).

@@ -125,7 +125,7 @@ pub(super) fn sample_on_pool(
         None => Ok(()),
     };
     let mut stats = SampleStats::default();
-    let (patches, regions) = all_regions(dnf, radius, &mut stats);
+    let (patches, regions) = all_regions(dnf, &mut stats);
     // Eq. 22 of each region keeps the terms and literals near the region's patch, narrowed
     // from its whole patch's; regions where that is still many literals are tiled.
     let wholes: Vec<NearDistance<'_>> = patches

@@ -64,7 +64,7 @@ fn regions_of(q: &Quadric, bounds: &Aabb) -> (PrincipalFrame, Vec<BasicRegion>, 
     let mut regions = Vec::new();
     let mut stats = RegionStats::default();
     for hf in frame.heightfields() {
-        basic_regions(&frame, &hf, (bounds, 0.0), (0, 0), &mut regions, &mut stats);
+        basic_regions(&frame, &hf, bounds, (0, 0), &mut regions, &mut stats);
     }
     (frame, regions, stats)
 }
@@ -200,14 +200,7 @@ fn degenerate_kinds_use_the_expected_planes() {
         let mut stats = RegionStats::default();
         for hf in frame.heightfields() {
             let mut regions = Vec::new();
-            basic_regions(
-                &frame,
-                &hf,
-                (&bounds, 0.0),
-                (0, 0),
-                &mut regions,
-                &mut stats,
-            );
+            basic_regions(&frame, &hf, &bounds, (0, 0), &mut regions, &mut stats);
             planes[hf.normal_axis] = regions.len();
         }
         planes.iter().filter(|&&n| n > 0).count()
