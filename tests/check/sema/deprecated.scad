@@ -49,3 +49,9 @@ own();
     dxf_rotate_extrude("drawing.dxf", "0", [0, 0], 1, angle = 90);
 //  ^^^^^^^^^^^^^^^^^^ warning[W0109]: `dxf_rotate_extrude` is deprecated
 group() { cube(1); sphere(1); }
+
+// The extrusions' own `file` argument reads the drawing in place of the children.
+linear_extrude(height = 2, file = "drawing.dxf", layer = "0");
+//                         ^^^^^^^^^^^^^^^^^^^^ warning[W0109]: `linear_extrude(file = …)` is deprecated
+rotate_extrude(file = "drawing.dxf", origin = [-5, 0]);
+//             ^^^^^^^^^^^^^^^^^^^^ warning[W0109]: `rotate_extrude(file = …)` is deprecated

@@ -11,7 +11,7 @@ circle(r = [1, 2]);
 linear_extrude(3, scale = [1, 2, 3]) square(1);
 //                        ^^^^^^^^^ error[E0206]
 linear_extrude(height = 3, file = "a.dxf") square(1);
-//                         ^^^^ error[E0201]
+//                         ^^^^^^^^^^^^^^ warning[W0109]: is deprecated
 linear_extrude(3, true) square(1);
 //                ^^^^ error[E0202]
 echo(version(), version_num(), parent_module(0));

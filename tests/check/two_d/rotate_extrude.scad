@@ -9,4 +9,4 @@ rotate_extrude(angle = "full") square(1);
 rotate_extrude(90) square(1);
 //             ^^ error[E0202]
 rotate_extrude(file = "a.dxf") square(1);
-//             ^^^^ error[E0201]
+//             ^^^^^^^^^^^^^^ warning[W0109]: is deprecated

@@ -113,7 +113,8 @@ impl<'a> Evaluator<'a> {
             return self.projection(&named, edges, cx.file, span);
         }
         if name == "rotate_extrude" {
-            let edges = self.eval_body(child, &child_cx)?;
+            let edges =
+                self.extrusion_children(&named, args, builtin.params, child, &child_cx, span)?;
             return self.rotate_extrude(&named, args, edges, cx.file, span);
         }
         if name == "dxf_linear_extrude" || name == "dxf_rotate_extrude" {
@@ -131,7 +132,8 @@ impl<'a> Evaluator<'a> {
             };
         }
         if name == "linear_extrude" {
-            let edges = self.eval_body(child, &child_cx)?;
+            let edges =
+                self.extrusion_children(&named, args, builtin.params, child, &child_cx, span)?;
             return self.linear_extrude(&named, args, edges, cx.file, span);
         }
         match builtin.kind {
@@ -464,5 +466,29 @@ impl<'a> ArgLookup<'a> for BuiltinArgs<'a> {
             .rev()
             .find(|(n, _)| *n == name)
             .map_or(Value::Undef, |(_, v)| v.clone())
+    }
+}
+
+impl<'a> Evaluator<'a> {
+    /// The 2-D children of `linear_extrude` or `rotate_extrude`: their child statements, or, with
+    /// OpenSCAD's deprecated `file` argument (warning W0109 is static), the `import` of `file`,
+    /// `layer`, `origin` and `scale` in their place, as OpenSCAD 2021.01 reads it (the children
+    /// are then ignored).
+    fn extrusion_children(
+        &mut self,
+        named: &BuiltinArgs<'a>,
+        args: &'a [Arg],
+        params: &'static [qcsg_sema::builtins::BuiltinParam],
+        child: Option<&'a Stmt>,
+        cx: &Cx<'a>,
+        span: Span,
+    ) -> R<Vec<Edge>> {
+        if matches!(named.get("file"), Value::Undef) {
+            return self.eval_body(child, cx);
+        }
+        Ok(self
+            .import(named, args, params, cx.file, span)?
+            .into_iter()
+            .collect())
     }
 }

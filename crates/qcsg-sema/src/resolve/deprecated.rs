@@ -27,6 +27,34 @@ impl<'a> Resolver<'a> {
         );
     }
 
+    /// `linear_extrude(file = …)` and `rotate_extrude(file = …)`: OpenSCAD's deprecated reading
+    /// of a drawing by the extrusion itself, warned at the `file` argument.
+    pub(super) fn deprecated_file_argument(&mut self, file: FileId, name: &Ident, args: &[Arg]) {
+        if !matches!(name.name.as_str(), "linear_extrude" | "rotate_extrude") {
+            return;
+        }
+        for arg in args {
+            if arg.name.as_ref().is_some_and(|n| n.name == "file") {
+                self.diagnostics.push(
+                    Diagnostic::warning(
+                        codes::DEPRECATED_MODULE,
+                        format!(
+                            "`{}(file = …)` is deprecated in OpenSCAD: the drawing is read by \
+                             a child `import`",
+                            name.name
+                        ),
+                        file,
+                        arg.span,
+                    )
+                    .with_help(format!(
+                        "write `{}(…) import(\"drawing.dxf\", layer = …);`",
+                        name.name
+                    )),
+                );
+            }
+        }
+    }
+
     /// `assign(a = 1, b = 2) child`: the values resolved in the enclosing scope, then the names
     /// bound for the child as `let` binds them.
     pub(super) fn assign(

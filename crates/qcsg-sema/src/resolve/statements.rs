@@ -180,6 +180,7 @@ impl<'a> Resolver<'a> {
             ModuleLookup::Builtin(module) => {
                 self.reference(file, name.span, Namespace::Module, Target::Builtin);
                 self.deprecated_module(file, name);
+                self.deprecated_file_argument(file, name, args);
                 let tys = self.args(file, args);
                 let signature = builtin_module_signature(module);
                 self.check_args(file, name, args_span, args, &tys, &signature);
