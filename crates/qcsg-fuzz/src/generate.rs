@@ -384,9 +384,16 @@ impl Generator<'_> {
         format!("{}({args}){children}", module.name)
     }
 
-    /// A built-in primitive with arguments of its parameters' types.
+    /// A built-in primitive with arguments of its parameters' types. Those that read a file
+    /// or take a list of points or faces are errors with almost any generated arguments, so
+    /// they are picked rarely: the programs should mostly reach the deep stages.
     fn primitive(&mut self) -> String {
-        let module = self.pick_module(&[ModuleKind::Primitive]);
+        let module = loop {
+            let module = self.pick_module(&[ModuleKind::Primitive]);
+            if !RARELY_VALID_PRIMITIVES.contains(&module.name) || self.dice.chance(0.1) {
+                break module;
+            }
+        };
         let args = self.arguments(module);
         format!("{}({args});", module.name)
     }
@@ -469,6 +476,18 @@ impl Generator<'_> {
         }
     }
 }
+
+/// Primitives whose generated arguments are almost never valid: files to read, lists of
+/// points and faces.
+const RARELY_VALID_PRIMITIVES: &[&str] = &[
+    "polygon",
+    "polyhedron",
+    "import",
+    "import_stl",
+    "import_off",
+    "import_dxf",
+    "surface",
+];
 
 #[cfg(test)]
 mod tests {
