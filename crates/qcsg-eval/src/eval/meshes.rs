@@ -190,21 +190,7 @@ impl<'a> Evaluator<'a> {
                 ));
             }
         };
-        let caller = self
-            .sources
-            .iter()
-            .find(|(id, _)| *id == file)
-            .map_or("", |(_, f)| f.name.as_str());
-        let call = ImportCall {
-            path: import::resolve(caller, &written),
-            written,
-            file,
-            span,
-            file_span,
-            named,
-            args,
-            params,
-        };
+        let call = self.import_call(written, (file, span, file_span), named, args, params);
         let format = Format::of(&call.written);
         match format {
             Format::Stl | Format::Off => {
@@ -217,11 +203,7 @@ impl<'a> Evaluator<'a> {
                         shape
                     }
                 };
-                let built = mesh::solid(&mut self.dag, &shape, Source::new(file, span));
-                match built {
-                    Ok(built) => self.mesh_solid(built, file, span, file_span),
-                    Err(failure) => Err(self.mesh_failure(failure, file, &|_| file_span)),
-                }
+                self.file_mesh_solid(&shape, file, span, file_span)
             }
             Format::Dxf => self.import_dxf(&call),
             Format::Other(ext) => {
@@ -238,6 +220,47 @@ impl<'a> Evaluator<'a> {
                     file_span,
                 ))
             }
+        }
+    }
+
+    /// The call of `import` or `surface` reading `written`, resolved against the directory of
+    /// the calling file.
+    fn import_call<'n>(
+        &self,
+        written: String,
+        (file, span, file_span): (FileId, Span, Span),
+        named: &'n BuiltinArgs<'a>,
+        args: &'a [Arg],
+        params: &'static [BuiltinParam],
+    ) -> ImportCall<'n, 'a> {
+        let caller = self
+            .sources
+            .iter()
+            .find(|(id, _)| *id == file)
+            .map_or("", |(_, f)| f.name.as_str());
+        ImportCall {
+            path: import::resolve(caller, &written),
+            written,
+            file,
+            span,
+            file_span,
+            named,
+            args,
+            params,
+        }
+    }
+
+    /// The solid of a mesh read from a file, its failures reported at the `file` argument.
+    fn file_mesh_solid(
+        &mut self,
+        shape: &MeshShape,
+        file: FileId,
+        span: Span,
+        file_span: Span,
+    ) -> R<Option<Edge>> {
+        match mesh::solid(&mut self.dag, shape, Source::new(file, span)) {
+            Ok(built) => self.mesh_solid(built, file, span, file_span),
+            Err(failure) => Err(self.mesh_failure(failure, file, &|_| file_span)),
         }
     }
 
@@ -270,21 +293,7 @@ impl<'a> Evaluator<'a> {
         };
         let flag = |name: &str| matches!(named.get(name), Value::Bool(true));
         let (center, invert) = (flag("center"), flag("invert"));
-        let caller = self
-            .sources
-            .iter()
-            .find(|(id, _)| *id == file)
-            .map_or("", |(_, f)| f.name.as_str());
-        let call = ImportCall {
-            path: import::resolve(caller, &written),
-            written,
-            file,
-            span,
-            file_span,
-            named,
-            args,
-            params,
-        };
+        let call = self.import_call(written, (file, span, file_span), named, args, params);
         let key = (call.path.clone(), invert, center);
         let shape = match self.surfaces.get(&key) {
             Some(shape) => shape.clone(),
@@ -294,10 +303,7 @@ impl<'a> Evaluator<'a> {
                 shape
             }
         };
-        match mesh::solid(&mut self.dag, &shape, Source::new(file, span)) {
-            Ok(built) => self.mesh_solid(built, file, span, file_span),
-            Err(failure) => Err(self.mesh_failure(failure, file, &|_| file_span)),
-        }
+        self.file_mesh_solid(&shape, file, span, file_span)
     }
 
     /// The cells of the surface of the height map `call` names.
