@@ -6,31 +6,15 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use qcsg_csg::{DnfOptions, build_dnf};
-use qcsg_eval::{EvalOptions, Evaluation, evaluate};
-use qcsg_sema::{CheckOptions, FsLoader, check_file};
+use qcsg_eval::{EvalOptions, Evaluation};
 
+mod common;
+
+use common::{eval_in, p};
+
+/// A fresh directory for one test.
 fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("import-dxf-tests")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch directory");
-    dir
-}
-
-fn eval_in(dir: &Path, text: &str, options: &EvalOptions) -> Evaluation {
-    let main = dir.join("main.scad");
-    std::fs::write(&main, text).expect("write main.scad");
-    let name = main.to_string_lossy().into_owned();
-    let analysis = check_file(&name, text.to_owned(), &CheckOptions::default(), &FsLoader);
-    let errors: Vec<_> = analysis
-        .diagnostics
-        .iter()
-        .filter(|d| d.is_error())
-        .map(|d| format!("{} {}", d.code, d.message))
-        .collect();
-    assert!(errors.is_empty(), "static errors in {text:?}: {errors:?}");
-    evaluate(&analysis, options)
+    common::scratch("import-dxf-tests", name)
 }
 
 /// The first diagnostic of `code`'s severity class: code, the text it points at, message + help.
@@ -113,10 +97,6 @@ fn check(e: &Evaluation, cases: &[(DVec3, bool)]) {
         assert_eq!(e.dag.contains(p), inside, "DAG at {p}");
         assert_eq!(dnf.contains(p), inside, "DNF at {p}");
     }
-}
-
-fn p(x: f64, y: f64, z: f64) -> DVec3 {
-    DVec3::new(x, y, z)
 }
 
 #[test]

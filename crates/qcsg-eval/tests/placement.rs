@@ -3,14 +3,10 @@
 
 mod common;
 
-use common::{codes, eval};
+use common::{codes, eval, p};
 use qcsg_csg::{Dag, Edge, NodeKind};
 use qcsg_eval::codes as c;
 use qcsg_quadric::{DMat4, DVec3};
-
-fn p(x: f64, y: f64, z: f64) -> DVec3 {
-    DVec3::new(x, y, z)
-}
 
 /// Asserts membership of every point: `inside` in the solid, `outside` not.
 fn check(text: &str, inside: &[DVec3], outside: &[DVec3]) {

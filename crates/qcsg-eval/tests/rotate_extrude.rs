@@ -5,25 +5,7 @@
 
 mod common;
 
-use common::{codes, eval};
-use glam::DVec3;
-use qcsg_csg::{DnfOptions, build_dnf};
-
-fn p(x: f64, y: f64, z: f64) -> DVec3 {
-    DVec3::new(x, y, z)
-}
-
-/// Evaluates `text` (no errors allowed) and checks each `(point, inside)` on the DAG and the DNF.
-fn membership(text: &str, cases: &[(DVec3, bool)]) -> Vec<&'static str> {
-    let e = eval(text);
-    assert!(!e.has_errors(), "{text}: {:?}", e.diagnostics);
-    let dnf = build_dnf(&e.dag, &DnfOptions::default()).expect("a bounded solid");
-    for (point, inside) in cases {
-        assert_eq!(e.dag.contains(*point), *inside, "{text}: DAG at {point}");
-        assert_eq!(dnf.contains(*point), *inside, "{text}: DNF at {point}");
-    }
-    codes(&e)
-}
+use common::{codes, eval, membership, p};
 
 #[test]
 fn slanted_edges_sweep_cones_and_their_outsides() {

@@ -7,35 +7,17 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use qcsg_csg::{DnfOptions, build_dnf};
+use qcsg_eval::EvalOptions;
 use qcsg_eval::surface::{HeightMap, read_height_map};
-use qcsg_eval::{EvalOptions, Evaluation, evaluate};
-use qcsg_sema::{CheckOptions, FsLoader, check_file};
 use qcsg_testkit::Rng;
+
+mod common;
+
+use common::eval_in;
 
 /// A fresh directory for one test.
 fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("surface-tests")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch directory");
-    dir
-}
-
-/// Writes `main.scad` with `text` into `dir`, checks it (no static errors) and evaluates it.
-fn eval_in(dir: &Path, text: &str, options: &EvalOptions) -> Evaluation {
-    let main = dir.join("main.scad");
-    std::fs::write(&main, text).expect("write main.scad");
-    let name = main.to_string_lossy().into_owned();
-    let analysis = check_file(&name, text.to_owned(), &CheckOptions::default(), &FsLoader);
-    let errors: Vec<_> = analysis
-        .diagnostics
-        .iter()
-        .filter(|d| d.is_error())
-        .map(|d| format!("{} {}", d.code, d.message))
-        .collect();
-    assert!(errors.is_empty(), "static errors in {text:?}: {errors:?}");
-    evaluate(&analysis, options)
+    common::scratch("surface-tests", name)
 }
 
 /// The first error of evaluating `text` in `dir`: code, the text it points at, message.

@@ -1,16 +1,40 @@
-//! Shared helpers: check and evaluate a program given as text.
+//! Shared helpers: check and evaluate a program given as text, and check points against it.
 
+// Each test file uses the helpers it needs.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use qcsg_csg::{DnfOptions, build_dnf};
 use qcsg_eval::{EvalOptions, Evaluation, evaluate};
 use qcsg_sema::{CheckOptions, FsLoader, check_file};
 
 /// Checks `text` (which must have no static errors) and evaluates it with `options`.
 pub fn eval_with(text: &str, options: &EvalOptions) -> Evaluation {
-    let analysis = check_file(
-        "test.scad",
-        text.to_string(),
-        &CheckOptions::default(),
-        &FsLoader,
-    );
+    eval_named("test.scad", text, options)
+}
+
+/// Writes `main.scad` with `text` into `dir`, checks it (no static errors allowed) and evaluates
+/// it, so that the files it reads are found beside it.
+pub fn eval_in(dir: &Path, text: &str, options: &EvalOptions) -> Evaluation {
+    let main = dir.join("main.scad");
+    std::fs::write(&main, text).expect("write main.scad");
+    eval_named(&main.to_string_lossy(), text, options)
+}
+
+/// A fresh directory `name` of the test group `group`.
+pub fn scratch(group: &str, name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(group)
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+fn eval_named(name: &str, text: &str, options: &EvalOptions) -> Evaluation {
+    let analysis = check_file(name, text.to_string(), &CheckOptions::default(), &FsLoader);
     let errors: Vec<_> = analysis
         .diagnostics
         .iter()
@@ -29,4 +53,21 @@ pub fn eval(text: &str) -> Evaluation {
 /// The codes of the diagnostics of an evaluation.
 pub fn codes(e: &Evaluation) -> Vec<&'static str> {
     e.diagnostics.iter().map(|d| d.code).collect()
+}
+
+/// A point.
+pub fn p(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+/// Evaluates `text` (no errors allowed) and checks each `(point, inside)` on the DAG and the DNF.
+pub fn membership(text: &str, cases: &[(DVec3, bool)]) -> Vec<&'static str> {
+    let e = eval(text);
+    assert!(!e.has_errors(), "{text}: {:?}", e.diagnostics);
+    let dnf = build_dnf(&e.dag, &DnfOptions::default()).expect("a bounded solid");
+    for (point, inside) in cases {
+        assert_eq!(e.dag.contains(*point), *inside, "{text}: DAG at {point}");
+        assert_eq!(dnf.contains(*point), *inside, "{text}: DNF at {point}");
+    }
+    codes(&e)
 }
