@@ -15,11 +15,15 @@ syntax keyword qcsgConstant undef PI
 syntax keyword qcsgSpecialForm assert echo
 
 syntax keyword qcsgBuiltinModule cube sphere cylinder ellipsoid paraboloid hyperboloid cone
-      \ halfspace quadric translate rotate scale mirror multmatrix resize color union
-      \ intersection difference complement intersection_for render children
+      \ halfspace quadric square circle polygon polyhedron import import_stl import_off
+      \ import_dxf surface linear_extrude rotate_extrude dxf_linear_extrude dxf_rotate_extrude
+      \ projection hull minkowski offset translate rotate scale mirror multmatrix resize color
+      \ group union intersection difference complement intersection_for render children child
+      \ assign
 syntax keyword qcsgBuiltinFunction abs sign sin cos tan asin acos atan atan2 floor ceil round
       \ ln log exp pow sqrt min max norm cross len concat lookup str chr ord search is_undef
-      \ is_bool is_num is_string is_list is_function rands
+      \ is_bool is_num is_string is_list is_function rands version version_num parent_module
+      \ dxf_dim dxf_cross
 
 syntax match qcsgSpecialVariable /\$[A-Za-z0-9_]*/
 syntax match qcsgNumber /\<\d\+\%(\.\d*\)\=\%([eE][+-]\=\d\+\)\=/
