@@ -8,7 +8,7 @@ use qcsg_syntax::ast::Arg;
 
 use crate::codes;
 use crate::extrude::{linear_extrude_args, scaled_extrusion};
-use crate::planar::{PlanarError, planar_expression};
+use crate::planar::{PlanarError, PlanarExpr, planar_expression};
 use crate::primitives::ArgLookup;
 
 use super::dimensions::Dim;
@@ -84,29 +84,7 @@ impl<'a> Evaluator<'a> {
         let b = self.edge_box(shape);
         let (min, max) = (b.min.truncate(), b.max.truncate());
         let shape_box = (min.is_finite() && max.is_finite()).then_some((min, max));
-        let limit = usize::try_from(self.options.max_instances).unwrap_or(usize::MAX);
-        let expr = match planar_expression(&self.dag, shape, limit) {
-            Ok(expr) => expr,
-            Err(PlanarError::TooLarge(limit)) => {
-                return Err(self.error(
-                    codes::INSTANCE_LIMIT,
-                    format!(
-                        "the shape of this linear_extrude has more than {limit} parts once its \
-                         transforms are applied"
-                    ),
-                    file,
-                    span,
-                ));
-            }
-            Err(PlanarError::NotPlanar(_)) => {
-                return Err(self.error(
-                    codes::UNSUPPORTED,
-                    "the children of this linear_extrude are not a 2-D shape",
-                    file,
-                    span,
-                ));
-            }
-        };
+        let expr = self.planar_child_shape(shape, "linear_extrude", file, span)?;
         match scaled_extrusion(
             &mut self.dag,
             &expr,
@@ -138,5 +116,38 @@ impl<'a> Evaluator<'a> {
                 Err(self.error_diagnostic(diagnostic))
             }
         }
+    }
+}
+
+impl Evaluator<'_> {
+    /// The 2-D expression of `shape`, the children of the 2-D operation `op` (`offset`,
+    /// `linear_extrude`, `rotate_extrude`) at `span`: too many parts is the instance limit, a
+    /// part that is not 2-D an error.
+    pub(super) fn planar_child_shape(
+        &mut self,
+        shape: Edge,
+        op: &str,
+        file: FileId,
+        span: Span,
+    ) -> R<PlanarExpr> {
+        let limit = usize::try_from(self.options.max_instances).unwrap_or(usize::MAX);
+        let expr = planar_expression(&self.dag, shape, limit);
+        expr.map_err(|e| match e {
+            PlanarError::TooLarge(limit) => self.error(
+                codes::INSTANCE_LIMIT,
+                format!(
+                    "the shape of this {op} has more than {limit} parts once its transforms \
+                     are applied"
+                ),
+                file,
+                span,
+            ),
+            PlanarError::NotPlanar(_) => self.error(
+                codes::UNSUPPORTED,
+                format!("the children of this {op} are not a 2-D shape"),
+                file,
+                span,
+            ),
+        })
     }
 }

@@ -7,7 +7,6 @@ use qcsg_syntax::ast::Arg;
 
 use crate::codes;
 use crate::offset::{Join, Offsetter};
-use crate::planar::{PlanarError, planar_expression};
 use crate::primitives::ArgLookup;
 use crate::value::Value;
 
@@ -66,29 +65,7 @@ impl<'a> Evaluator<'a> {
         if amount == 0.0 || self.dim(shape) == Dim::Empty {
             return Ok(Some(shape));
         }
-        let limit = usize::try_from(self.options.max_instances).unwrap_or(usize::MAX);
-        let expr = match planar_expression(&self.dag, shape, limit) {
-            Ok(expr) => expr,
-            Err(PlanarError::TooLarge(limit)) => {
-                return Err(self.error(
-                    codes::INSTANCE_LIMIT,
-                    format!(
-                        "the shape of this offset has more than {limit} parts once its \
-                         transforms are applied"
-                    ),
-                    file,
-                    span,
-                ));
-            }
-            Err(PlanarError::NotPlanar(_)) => {
-                return Err(self.error(
-                    codes::UNSUPPORTED,
-                    "the children of this offset are not a 2-D shape",
-                    file,
-                    span,
-                ));
-            }
-        };
+        let expr = self.planar_child_shape(shape, "offset", file, span)?;
         let from = self.dag.len();
         let offsetter = Offsetter {
             expr: &expr,

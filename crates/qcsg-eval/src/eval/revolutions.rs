@@ -6,7 +6,7 @@ use qcsg_diag::{Diagnostic, FileId, Span};
 use qcsg_syntax::ast::Arg;
 
 use crate::codes;
-use crate::planar::{PlanarError, planar_expression, rebuild};
+use crate::planar::rebuild;
 use crate::primitives::ArgLookup;
 use crate::revolve::{mirror_x, revolve_conic, swept_box, wedge};
 use crate::value::{Value, format_number};
@@ -95,29 +95,7 @@ impl<'a> Evaluator<'a> {
                 span,
             ));
         };
-        let limit = usize::try_from(self.options.max_instances).unwrap_or(usize::MAX);
-        let expr = match planar_expression(&self.dag, shape, limit) {
-            Ok(expr) => expr,
-            Err(PlanarError::TooLarge(limit)) => {
-                return Err(self.error(
-                    codes::INSTANCE_LIMIT,
-                    format!(
-                        "the shape of this rotate_extrude has more than {limit} parts once its \
-                         transforms are applied"
-                    ),
-                    file,
-                    span,
-                ));
-            }
-            Err(PlanarError::NotPlanar(_)) => {
-                return Err(self.error(
-                    codes::UNSUPPORTED,
-                    "the children of this rotate_extrude are not a 2-D shape",
-                    file,
-                    span,
-                ));
-            }
-        };
+        let expr = self.planar_child_shape(shape, "rotate_extrude", file, span)?;
         let solid = rebuild(
             &mut self.dag,
             &expr,
