@@ -10,6 +10,7 @@ use qcsg_csg::{Dag, Edge, NodeId, Source};
 use qcsg_mesh::{HalfPlane, PolygonError, PolygonLimits, polygon_cells};
 use qcsg_quadric::Quadric;
 
+use crate::polyhedron::normalised_half_space;
 use crate::primitives::ArgLookup;
 use crate::primitives_2d::column;
 use crate::value::Value;
@@ -31,26 +32,17 @@ pub struct BuiltPolygon {
     pub warnings: Vec<String>,
 }
 
-/// The z-invariant half-space `normal · p ≤ offset`, normalised so that its numbers depend only on
-/// the half-plane (cells sharing an edge's line share the same quadric exactly).
+/// The z-invariant half-space `normal · p ≤ offset` (cells sharing an edge's line share the same
+/// quadric exactly; see [`crate::polyhedron::normalised_half_space`]).
 pub(crate) fn half_space(h: &HalfPlane) -> Option<Quadric> {
-    let scale = 1.0 / h.normal.length();
-    let n = h.normal * scale;
-    Quadric::new(
-        glam::DVec3::ZERO,
-        [
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.5 * n.x,
-            0.5 * n.y,
-            0.0,
-            -h.offset * scale,
-        ],
-    )
+    normalised_half_space(h.normal.extend(0.0), h.offset)
+}
+
+/// An entry of a list of point indices (`paths`, `faces`): a whole number from 0.
+pub(crate) fn point_index(e: &Value<'_>) -> Option<usize> {
+    e.as_number()
+        .filter(|&i| i >= 0.0 && i.fract() == 0.0 && i < usize::MAX as f64)
+        .map(|i| i as usize)
 }
 
 fn points_of(value: &Value<'_>) -> Result<Vec<DVec2>, PolygonFailure> {
@@ -103,16 +95,12 @@ fn paths_of(value: &Value<'_>) -> Result<Option<Vec<Vec<usize>>>, PolygonFailure
         };
         let mut indices = Vec::with_capacity(entries.len());
         for (k, e) in entries.iter().enumerate() {
-            match e.as_number() {
-                Some(i) if i >= 0.0 && i.fract() == 0.0 && i < usize::MAX as f64 => {
-                    indices.push(i as usize);
-                }
-                _ => {
-                    return Err(bad(format!(
-                        "entry {k} of path {p} is not a point index (a whole number from 0)"
-                    )));
-                }
-            }
+            let Some(i) = point_index(e) else {
+                return Err(bad(format!(
+                    "entry {k} of path {p} is not a point index (a whole number from 0)"
+                )));
+            };
+            indices.push(i);
         }
         out.push(indices);
     }

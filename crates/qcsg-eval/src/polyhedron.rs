@@ -13,10 +13,11 @@ use std::rc::Rc;
 
 use glam::DVec3;
 use qcsg_csg::{Aabb, Dag, Edge, NodeId, Source};
-use qcsg_mesh::{Mesh, MeshError, MeshLimits, Plane, Polyhedron, polyhedron_cells};
+use qcsg_mesh::{Mesh, MeshError, MeshLimits, Polyhedron, polyhedron_cells};
 use qcsg_quadric::Quadric;
 
 use crate::mesh_shadow::MeshFaces;
+use crate::polygon::point_index;
 use crate::value::Value;
 
 /// Which argument of `polyhedron` a failure is about, for its span.
@@ -60,10 +61,10 @@ pub struct MeshShape {
 }
 
 /// The half-space `normal · p ≤ offset`, normalised so that its numbers depend only on the
-/// plane.
-fn half_space(h: &Plane) -> Option<Quadric> {
-    let scale = 1.0 / h.normal.length();
-    let n = h.normal * scale;
+/// plane (cells sharing a face's plane share the same quadric exactly).
+pub(crate) fn normalised_half_space(normal: DVec3, offset: f64) -> Option<Quadric> {
+    let scale = 1.0 / normal.length();
+    let n = normal * scale;
     Quadric::new(
         DVec3::ZERO,
         [
@@ -76,7 +77,7 @@ fn half_space(h: &Plane) -> Option<Quadric> {
             0.5 * n.x,
             0.5 * n.y,
             0.5 * n.z,
-            -h.offset * scale,
+            -offset * scale,
         ],
     )
 }
@@ -137,16 +138,12 @@ fn faces_of(value: &Value<'_>, max_entries: usize) -> Result<Vec<Vec<usize>>, Me
         }
         let mut indices = Vec::with_capacity(items.len());
         for (k, e) in items.iter().enumerate() {
-            match e.as_number() {
-                Some(i) if i >= 0.0 && i.fract() == 0.0 && i < usize::MAX as f64 => {
-                    indices.push(i as usize);
-                }
-                _ => {
-                    return Err(bad(format!(
-                        "entry {k} of face {f} is not a point index (a whole number from 0)"
-                    )));
-                }
-            }
+            let Some(i) = point_index(e) else {
+                return Err(bad(format!(
+                    "entry {k} of face {f} is not a point index (a whole number from 0)"
+                )));
+            };
+            indices.push(i);
         }
         out.push(indices);
     }
@@ -216,7 +213,7 @@ pub fn solid(dag: &mut Dag, mesh: &MeshShape, source: Source) -> Result<BuiltMes
     for cell in &shape.cells {
         let mut sides: Vec<Edge> = Vec::with_capacity(cell.planes.len());
         for h in &cell.planes {
-            let q = half_space(h).ok_or_else(|| {
+            let q = normalised_half_space(h.normal, h.offset).ok_or_else(|| {
                 MeshFailure::Invalid(
                     MeshPart::Faces,
                     "a face of the mesh is not representable".into(),
