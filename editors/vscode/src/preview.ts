@@ -1,17 +1,13 @@
 // "qcsg: Open Preview to the Side": the page of `qcsg view` in a webview beside the editor, fed
 // by the language server from the unsaved document (the custom requests `qcsg/frame`,
 // `qcsg/pick` and `qcsg/partsAt`, docs/view.md). Edits are followed after a short pause; a click
-// on the model reveals the call's line; the cursor on a primitive's call tints its part.
+// on the model reveals the call's line; the cursor on a primitive's call tints its part. The
+// logic lives in panel.ts, which runs without VS Code; this file connects it to the editor.
 import * as fs from "fs";
 import * as path from "path";
 import * as vscode from "vscode";
 import type { LanguageClient } from "vscode-languageclient/node";
-
-/** How long the panel waits after an edit or a cursor move before asking again. */
-const DEBOUNCE_MS = 150;
-
-type Message = { id?: number; type: string; params?: Record<string, unknown>; place?: Place };
-type Place = { file: string; range: { start: { line: number; character: number } } };
+import { PanelSession, Place, WebviewMessage, panelDiagnostic, webviewHtml } from "./panel";
 
 export function openPreview(context: vscode.ExtensionContext, client: () => LanguageClient | undefined): void {
   const editor = vscode.window.activeTextEditor;
@@ -27,69 +23,49 @@ export function openPreview(context: vscode.ExtensionContext, client: () => Lang
     { viewColumn: vscode.ViewColumn.Beside, preserveFocus: true },
     { enableScripts: true, localResourceRoots: [media], retainContextWhenHidden: true },
   );
-  panel.webview.html = page(panel.webview, media);
+  const webview = panel.webview;
+  webview.html = webviewHtml(
+    fs.readFileSync(path.join(media.fsPath, "index.html"), "utf8"),
+    (name) => webview.asWebviewUri(vscode.Uri.joinPath(media, name)).toString(),
+    webview.cspSource,
+  );
   const uri = document.uri.toString();
-  let generation = 0;
-
-  const change = () => {
-    generation += 1;
-    const diagnostics = vscode.languages.getDiagnostics(document.uri).map((d) => ({
-      severity: ["error", "warning", "info", "hint"][d.severity] ?? "info",
-      code: typeof d.code === "object" ? String(d.code.value) : String(d.code ?? ""),
-      message: d.message,
-      file: document.fileName,
-      range: {
-        start: { line: d.range.start.line, character: d.range.start.character },
-        end: { line: d.range.end.line, character: d.range.end.character },
-      },
-    }));
-    const ok = !diagnostics.some((d) => d.severity === "error");
-    void panel.webview.postMessage({
-      type: "change",
-      change: { generation, ok, image_generation: generation, file: document.fileName, diagnostics },
-    });
-  };
-  let timer: NodeJS.Timeout | undefined;
-  const later = (work: () => void) => {
-    if (timer) clearTimeout(timer);
-    timer = setTimeout(work, DEBOUNCE_MS);
-  };
+  const session = new PanelSession({
+    uri,
+    file: document.fileName,
+    request: (method, params) => {
+      const running = client();
+      if (!running) return Promise.reject(new Error("the language server is not running"));
+      return running.sendRequest(method, params);
+    },
+    post: (message) => void webview.postMessage(message),
+    reveal,
+    diagnostics: () =>
+      vscode.languages.getDiagnostics(document.uri).map((d) =>
+        panelDiagnostic(document.fileName, {
+          severity: d.severity,
+          code: d.code as string | number | { value: string | number } | undefined,
+          message: d.message,
+          range: d.range,
+        }),
+      ),
+  });
 
   const disposables: vscode.Disposable[] = [
     vscode.languages.onDidChangeDiagnostics((event) => {
-      if (event.uris.some((u) => u.toString() === uri)) later(change);
+      if (event.uris.some((u) => u.toString() === uri)) session.documentChanged();
     }),
     vscode.window.onDidChangeTextEditorSelection((event) => {
       if (event.textEditor.document.uri.toString() !== uri) return;
       const position = event.selections[0].active;
-      later(async () => {
-        const quadrics = await client()?.sendRequest("qcsg/partsAt", {
-          textDocument: { uri },
-          position: { line: position.line, character: position.character },
-        });
-        void panel.webview.postMessage({ type: "highlight", quadrics: quadrics ?? [] });
-      });
+      session.cursorMoved(position.line, position.character);
     }),
-    panel.webview.onDidReceiveMessage(async (message: Message) => {
-      if (message.type === "ready") return change();
-      if (message.type === "reveal" && message.place) return reveal(message.place);
-      const method = { frame: "qcsg/frame", pick: "qcsg/pick" }[message.type];
-      if (!method || message.id === undefined) return;
-      const params: Record<string, unknown> = { textDocument: { uri }, ...message.params };
-      if (typeof params.highlight === "string") {
-        params.highlight = (params.highlight as string).split(",").map(Number);
-      }
-      try {
-        const running = client();
-        if (!running) throw new Error("the language server is not running");
-        const result = await running.sendRequest(method, params);
-        void panel.webview.postMessage({ id: message.id, result });
-      } catch (error) {
-        void panel.webview.postMessage({ id: message.id, error: String(error) });
-      }
-    }),
+    webview.onDidReceiveMessage((message: WebviewMessage) => session.receive(message)),
   ];
-  panel.onDidDispose(() => disposables.forEach((d) => d.dispose()));
+  panel.onDidDispose(() => {
+    session.dispose();
+    disposables.forEach((d) => d.dispose());
+  });
 }
 
 async function reveal(place: Place): Promise<void> {
@@ -98,17 +74,4 @@ async function reveal(place: Place): Promise<void> {
   const editor = await vscode.window.showTextDocument(document, vscode.ViewColumn.One);
   editor.selection = new vscode.Selection(at, at);
   editor.revealRange(new vscode.Range(at, at), vscode.TextEditorRevealType.InCenterIfOutsideViewport);
-}
-
-/** The page of `qcsg view` with its assets as webview URIs and the host script before view.js. */
-function page(webview: vscode.Webview, media: vscode.Uri): string {
-  const asset = (name: string) => webview.asWebviewUri(vscode.Uri.joinPath(media, name)).toString();
-  const html = fs.readFileSync(path.join(media.fsPath, "index.html"), "utf8");
-  const policy =
-    `default-src 'none'; img-src ${webview.cspSource} data:; ` +
-    `style-src ${webview.cspSource}; script-src ${webview.cspSource};`;
-  return html
-    .replace("<head>", `<head>\n<meta http-equiv="Content-Security-Policy" content="${policy}">`)
-    .replace('href="view.css"', `href="${asset("view.css")}"`)
-    .replace('<script src="view.js"></script>', `<script src="${asset("host.js")}"></script>\n<script src="${asset("view.js")}"></script>`);
 }
