@@ -48,6 +48,8 @@ pub const IMPORT_UNREADABLE: &str = "E0566";
 pub const IMPORT_MALFORMED: &str = "E0567";
 /// An `import` of a file larger than the import size limit (`--max-import-bytes`).
 pub const IMPORT_SIZE_LIMIT: &str = "E0568";
+/// A `text()` font that cannot be used exactly (cubic CFF outlines) or cannot be read.
+pub const FONT_UNUSABLE: &str = "E0569";
 
 /// A transform with a singular or non-finite matrix: the object is removed, as in OpenSCAD.
 pub const SINGULAR_TRANSFORM: &str = "W0550";
@@ -63,6 +65,10 @@ pub const SEVERAL_ROOTS: &str = "W0554";
 pub const UNKNOWN_COLOR: &str = "W0555";
 /// `resize` along an axis in which the child is flat, or of an unbounded child.
 pub const RESIZE_IGNORED: &str = "W0556";
+/// A `text()` font with no installed face of its family: the default font is used.
+pub const FONT_NOT_FOUND: &str = "W0566";
+/// Characters of a `text()` the font has no glyph for: the font's missing-glyph shape is drawn.
+pub const MISSING_GLYPH: &str = "W0567";
 /// A malformed entry in a `search` table: OpenSCAD returns `[]`.
 pub const SEARCH_TABLE: &str = "W0557";
 /// `echo` output past the echo-output limit: the line is cut, later output left out.
@@ -131,6 +137,10 @@ pub const ALL: &[(&str, &str)] = &[
         "imported file size limit reached (`--max-import-bytes`)",
     ),
     (
+        FONT_UNUSABLE,
+        "`text()` font with cubic (CFF) outlines or that cannot be read",
+    ),
+    (
         SINGULAR_TRANSFORM,
         "singular transform: the object is removed",
     ),
@@ -178,6 +188,14 @@ pub const ALL: &[(&str, &str)] = &[
     (
         DRAWING_LOOKUP,
         "`dxf_dim` or `dxf_cross` found nothing in the drawing: undef",
+    ),
+    (
+        FONT_NOT_FOUND,
+        "`text()` font family not installed: Liberation Sans is used",
+    ),
+    (
+        MISSING_GLYPH,
+        "`text()` characters without a glyph in the font: its missing-glyph shape is drawn",
     ),
     (ECHO, "output of `echo`"),
 ];

@@ -42,6 +42,7 @@ pub mod color;
 pub mod env;
 mod eval;
 pub mod extrude;
+pub mod glyphs;
 pub mod hull;
 pub mod hull_2d;
 pub mod import;

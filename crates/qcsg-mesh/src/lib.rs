@@ -23,6 +23,7 @@ pub use formats::{
     DrawingPath, DrawingWarning, Edge, ReadError, ReadLimits, read_dxf, read_off, read_stl,
 };
 pub use hull::{ConvexHull, HullError, HullFace, convex_hull, convex_hull_2d};
+pub use polygon::curved;
 pub use polygon::{
     Cell2, HalfPlane, MAX_COORDINATE, Polygon, PolygonError, PolygonLimits, polygon_cells,
 };

@@ -262,6 +262,23 @@ pub const MODULES: &[BuiltinModule] = &[
         doc: "polygon(points, paths): the 2-D region the paths enclose (one outline through all points without paths), filled with the even-odd rule, exact",
     },
     BuiltinModule {
+        name: "text",
+        params: &[
+            pos("text", P::String),
+            pos("size", P::Number),
+            pos("font", P::String),
+            named("halign", P::String),
+            named("valign", P::String),
+            named("spacing", P::Number),
+            named("direction", P::String),
+            named("language", P::String),
+            named("script", P::String),
+        ],
+        variadic: false,
+        kind: ModuleKind::Primitive,
+        doc: "text(text, size = 10, font, halign, valign, spacing, direction, language, script): the glyphs of a TrueType font as a 2-D shape, exact (straight edges and parabolic arcs)",
+    },
+    BuiltinModule {
         name: "polyhedron",
         params: &[
             pos("points", P::List(&[])),
@@ -831,24 +848,8 @@ pub struct Unsupported {
     pub instead: Option<&'static str>,
 }
 
-const fn unsupported(
-    name: &'static str,
-    reason: &'static str,
-    instead: Option<&'static str>,
-) -> Unsupported {
-    Unsupported {
-        name,
-        reason,
-        instead,
-    }
-}
-
 /// OpenSCAD modules with no exact quadric representation.
-pub const UNSUPPORTED_MODULES: &[Unsupported] = &[unsupported(
-    "text",
-    "glyph outlines are 2-D curves of higher degree than quadrics",
-    None,
-)];
+pub const UNSUPPORTED_MODULES: &[Unsupported] = &[];
 
 /// OpenSCAD built-in functions the language does not provide.
 pub const UNSUPPORTED_FUNCTIONS: &[Unsupported] = &[];

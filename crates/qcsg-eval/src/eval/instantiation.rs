@@ -153,6 +153,9 @@ impl<'a> Evaluator<'a> {
                 let from = self.dag.len();
                 match name {
                     "polygon" => return self.polygon(&named, from, cx.file, span),
+                    "text" => {
+                        return self.text(&named, args, builtin.params, from, cx.file, span);
+                    }
                     "polyhedron" => {
                         return self.polyhedron(&named, args, builtin.params, cx.file, span);
                     }
@@ -312,6 +315,51 @@ impl<'a> Evaluator<'a> {
             }
             Err(crate::polygon::PolygonFailure::TooLarge(m)) => {
                 Err(self.error(codes::VECTOR_LIMIT, m, file, span))
+            }
+        }
+    }
+
+    /// `text(…)`: the glyphs as a 2-D shape, with warnings and errors at the argument they are
+    /// about.
+    fn text(
+        &mut self,
+        named: &BuiltinArgs<'a>,
+        args: &'a [Arg],
+        params: &[qcsg_sema::builtins::BuiltinParam],
+        from: usize,
+        file: FileId,
+        span: Span,
+    ) -> R<Option<Edge>> {
+        let source = Source::new(file, span);
+        let max_glyphs = usize::try_from(self.options.max_vector_len).unwrap_or(usize::MAX);
+        let at = |name: &str| super::meshes::arg_span(params, args, name).unwrap_or(span);
+        match crate::glyphs::text(&mut self.dag, named, max_glyphs, source) {
+            Ok(built) => {
+                for w in built.warnings {
+                    let code = match w.kind {
+                        crate::glyphs::TextWarningKind::FontNotFound => codes::FONT_NOT_FOUND,
+                        crate::glyphs::TextWarningKind::MissingGlyph => codes::MISSING_GLYPH,
+                        crate::glyphs::TextWarningKind::Ignored => codes::IGNORED_ARGUMENT,
+                        crate::glyphs::TextWarningKind::Empty => codes::EMPTY_PRIMITIVE,
+                    };
+                    self.warn(code, w.message, file, at(w.argument));
+                }
+                let node = match built.node {
+                    Some(node) => node,
+                    None => self.dag.empty(source),
+                };
+                self.mark_planar(from, node);
+                Ok(Some(node.into()))
+            }
+            Err(failure) => {
+                let code = if failure.limit {
+                    codes::VECTOR_LIMIT
+                } else if failure.argument == "font" {
+                    codes::FONT_UNUSABLE
+                } else {
+                    codes::MODULE_ARGUMENT
+                };
+                Err(self.error(code, failure.message, file, at(failure.argument)))
             }
         }
     }

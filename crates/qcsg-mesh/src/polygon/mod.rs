@@ -25,6 +25,8 @@
 mod bsp;
 mod region;
 
+pub mod curved;
+
 use std::fmt;
 
 use glam::DVec2;

@@ -1,0 +1,233 @@
+//! Where OpenSCAD 2021.01 puts each glyph of a `text()`: shaping (HarfBuzz, here its Rust port
+//! rustybuzz, which applies the font's kerning, ligatures and right-to-left order), then the
+//! metrics of OpenSCAD's FreeType renderer.
+//!
+//! OpenSCAD sets FreeType's character size to `size · 1000` (26.6 points at 100 dpi) and
+//! divides outline coordinates by 1000, so one em is `size / 0.72` units; but it divides
+//! HarfBuzz's advances, offsets and FreeType's glyph boxes by `64 · 16 = 1024`, so advances and
+//! the alignment boxes are `1000 / 1024` of the outline's scale. Both were checked against
+//! OpenSCAD's exported outlines (`openscad -o x.svg`). The outline points themselves are taken
+//! from the font unhinted, as OpenSCAD's exports show them.
+
+use glam::DVec2;
+use qcsg_mesh::curved::Segment;
+
+/// The ratio of the scale of advances and boxes to that of outlines (see the module page).
+const ADVANCE_RATIO: f64 = 1000.0 / 1024.0;
+
+/// The parameters of a `text()` call that shape and place it.
+pub struct TextParams<'t> {
+    /// The text.
+    pub text: &'t str,
+    /// `size`.
+    pub size: f64,
+    /// `spacing`: a factor on every advance.
+    pub spacing: f64,
+    /// `halign`: `left`, `center` or `right`.
+    pub halign: HAlign,
+    /// `valign`: `baseline`, `top`, `center` or `bottom`.
+    pub valign: VAlign,
+    /// `direction`, when given and valid.
+    pub direction: Option<rustybuzz::Direction>,
+    /// `language`, when given.
+    pub language: Option<&'t str>,
+    /// `script` (an ISO 15924 tag), when given.
+    pub script: Option<&'t str>,
+}
+
+/// Horizontal alignment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HAlign {
+    /// The origin at the start.
+    Left,
+    /// The origin in the middle of the advances.
+    Center,
+    /// The origin at the end.
+    Right,
+}
+
+/// Vertical alignment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VAlign {
+    /// The origin on the baseline.
+    Baseline,
+    /// The origin at the top of the glyphs' boxes.
+    Top,
+    /// The origin halfway between top and bottom.
+    Center,
+    /// The origin at the bottom of the glyphs' boxes.
+    Bottom,
+}
+
+/// A glyph placed: its outline in output coordinates.
+pub struct PlacedGlyph {
+    /// Closed contours of lines and quadratic arcs.
+    pub contours: Vec<Vec<Segment>>,
+    /// The index of the first character the glyph shows (a byte offset in the text).
+    pub cluster: u32,
+}
+
+/// Why a text could not be laid out.
+#[derive(Debug)]
+pub enum LayoutError {
+    /// The font has cubic (CFF) outlines.
+    Cubic,
+    /// The font file cannot be parsed.
+    Unreadable(String),
+}
+
+/// Collects a glyph's outline, scaled and moved.
+struct Outline {
+    scale: f64,
+    offset: DVec2,
+    contours: Vec<Vec<Segment>>,
+    pen: DVec2,
+    cubic: bool,
+}
+
+impl Outline {
+    fn at(&self, x: f32, y: f32) -> DVec2 {
+        DVec2::new(f64::from(x), f64::from(y)) * self.scale + self.offset
+    }
+}
+
+impl ttf_parser::OutlineBuilder for Outline {
+    fn move_to(&mut self, x: f32, y: f32) {
+        self.contours.push(Vec::new());
+        self.pen = self.at(x, y);
+    }
+    fn line_to(&mut self, x: f32, y: f32) {
+        let to = self.at(x, y);
+        if let Some(c) = self.contours.last_mut() {
+            c.push(Segment::Line(self.pen, to));
+        }
+        self.pen = to;
+    }
+    fn quad_to(&mut self, x1: f32, y1: f32, x: f32, y: f32) {
+        let (control, to) = (self.at(x1, y1), self.at(x, y));
+        if let Some(c) = self.contours.last_mut() {
+            c.push(Segment::Quad(self.pen, control, to));
+        }
+        self.pen = to;
+    }
+    fn curve_to(&mut self, _: f32, _: f32, _: f32, _: f32, x: f32, y: f32) {
+        self.cubic = true;
+        self.pen = self.at(x, y);
+    }
+    fn close(&mut self) {}
+}
+
+/// Whether the face draws its glyphs with cubic curves (CFF or CFF2 outlines, no `glyf`).
+pub fn is_cubic(face: &ttf_parser::Face<'_>) -> bool {
+    let tables = face.tables();
+    tables.glyf.is_none() && (tables.cff.is_some() || tables.cff2.is_some())
+}
+
+/// The glyphs of `params.text` in `data`'s face `index`, placed as OpenSCAD places them.
+pub fn layout(
+    data: &[u8],
+    index: u32,
+    params: &TextParams<'_>,
+) -> Result<Vec<PlacedGlyph>, LayoutError> {
+    let face = rustybuzz::Face::from_slice(data, index)
+        .ok_or_else(|| LayoutError::Unreadable("the font file cannot be parsed".into()))?;
+    if is_cubic(&face) {
+        return Err(LayoutError::Cubic);
+    }
+    let upem = f64::from(face.units_per_em());
+    let scale = params.size / 0.72 / upem;
+    let advance_scale = scale * ADVANCE_RATIO;
+    let mut buffer = rustybuzz::UnicodeBuffer::new();
+    buffer.push_str(params.text);
+    if let Some(script) = params.script.and_then(|s| {
+        let bytes = s.as_bytes();
+        (bytes.len() == 4)
+            .then(|| {
+                rustybuzz::Script::from_iso15924_tag(ttf_parser::Tag::from_bytes(&[
+                    bytes[0].to_ascii_uppercase(),
+                    bytes[1].to_ascii_lowercase(),
+                    bytes[2].to_ascii_lowercase(),
+                    bytes[3].to_ascii_lowercase(),
+                ]))
+            })
+            .flatten()
+    }) {
+        buffer.set_script(script);
+    }
+    if let Some(language) = params.language.and_then(|l| l.parse().ok()) {
+        buffer.set_language(language);
+    }
+    buffer.guess_segment_properties();
+    if let Some(direction) = params.direction {
+        buffer.set_direction(direction);
+    }
+    let horizontal = matches!(
+        buffer.direction(),
+        rustybuzz::Direction::LeftToRight
+            | rustybuzz::Direction::RightToLeft
+            | rustybuzz::Direction::Invalid
+    );
+    let shaped = rustybuzz::shape(&face, &[], buffer);
+    let infos = shaped.glyph_infos();
+    let positions = shaped.glyph_positions();
+
+    // The extents OpenSCAD aligns by: advances and the glyphs' control boxes, at 1000/1024.
+    let (mut width, mut ascend, mut descend) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for (info, pos) in infos.iter().zip(positions) {
+        let bbox = face.glyph_bounding_box(ttf_parser::GlyphId(info.glyph_id as u16));
+        if horizontal {
+            width += f64::from(pos.x_advance) * advance_scale * params.spacing;
+            if let Some(b) = bbox {
+                ascend = ascend.max(f64::from(b.y_max) * advance_scale);
+                descend = descend.max(-f64::from(b.y_min) * advance_scale);
+            }
+        } else {
+            if let Some(b) = bbox {
+                width = width.max(f64::from(b.x_max - b.x_min) * advance_scale);
+            }
+            ascend += f64::from(pos.y_advance) * advance_scale * params.spacing;
+        }
+    }
+    let x_offset = match params.halign {
+        HAlign::Left => 0.0,
+        HAlign::Center => -width / 2.0,
+        HAlign::Right => -width,
+    };
+    let y_offset = match params.valign {
+        VAlign::Baseline => 0.0,
+        VAlign::Top => -ascend,
+        VAlign::Center => descend / 2.0 - ascend / 2.0,
+        VAlign::Bottom => descend,
+    };
+
+    let mut placed = Vec::with_capacity(infos.len());
+    let mut advance = DVec2::ZERO;
+    for (info, pos) in infos.iter().zip(positions) {
+        let offset = DVec2::new(
+            x_offset + f64::from(pos.x_offset) * advance_scale,
+            y_offset + f64::from(pos.y_offset) * advance_scale,
+        ) + advance;
+        let mut outline = Outline {
+            scale,
+            offset,
+            contours: Vec::new(),
+            pen: offset,
+            cubic: false,
+        };
+        face.outline_glyph(ttf_parser::GlyphId(info.glyph_id as u16), &mut outline);
+        if outline.cubic {
+            return Err(LayoutError::Cubic);
+        }
+        advance += DVec2::new(f64::from(pos.x_advance), f64::from(pos.y_advance))
+            * advance_scale
+            * params.spacing;
+        outline.contours.retain(|c| !c.is_empty());
+        if !outline.contours.is_empty() {
+            placed.push(PlacedGlyph {
+                contours: outline.contours,
+                cluster: info.cluster,
+            });
+        }
+    }
+    Ok(placed)
+}

@@ -1,0 +1,340 @@
+//! OpenSCAD's `text()` as an exact 2-D shape: TrueType glyph outlines are straight segments and
+//! quadratic Bézier arcs, and each arc is a piece of a parabola, so a glyph is a union of convex
+//! cells cut by at most a few parabolic cylinders ([`qcsg_mesh::curved`]), all z-invariant.
+//!
+//! Fonts are found by fontconfig-style names ([`fonts`]); glyphs are shaped and placed with
+//! OpenSCAD 2021.01's metrics ([`layout`]). Each glyph is filled with the non-zero rule, as
+//! OpenSCAD's Clipper union of the glyph outlines does, and the glyphs are united. Every glyph and
+//! every cell declares its box, so pruning leaves a far glyph out of every query.
+
+pub mod fonts;
+pub mod layout;
+
+use glam::DVec2;
+use qcsg_csg::{Dag, Edge, NodeId, Source};
+use qcsg_mesh::curved::{CurvedError, CurvedRegion, FillRule, curved_cells};
+use qcsg_quadric::Quadric;
+
+use crate::polygon::half_space;
+use crate::primitives::ArgLookup;
+use crate::primitives_2d::column;
+use crate::value::Value;
+use layout::{HAlign, LayoutError, TextParams, VAlign};
+
+/// A warning of a `text()` call and the argument it is about.
+pub struct TextWarning {
+    /// `"font"` for a font that was not found, `"text"` for missing glyphs, or the argument
+    /// whose value is ignored.
+    pub argument: &'static str,
+    /// The message.
+    pub message: String,
+    /// Whether it is a missing glyph or font (as opposed to an ignored argument value).
+    pub kind: TextWarningKind,
+}
+
+/// What a [`TextWarning`] is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TextWarningKind {
+    /// No installed font has the family: the default font is used.
+    FontNotFound,
+    /// Characters the font has no glyph for: its missing-glyph shape is drawn.
+    MissingGlyph,
+    /// An argument value OpenSCAD ignores.
+    Ignored,
+    /// A size that makes the text empty.
+    Empty,
+}
+
+/// Why a `text()` call was refused, and at which argument.
+pub struct TextFailure {
+    /// The argument the message is about (`"font"`, `"size"`, `"text"`).
+    pub argument: &'static str,
+    /// The message.
+    pub message: String,
+    /// Whether it is a limit (more glyphs than allowed).
+    pub limit: bool,
+}
+
+/// A built text: its node (`None` when empty) and the warnings.
+pub struct BuiltText {
+    /// The union of the glyphs, or `None` when nothing is drawn.
+    pub node: Option<NodeId>,
+    /// Fonts not found, missing glyphs, ignored values.
+    pub warnings: Vec<TextWarning>,
+}
+
+fn string_arg<'v>(args: &'v Value<'_>) -> Option<&'v str> {
+    match args {
+        Value::String(s) => Some(s),
+        _ => None,
+    }
+}
+
+/// `text(text, size, font, halign, valign, spacing, direction, language, script)`, with at most
+/// `max_glyphs` glyphs.
+pub fn text(
+    dag: &mut Dag,
+    args: &dyn ArgLookup<'_>,
+    max_glyphs: usize,
+    source: Source,
+) -> Result<BuiltText, TextFailure> {
+    let mut warnings = Vec::new();
+    let mut ignored = |argument: &'static str, message: String| {
+        warnings.push(TextWarning {
+            argument,
+            message,
+            kind: TextWarningKind::Ignored,
+        })
+    };
+    let text_value = args.get("text");
+    let text: String = match &text_value {
+        Value::String(s) => s.to_string(),
+        Value::Undef => String::new(),
+        other => {
+            ignored(
+                "text",
+                format!(
+                    "text() needs a string, got {}: nothing is drawn, as in OpenSCAD",
+                    other.type_name()
+                ),
+            );
+            String::new()
+        }
+    };
+    let number = |name: &str, default: f64| match args.get(name) {
+        Value::Undef => Some(default),
+        v => v.as_number(),
+    };
+    let size = number("size", 10.0);
+    let spacing = number("spacing", 1.0);
+    let (Some(size), Some(spacing)) = (size, spacing) else {
+        return Err(TextFailure {
+            argument: if size.is_none() { "size" } else { "spacing" },
+            message: "text(size, spacing) need numbers".into(),
+            limit: false,
+        });
+    };
+    let halign_value = args.get("halign");
+    let halign = match string_arg(&halign_value).unwrap_or("left") {
+        "left" => HAlign::Left,
+        "center" => HAlign::Center,
+        "right" => HAlign::Right,
+        other => {
+            ignored(
+                "halign",
+                format!(
+                    "unknown halign \"{other}\" (use \"left\", \"right\" or \"center\"): \"left\" is used, as in OpenSCAD"
+                ),
+            );
+            HAlign::Left
+        }
+    };
+    let valign_value = args.get("valign");
+    let valign = match string_arg(&valign_value).unwrap_or("baseline") {
+        "baseline" => VAlign::Baseline,
+        "top" => VAlign::Top,
+        "center" => VAlign::Center,
+        "bottom" => VAlign::Bottom,
+        other => {
+            ignored(
+                "valign",
+                format!(
+                    "unknown valign \"{other}\" (use \"baseline\", \"bottom\", \"top\" or \"center\"): \"baseline\" is used, as in OpenSCAD"
+                ),
+            );
+            VAlign::Baseline
+        }
+    };
+    let direction_value = args.get("direction");
+    let direction = match string_arg(&direction_value) {
+        None => None,
+        Some(d) => match d.to_ascii_lowercase().as_str() {
+            "ltr" => Some(rustybuzz::Direction::LeftToRight),
+            "rtl" => Some(rustybuzz::Direction::RightToLeft),
+            "ttb" => Some(rustybuzz::Direction::TopToBottom),
+            "btt" => Some(rustybuzz::Direction::BottomToTop),
+            _ => {
+                ignored(
+                    "direction",
+                    format!(
+                        "unknown direction \"{d}\" (use \"ltr\", \"rtl\", \"ttb\" or \"btt\"): the script's direction is used, as in OpenSCAD"
+                    ),
+                );
+                None
+            }
+        },
+    };
+    let language_value = args.get("language");
+    let script_value = args.get("script");
+    let font_value = args.get("font");
+    let font_name = string_arg(&font_value).unwrap_or("");
+
+    if text.is_empty() {
+        return Ok(BuiltText {
+            node: None,
+            warnings,
+        });
+    }
+    if size.is_nan() || size <= 0.0 || !size.is_finite() || !spacing.is_finite() {
+        warnings.push(TextWarning {
+            argument: "size",
+            message: format!(
+                "text(size = {size}, spacing = {spacing}) draws nothing: the size must be a positive number"
+            ),
+            kind: TextWarningKind::Empty,
+        });
+        return Ok(BuiltText {
+            node: None,
+            warnings,
+        });
+    }
+    if text.chars().count() > max_glyphs {
+        return Err(TextFailure {
+            argument: "text",
+            message: format!(
+                "the text has {} characters, more than the limit of {max_glyphs} glyphs",
+                text.chars().count()
+            ),
+            limit: true,
+        });
+    }
+
+    let name = fonts::parse_name(font_name);
+    let font = match fonts::find(&name) {
+        Some(found) => found,
+        None => {
+            warnings.push(TextWarning {
+                argument: "font",
+                message: format!(
+                    "no installed font has the family of \"{font_name}\": {} is used",
+                    fonts::DEFAULT_FAMILY
+                ),
+                kind: TextWarningKind::FontNotFound,
+            });
+            fonts::bundled()
+        }
+    };
+    if let Ok(face) = ttf_parser::Face::parse(&font.data, font.index) {
+        let missing: String = text
+            .chars()
+            .filter(|&c| !c.is_control() && face.glyph_index(c).is_none())
+            .take(16)
+            .collect();
+        if !missing.is_empty() {
+            warnings.push(TextWarning {
+                argument: "text",
+                message: format!(
+                    "the font {} {} has no glyph for \"{missing}\": its missing-glyph shape is drawn, as in OpenSCAD",
+                    font.family, font.style
+                ),
+                kind: TextWarningKind::MissingGlyph,
+            });
+        }
+    }
+    let params = TextParams {
+        text: &text,
+        size,
+        spacing,
+        halign,
+        valign,
+        direction,
+        language: string_arg(&language_value),
+        script: string_arg(&script_value),
+    };
+    let glyphs = layout::layout(&font.data, font.index, &params).map_err(|e| TextFailure {
+        argument: "font",
+        message: match e {
+            LayoutError::Cubic => format!(
+                "the font {} {} draws its glyphs with cubic (CFF) curves, which are not quadrics; use a TrueType font such as \"Liberation Sans\", \"Liberation Serif\" or \"DejaVu Sans\"",
+                font.family, font.style
+            ),
+            LayoutError::Unreadable(m) => format!("the font {} {}: {m}", font.family, font.style),
+        },
+        limit: false,
+    })?;
+    let mut nodes: Vec<Edge> = Vec::with_capacity(glyphs.len());
+    let (mut min, mut max) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for glyph in &glyphs {
+        let region = curved_cells(&glyph.contours, FillRule::NonZero).map_err(|e| TextFailure {
+            argument: if e == CurvedError::BadPoint {
+                "size"
+            } else {
+                "font"
+            },
+            message: format!("the glyph at byte {} of the text: {e}", glyph.cluster),
+            limit: false,
+        })?;
+        if let Some(node) = region_node(dag, &region, source).map_err(|m| TextFailure {
+            argument: "size",
+            message: m,
+            limit: false,
+        })? {
+            nodes.push(node.into());
+            min = min.min(region.min);
+            max = max.max(region.max);
+        }
+    }
+    let node = match nodes.len() {
+        0 => None,
+        1 => Some(nodes[0].child),
+        _ => {
+            let union = dag.union(nodes, source);
+            Some(dag.bounded(union, column(min, max)))
+        }
+    };
+    Ok(BuiltText { node, warnings })
+}
+
+/// The z-invariant solid `Q ≤ 0` of one side of an arc's parabola.
+fn parabola_side(arc: &qcsg_mesh::curved::BezierArc, inside: bool) -> Option<Quadric> {
+    let origin = (arc.p0 + arc.p1 + arc.p2) / 3.0;
+    let [xx, yy, xy, x, y, c] = arc.conic(origin);
+    let s = if inside { 1.0 } else { -1.0 };
+    Quadric::new(
+        origin.extend(0.0),
+        [
+            s * xx,
+            s * yy,
+            0.0,
+            s * xy / 2.0,
+            0.0,
+            0.0,
+            s * x / 2.0,
+            s * y / 2.0,
+            0.0,
+            s * c,
+        ],
+    )
+}
+
+/// The union of a curved region's cells, each the intersection of its half-spaces and parabola
+/// sides within its box; `None` for an empty region.
+pub fn region_node(
+    dag: &mut Dag,
+    region: &CurvedRegion,
+    source: Source,
+) -> Result<Option<NodeId>, String> {
+    let mut cells: Vec<Edge> = Vec::with_capacity(region.cells.len());
+    for cell in &region.cells {
+        let mut sides: Vec<Edge> = Vec::with_capacity(cell.half_planes.len() + cell.sides.len());
+        for h in &cell.half_planes {
+            let q = half_space(h).ok_or("an edge of the glyph is not representable")?;
+            sides.push(dag.leaf(q, source).into());
+        }
+        for side in &cell.sides {
+            let q = parabola_side(&region.arcs[side.arc], side.inside)
+                .ok_or("an arc of the glyph is not representable")?;
+            sides.push(dag.leaf(q, source).into());
+        }
+        let node = dag.intersection(sides, source);
+        cells.push(dag.bounded(node, column(cell.min, cell.max)).into());
+    }
+    Ok(match cells.len() {
+        0 => None,
+        1 => Some(cells[0].child),
+        _ => {
+            let node = dag.union(cells, source);
+            Some(dag.bounded(node, column(region.min, region.max)))
+        }
+    })
+}

@@ -1,0 +1,244 @@
+//! The curved decomposition against winding numbers of finely flattened outlines.
+
+use super::*;
+
+fn p(x: f64, y: f64) -> DVec2 {
+    DVec2::new(x, y)
+}
+
+/// The winding number of the outline at `q`, with every arc flattened into `n` chords.
+fn flattened_winding(contours: &[Vec<Segment>], q: DVec2, n: usize) -> i32 {
+    let mut w = 0;
+    let mut edge = |a: DVec2, b: DVec2| {
+        if (a.y <= q.y) != (b.y <= q.y) {
+            let t = (q.y - a.y) / (b.y - a.y);
+            if a.x + t * (b.x - a.x) > q.x {
+                w += if b.y > a.y { 1 } else { -1 };
+            }
+        }
+    };
+    for contour in contours {
+        for s in contour {
+            match *s {
+                Segment::Line(a, b) => edge(a, b),
+                Segment::Quad(a, c, b) => {
+                    let arc = BezierArc {
+                        p0: a,
+                        p1: c,
+                        p2: b,
+                    };
+                    for k in 0..n {
+                        edge(
+                            arc.point(k as f64 / n as f64),
+                            arc.point((k + 1) as f64 / n as f64),
+                        );
+                    }
+                }
+            }
+        }
+    }
+    // The crossing test counts rays to +x; a counter-clockwise loop gives −1 on its left side.
+    -w
+}
+
+/// The distance from `q` to the outline, flattened.
+fn distance(contours: &[Vec<Segment>], q: DVec2, n: usize) -> f64 {
+    let seg = |a: DVec2, b: DVec2| {
+        let t = ((q - a).dot(b - a) / (b - a).length_squared().max(1e-300)).clamp(0.0, 1.0);
+        (a + (b - a) * t).distance(q)
+    };
+    let mut d = f64::INFINITY;
+    for contour in contours {
+        for s in contour {
+            match *s {
+                Segment::Line(a, b) => d = d.min(seg(a, b)),
+                Segment::Quad(a, c, b) => {
+                    let arc = BezierArc {
+                        p0: a,
+                        p1: c,
+                        p2: b,
+                    };
+                    for k in 0..n {
+                        d = d.min(seg(
+                            arc.point(k as f64 / n as f64),
+                            arc.point((k + 1) as f64 / n as f64),
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    d
+}
+
+/// A deterministic generator (splitmix64).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn check_against_flattening(contours: &[Vec<Segment>], rule: FillRule, seed: u64) {
+    let region = curved_cells(contours, rule).unwrap();
+    let mut rng = Rng(seed);
+    let mut checked = 0;
+    for _ in 0..800 {
+        let q = p(rng.next() * 12.0 - 1.0, rng.next() * 12.0 - 1.0);
+        // Flattening with 1024 chords moves the curve by far less than this margin.
+        if distance(contours, q, 64) < 2e-3 {
+            continue;
+        }
+        let w = flattened_winding(contours, q, 1024);
+        let expected = match rule {
+            FillRule::EvenOdd => w % 2 != 0,
+            FillRule::NonZero => w != 0,
+        };
+        assert_eq!(region.contains(q), expected, "at {q} (winding {w})");
+        checked += 1;
+    }
+    assert!(checked > 500);
+}
+
+#[test]
+fn a_square_with_a_bulging_and_a_hollow_side() {
+    // Counter-clockwise; the right side bulges out, the top side dips in.
+    let contour = vec![
+        Segment::Line(p(0.0, 0.0), p(8.0, 0.0)),
+        Segment::Quad(p(8.0, 0.0), p(12.0, 4.0), p(8.0, 8.0)),
+        Segment::Quad(p(8.0, 8.0), p(4.0, 3.0), p(0.0, 8.0)),
+        Segment::Line(p(0.0, 8.0), p(0.0, 0.0)),
+    ];
+    for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+        let region = curved_cells(std::slice::from_ref(&contour), rule).unwrap();
+        assert!(region.contains(p(9.5, 4.0)), "in the bulge");
+        assert!(!region.contains(p(10.5, 4.0)), "beyond the bulge");
+        assert!(!region.contains(p(4.0, 7.0)), "in the dip");
+        assert!(region.contains(p(4.0, 5.0)), "below the dip");
+        assert_eq!(region.arcs.len(), 2);
+        check_against_flattening(std::slice::from_ref(&contour), rule, 1);
+    }
+}
+
+#[test]
+fn a_ring_of_arcs_with_a_hole() {
+    // An "O": an outer loop of four arcs clockwise (as TrueType draws it), a hole counter-clockwise.
+    let ring = |r: f64, clockwise: bool| {
+        let c = p(5.0, 5.0);
+        let pts: Vec<DVec2> = (0..8)
+            .map(|k| {
+                let a = std::f64::consts::FRAC_PI_4 * k as f64;
+                let rr = if k % 2 == 0 {
+                    r
+                } else {
+                    r * std::f64::consts::SQRT_2
+                };
+                c + DVec2::new(a.cos(), a.sin()) * rr
+            })
+            .collect();
+        let mut arcs: Vec<Segment> = (0..4)
+            .map(|k| Segment::Quad(pts[2 * k], pts[2 * k + 1], pts[(2 * k + 2) % 8]))
+            .collect();
+        if clockwise {
+            arcs = arcs
+                .into_iter()
+                .rev()
+                .map(|s| match s {
+                    Segment::Quad(a, c, b) => Segment::Quad(b, c, a),
+                    other => other,
+                })
+                .collect();
+        }
+        arcs
+    };
+    let contours = vec![ring(5.0, true), ring(3.0, false)];
+    for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+        let region = curved_cells(&contours, rule).unwrap();
+        assert!(!region.contains(p(5.0, 5.0)));
+        assert!(region.contains(p(9.0, 5.0)));
+        check_against_flattening(&contours, rule, 2);
+    }
+}
+
+#[test]
+fn overlapping_contours_follow_the_fill_rule() {
+    let square = |x: f64, y: f64, s: f64| {
+        vec![
+            Segment::Line(p(x, y), p(x + s, y)),
+            Segment::Quad(p(x + s, y), p(x + s + 2.0, y + s / 2.0), p(x + s, y + s)),
+            Segment::Line(p(x + s, y + s), p(x, y + s)),
+            Segment::Line(p(x, y + s), p(x, y)),
+        ]
+    };
+    let contours = vec![square(0.0, 0.0, 6.0), square(3.0, 2.0, 6.0)];
+    let nonzero = curved_cells(&contours, FillRule::NonZero).unwrap();
+    let evenodd = curved_cells(&contours, FillRule::EvenOdd).unwrap();
+    // In both squares and in the first one's bulge, which lies in the second square.
+    assert!(nonzero.contains(p(6.5, 3.0)));
+    assert!(!evenodd.contains(p(6.5, 3.0)));
+    assert!(nonzero.contains(p(4.0, 4.0)) && !evenodd.contains(p(4.0, 4.0)));
+    check_against_flattening(&contours, FillRule::NonZero, 3);
+    check_against_flattening(&contours, FillRule::EvenOdd, 4);
+}
+
+#[test]
+fn random_curved_outlines_match_their_winding_numbers() {
+    let mut rng = Rng(99);
+    for round in 0..12 {
+        let mut contours = Vec::new();
+        for _ in 0..2 {
+            let n = 3 + (rng.next() * 6.0) as usize;
+            let pts: Vec<DVec2> = (0..n)
+                .map(|_| p(rng.next() * 10.0, rng.next() * 10.0))
+                .collect();
+            let contour = (0..n)
+                .map(|k| {
+                    let (a, b) = (pts[k], pts[(k + 1) % n]);
+                    if rng.next() < 0.6 {
+                        let mid = (a + b) * 0.5 + p(rng.next() - 0.5, rng.next() - 0.5) * 6.0;
+                        Segment::Quad(a, mid, b)
+                    } else {
+                        Segment::Line(a, b)
+                    }
+                })
+                .collect();
+            contours.push(contour);
+        }
+        match curved_cells(&contours, FillRule::NonZero) {
+            Ok(_) => {
+                check_against_flattening(&contours, FillRule::NonZero, round);
+                check_against_flattening(&contours, FillRule::EvenOdd, round + 100);
+            }
+            // Random self-crossing outlines may pile up lunes; that must be reported, not wrong.
+            Err(e) => assert_eq!(e, CurvedError::TooManyOverlappingArcs),
+        }
+    }
+}
+
+#[test]
+fn the_conic_is_the_arc_value_scaled() {
+    let arc = BezierArc {
+        p0: p(1.0, 2.0),
+        p1: p(4.0, 7.0),
+        p2: p(8.0, 1.0),
+    };
+    let origin = p(3.0, 3.0);
+    let k = arc.conic(origin);
+    let conic = |q: DVec2| {
+        let x = q - origin;
+        k[0] * x.x * x.x + k[1] * x.y * x.y + k[2] * x.x * x.y + k[3] * x.x + k[4] * x.y + k[5]
+    };
+    for t in [0.0, 0.1, 0.5, 0.93, 1.0] {
+        assert!(conic(arc.point(t)).abs() < 1e-12, "on the arc at {t}");
+    }
+    let inside = p(4.5, 2.5);
+    let ratio = conic(inside) / arc.value(inside);
+    assert!(ratio > 0.0);
+    for q in [p(0.0, 0.0), p(5.0, 9.0), p(-3.0, 4.0)] {
+        assert!((conic(q) / arc.value(q) - ratio).abs() < 1e-9 * ratio);
+    }
+}
