@@ -17,6 +17,8 @@
 //! A region restricts the whole computation: the result then satisfies
 //! `(⋃ terms) ∩ region = solid ∩ region`, which is what a later spatially local DNF needs.
 
+mod plane_cells;
+
 use std::collections::{HashMap, HashSet};
 
 use qcsg_diag::{Diagnostic, Span};
@@ -168,7 +170,12 @@ pub fn build_dnf_of(dag: &Dag, root: Edge, options: &DnfOptions) -> Result<Dnf, 
     };
     let mut terms = match builder.and_into(start, root, &ctx) {
         Ok(terms) => terms,
-        Err(Abort::TermLimit(source)) => {
+        Err(abort) => {
+            // A budget is only set inside an attempt, which never lets it escape.
+            let source = match abort {
+                Abort::TermLimit(source) => source,
+                Abort::OverBudget => dag.node(root.child).map(|n| n.source).unwrap_or_default(),
+            };
             return Err(vec![
                 Diagnostic::error(
                     codes::TERM_LIMIT,
@@ -324,6 +331,8 @@ fn unbounded_diagnostics(dnf: &Dnf, own_boxes: &[Aabb], dag: &Dag, root: Edge) -
 enum Abort {
     /// The term limit was crossed while expanding the node made at this source.
     TermLimit(Source),
+    /// A budgeted expansion ([`Builder::expand_or_cells`]) did more work than allowed.
+    OverBudget,
 }
 
 /// What holds on the way down from the root to a node.
@@ -386,6 +395,10 @@ struct Builder<'a> {
     shape_groups: HashMap<ShapeGroup, Vec<u32>>,
     /// Each node's box in its own frame.
     local_boxes: Vec<Aabb>,
+    /// Which nodes are made of planes only, and how large their plain expansion would be.
+    plane_sizes: Vec<Option<plane_cells::PlaneSize>>,
+    /// The budget of the plain expansion being tried on a part made of planes, if any.
+    attempt: Option<plane_cells::Attempt>,
     singular_reported: HashSet<NodeId>,
     warnings: Vec<Diagnostic>,
     stats: crate::stats::ConstructionStats,
@@ -408,6 +421,8 @@ impl<'a> Builder<'a> {
             literal_index: HashMap::new(),
             shape_groups: HashMap::new(),
             local_boxes: dag.local_bounds(),
+            plane_sizes: plane_cells::plane_sizes(dag),
+            attempt: None,
             singular_reported: HashSet::new(),
             warnings: Vec::new(),
             stats: Default::default(),
@@ -468,8 +483,29 @@ impl<'a> Builder<'a> {
             child_ctx.enclosing = ctx.enclosing.intersection(&world_box);
         }
         let negated = ctx.negated;
-        let mut result = match &node.kind {
-            NodeKind::Leaf(q) => self.add_leaf(acc, edge.child, q, node.source, &child_ctx),
+        let result = if self.wants_cells(edge.child, negated) {
+            // A part made of planes whose expansion may multiply out: cells where it does.
+            let enclosing = if negated {
+                ctx.enclosing
+            } else {
+                child_ctx.enclosing
+            };
+            self.expand_or_cells(acc, edge.child, &child_ctx, enclosing)?
+        } else {
+            self.expand(acc, edge.child, &child_ctx)?
+        };
+        self.finish_node(result, untouched, negated, world_box, node.source)
+    }
+
+    /// `acc ∩ X` for the node `id` (in `ctx`'s frame and sign), by the node's kind.
+    fn expand(&mut self, acc: Vec<Term>, id: NodeId, ctx: &Context) -> Result<Vec<Term>, Abort> {
+        let Some(node) = self.dag.node(id) else {
+            return Ok(if ctx.negated { acc } else { Vec::new() });
+        };
+        let negated = ctx.negated;
+        let mut child_ctx = ctx.clone();
+        Ok(match &node.kind {
+            NodeKind::Leaf(q) => self.add_leaf(acc, id, q, node.source, &child_ctx),
             NodeKind::Complement(e) => {
                 child_ctx.negated = !negated;
                 self.and_into(acc, *e, &child_ctx)?
@@ -502,7 +538,25 @@ impl<'a> Builder<'a> {
                     .collect();
                 self.combine(acc, &operands, combine, node.source, &child_ctx)?
             }
-        };
+        })
+    }
+
+    /// The terms formed at a node, boxed by the node's box (when not complemented), with the
+    /// terms that passed by untouched.
+    fn finish_node(
+        &mut self,
+        mut result: Vec<Term>,
+        mut untouched: Vec<Term>,
+        negated: bool,
+        world_box: Aabb,
+        source: Source,
+    ) -> Result<Vec<Term>, Abort> {
+        if let Some(attempt) = &mut self.attempt {
+            attempt.work += result.len();
+            if attempt.work > attempt.budget {
+                return Err(Abort::OverBudget);
+            }
+        }
         if !negated {
             // Every term formed here lies in X, hence in X's box.
             let before = result.len();
@@ -515,7 +569,7 @@ impl<'a> Builder<'a> {
             self.stats.terms_empty_bounds += before - result.len();
         }
         if !untouched.is_empty() {
-            self.check_limit(untouched.len() + result.len(), node.source)?;
+            self.check_limit(untouched.len() + result.len(), source)?;
             untouched.append(&mut result);
             result = untouched;
         }
@@ -626,51 +680,55 @@ impl<'a> Builder<'a> {
             // A flattened leaf has no volume; its complement is everything.
             return if ctx.negated { acc } else { Vec::new() };
         };
+        acc.retain_mut(|term| self.add_literal(term, id, &ctx.enclosing));
+        acc
+    }
+
+    /// Adds literal `id` to `term` with the construction's pruning (`enclosing` holds the
+    /// finished term); false when the term is provably empty and must be dropped.
+    fn add_literal(&mut self, term: &mut Term, id: u32, enclosing: &Aabb) -> bool {
         let literal = &self.literals[id as usize];
         let (quadric, own_box, excluded) = (literal.quadric, literal.own_box, literal.excluded);
         let pruning = self.pruning;
-        acc.retain_mut(|term| {
-            let position = match term.literals.binary_search(&id) {
-                Ok(_) => {
-                    self.stats.literals_duplicate += 1;
-                    return true;
-                }
-                Err(position) => position,
-            };
-            let mut bounds = term.bounds.intersection(&own_box);
-            if let Some((axis, low, high)) = excluded {
-                bounds = clip_outside_interval(&bounds, axis, low, high);
-            }
-            if pruning.empty_bounds && bounds.is_empty() {
-                self.stats.terms_empty_bounds += 1;
-                return false;
-            }
-            // The term will lie in `bounds ∩ enclosing`: a literal false there ends it.
-            let outer = bounds.intersection(&ctx.enclosing);
-            if pruning.empty_bounds && outer.is_empty() {
-                self.stats.terms_empty_bounds += 1;
-                return false;
-            }
-            if pruning.outside_literal
-                && !outer.is_empty()
-                && classify(&quadric, &outer) == BoxClass::Outside
-            {
-                self.stats.terms_outside_literal += 1;
-                return false;
-            }
-            // The term so far lies in its own box: a literal true there adds nothing.
-            if pruning.inside_literal
-                && !term.bounds.is_empty()
-                && classify(&quadric, &term.bounds) == BoxClass::Inside
-            {
-                self.stats.literals_inside += 1;
+        let position = match term.literals.binary_search(&id) {
+            Ok(_) => {
+                self.stats.literals_duplicate += 1;
                 return true;
             }
-            term.literals.insert(position, id);
-            term.bounds = bounds;
-            true
-        });
-        acc
+            Err(position) => position,
+        };
+        let mut bounds = term.bounds.intersection(&own_box);
+        if let Some((axis, low, high)) = excluded {
+            bounds = clip_outside_interval(&bounds, axis, low, high);
+        }
+        if pruning.empty_bounds && bounds.is_empty() {
+            self.stats.terms_empty_bounds += 1;
+            return false;
+        }
+        // The term will lie in `bounds ∩ enclosing`: a literal false there ends it.
+        let outer = bounds.intersection(enclosing);
+        if pruning.empty_bounds && outer.is_empty() {
+            self.stats.terms_empty_bounds += 1;
+            return false;
+        }
+        if pruning.outside_literal
+            && !outer.is_empty()
+            && classify(&quadric, &outer) == BoxClass::Outside
+        {
+            self.stats.terms_outside_literal += 1;
+            return false;
+        }
+        // The term so far lies in its own box: a literal true there adds nothing.
+        if pruning.inside_literal
+            && !term.bounds.is_empty()
+            && classify(&quadric, &term.bounds) == BoxClass::Inside
+        {
+            self.stats.literals_inside += 1;
+            return true;
+        }
+        term.literals.insert(position, id);
+        term.bounds = bounds;
+        true
     }
 
     /// The literal for `leaf` under the context's transform, sign and colour; `None` when
@@ -704,10 +762,26 @@ impl<'a> Builder<'a> {
             return None;
         };
         let world = if ctx.negated { world.negated() } else { world };
+        let rounding = Rounding::of_placement(&ctx.matrix, q.origin());
+        let id = self.intern(world, source, ctx.color, ctx.highlight, rounding);
+        self.literal_index.insert(key, Some(id));
+        Some(id)
+    }
+
+    /// The id of the world-space literal `world` with its appearance: an equal literal already
+    /// interned (same appearance, equal up to a positive factor), or a new one.
+    fn intern(
+        &mut self,
+        world: Quadric,
+        source: Source,
+        color: Option<Rgba>,
+        highlight: bool,
+        rounding: Rounding,
+    ) -> u32 {
         let group_key = ShapeGroup {
             shape: shape_key(&world),
-            color: ctx.color.map(|c| c.map(f64::to_bits)),
-            highlight: ctx.highlight,
+            color: color.map(|c| c.map(f64::to_bits)),
+            highlight,
         };
         let group = self.shape_groups.entry(group_key).or_default();
         let candidates: &[u32] = if self.pruning.merged_literals {
@@ -721,8 +795,7 @@ impl<'a> Builder<'a> {
                 .approx_eq_up_to_scale(&world, DUPLICATE_TOLERANCE)
             {
                 self.stats.literals_merged += 1;
-                self.literal_index.insert(key, Some(candidate));
-                return Some(candidate);
+                return candidate;
             }
         }
         let id = self.literals.len() as u32;
@@ -730,15 +803,14 @@ impl<'a> Builder<'a> {
         self.literals.push(Literal {
             quadric: world,
             source,
-            color: ctx.color,
-            highlight: ctx.highlight,
+            color,
+            highlight,
             own_box: solid_bounds(&world),
             excluded: excluded_interval(&world),
-            rounding: Rounding::of_placement(&ctx.matrix, q.origin()),
+            rounding,
         });
         self.stats.literals_interned += 1;
-        self.literal_index.insert(key, Some(id));
-        Some(id)
+        id
     }
 }
 

@@ -48,6 +48,9 @@ pub struct Pruning {
     pub duplicate_terms: bool,
     /// Construction: terms of a union that contain another term's literals are dropped.
     pub subsumed_terms: bool,
+    /// Construction: a part made of planes only whose expansion outgrows a budget near-linear
+    /// in its planes is cut into convex cells instead ([`crate::dnf`]'s `plane_cells`).
+    pub plane_cells: bool,
     /// Final pass `empty_bounds`.
     pub final_empty_bounds: bool,
     /// Final pass `literal_bounds`.
@@ -71,7 +74,7 @@ impl Default for Pruning {
 impl Pruning {
     /// The names of the rules, in the order of [`Pruning::set`]: construction rules first,
     /// then the final passes (prefixed `final_`).
-    pub const RULES: [&'static str; 13] = [
+    pub const RULES: [&'static str; 14] = [
         "operand_bounds",
         "empty_bounds",
         "outside_literal",
@@ -79,6 +82,7 @@ impl Pruning {
         "merged_literals",
         "duplicate_terms",
         "subsumed_terms",
+        "plane_cells",
         "final_empty_bounds",
         "final_literal_bounds",
         "final_coincident_pairs",
@@ -97,6 +101,7 @@ impl Pruning {
             merged_literals: true,
             duplicate_terms: true,
             subsumed_terms: true,
+            plane_cells: true,
             final_empty_bounds: true,
             final_literal_bounds: true,
             final_coincident_pairs: true,
@@ -131,6 +136,7 @@ impl Pruning {
             "merged_literals" => &mut self.merged_literals,
             "duplicate_terms" => &mut self.duplicate_terms,
             "subsumed_terms" => &mut self.subsumed_terms,
+            "plane_cells" => &mut self.plane_cells,
             "final_empty_bounds" => &mut self.final_empty_bounds,
             "final_literal_bounds" => &mut self.final_literal_bounds,
             "final_coincident_pairs" => &mut self.final_coincident_pairs,

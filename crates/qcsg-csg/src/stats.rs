@@ -30,6 +30,10 @@ pub struct ConstructionStats {
     pub terms_subsumed: usize,
     /// Largest number of terms held at once.
     pub peak_terms: usize,
+    /// Parts made of planes only that were cut into convex cells instead of multiplied out.
+    pub plane_parts: usize,
+    /// The cells those parts were cut into.
+    pub plane_cells: usize,
 }
 
 /// The effect of one pruning pass over the finished DNF.

@@ -25,7 +25,7 @@ fn allowed() -> BTreeMap<&'static str, Vec<&'static str>> {
         ("qcsg-testkit", vec!["qcsg-sema"]),
         ("qcsg-syntax", vec!["qcsg-diag"]),
         ("qcsg-sema", vec!["qcsg-diag", "qcsg-syntax"]),
-        ("qcsg-csg", vec!["qcsg-diag", "qcsg-quadric"]),
+        ("qcsg-csg", vec!["qcsg-diag", "qcsg-quadric", "qcsg-mesh"]),
         (
             "qcsg-eval",
             vec![

@@ -8,7 +8,8 @@
 //! It also reads STL and OFF meshes ([`read_stl`], [`read_off`]) into a [`Mesh`], and DXF
 //! drawings ([`read_dxf`]) into a [`Drawing`] of exact paths, arcs and circles, whose even–odd
 //! region [`drawing_region`] builds from cells, discs and circular segments, and computes exact
-//! convex hulls of point sets ([`convex_hull`], [`convex_hull_2d`]).
+//! convex hulls of point sets ([`convex_hull`], [`convex_hull_2d`]). [`boolean_cells`] cuts any
+//! boolean of half-spaces, or its complement, within a box into convex cells.
 
 mod drawing;
 mod exact;
@@ -26,6 +27,9 @@ pub use hull::{ConvexHull, HullError, HullFace, convex_hull, convex_hull_2d};
 pub use polygon::curved;
 pub use polygon::{
     Cell2, HalfPlane, MAX_COORDINATE, Polygon, PolygonError, PolygonLimits, polygon_cells,
+};
+pub use polyhedron::boolean::{
+    BooleanError, BooleanLimits, Bounds, ExprKind, ExprNode, HalfSpaceExpr, boolean_cells,
 };
 pub use polyhedron::{
     Cell3, MAX_MESH_COORDINATE, Mesh, MeshError, MeshLimits, Plane, Polyhedron, polyhedron_cells,

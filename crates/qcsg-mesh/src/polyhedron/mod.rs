@@ -16,6 +16,7 @@
 //! is bounded by planes through three input points (computed once per triangle, so neighbours
 //! share the numbers) or axis-parallel walls shared by the regions on both sides.
 
+pub(crate) mod boolean;
 mod bsp;
 mod region;
 mod validate;

@@ -121,6 +121,11 @@ impl Polytope {
         self.faces.len()
     }
 
+    /// Every face's corners (a corner shared by faces appears once per face).
+    pub(super) fn corners(&self) -> impl Iterator<Item = DVec3> + '_ {
+        self.faces.iter().flat_map(|f| f.corners.iter().copied())
+    }
+
     /// The mean of the face corners: a point strictly inside a polytope with volume.
     pub(super) fn interior_point(&self) -> DVec3 {
         let (sum, count) = self
