@@ -106,6 +106,7 @@ impl Hit {
 #[derive(Clone, Debug, Default)]
 pub struct Scratch {
     terms: Vec<u32>,
+    entries: Vec<(f64, f64, u32)>,
     literals: Vec<u32>,
     current: Vec<Interval>,
     literal: Vec<Interval>,
@@ -232,18 +233,33 @@ pub fn trace(
 ) -> Option<Hit> {
     scratch.all.clear();
     scratch.terms.clear();
+    scratch.entries.clear();
     let boxes = &index.boxes;
     // A larger box holds a longer piece of the ray, so the search may skip what misses.
-    // The order does not matter: the terms' intervals are sorted below.
     boxes.select(|b| clipped(ray, b, t_min).is_some(), &mut scratch.terms);
-    for &term_index in &scratch.terms {
-        let (Some(term), Some(bounds)) = (
-            dnf.terms.get(term_index as usize),
-            boxes.boxes().get(term_index as usize),
-        ) else {
-            continue;
-        };
-        let Some((t_in, t_out)) = clipped(ray, bounds, t_min) else {
+    scratch
+        .entries
+        .extend(scratch.terms.iter().filter_map(|&term_index| {
+            let bounds = boxes.boxes().get(term_index as usize)?;
+            let (t_in, t_out) = clipped(ray, bounds, t_min)?;
+            Some((t_in, t_out, term_index))
+        }));
+    // Front to back, by where the ray enters each term's box: once a term's interval begins
+    // at `nearest` (and is a hit, not the ray's start inside the solid), a term whose box the
+    // ray enters beyond it holds no interval that begins before it, so it cannot change the
+    // union's first entry, nor which interval (and term) begins there. While some interval
+    // begins at the ray's start, the sweep below reads past it, so every term counts.
+    scratch
+        .entries
+        .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
+    let candidate = |entry: &Interval| entry.start > t_min || entry.start_by != Boundary::Clip;
+    let mut nearest = f64::INFINITY;
+    let mut from_start = false;
+    for &(t_in, t_out, term_index) in &scratch.entries {
+        if !from_start && t_in > nearest {
+            break;
+        }
+        let Some(term) = dnf.terms.get(term_index as usize) else {
             continue;
         };
         scratch.current.clear();
@@ -280,6 +296,13 @@ pub fn trace(
                 break;
             }
         }
+        for interval in &scratch.current {
+            if candidate(interval) {
+                nearest = nearest.min(interval.start);
+            } else {
+                from_start = true;
+            }
+        }
         scratch
             .all
             .extend(scratch.current.iter().map(|&i| (i, term_index)));
@@ -295,7 +318,6 @@ pub fn trace(
     let mut iter = scratch.all.iter();
     let &(first, first_term) = iter.next()?;
     let (mut entry, mut entry_term, mut end) = (first, first_term, first.end);
-    let candidate = |entry: &Interval| entry.start > t_min || entry.start_by != Boundary::Clip;
     if candidate(&entry) {
         return hit_at(dnf, ray, entry, entry_term);
     }

@@ -276,3 +276,80 @@ fn a_term_of_many_literals_traces_as_with_every_literal() {
     }
     assert!(hits > 2000, "{hits} hits");
 }
+
+/// Terms are traced front to back and those whose box lies beyond the first entry are skipped:
+/// the first entry must still be found when it lies beyond a stretch of other terms, and when
+/// the ray starts inside the solid, whose terms then all count (the stretch the ray starts in
+/// may be extended by a term whose box it enters late).
+#[test]
+fn the_first_entry_is_found_past_overlapping_terms_also_from_inside() {
+    // A chain of overlapping balls along x (0 to 4, centres 1.5 apart), a gap, two more.
+    let mut dag = Dag::new();
+    let balls: Vec<Edge> = [0.0, 1.5, 3.0, 6.0, 7.5]
+        .into_iter()
+        .map(|x| sphere(&mut dag, DVec3::new(x, 0.0, 0.0), 1.0))
+        .collect();
+    let solid = dag.union(balls, Source::default());
+    let dnf = dnf_of(&mut dag, solid.into());
+    assert_eq!(dnf.terms.len(), 5);
+    let sixth = quadric_index(
+        &dnf,
+        &Quadric::sphere(DVec3::new(6.0, 0.0, 0.0), 1.0).unwrap(),
+    );
+    let first = quadric_index(&dnf, &Quadric::sphere(DVec3::ZERO, 1.0).unwrap());
+
+    // From outside, on the axis, either way: the nearest ball's pole.
+    let hit = cast(&dnf, DVec3::new(-3.0, 0.0, 0.0), DVec3::X).unwrap();
+    assert!(
+        (hit.t - 2.0).abs() < 1e-12 && hit.quadric == Some(first),
+        "{hit:?}"
+    );
+    let hit = cast(&dnf, DVec3::new(12.0, 0.0, 0.0), -DVec3::X).unwrap();
+    assert!((hit.t - 3.5).abs() < 1e-12, "{hit:?}");
+    // From inside the first ball: the chain is left at x = 4, the next entry is at x = 5.
+    let hit = cast(&dnf, DVec3::new(0.0, 0.0, 0.0), DVec3::X).unwrap();
+    assert!(
+        (hit.t - 5.0).abs() < 1e-12 && hit.quadric == Some(sixth),
+        "{hit:?}"
+    );
+    // From inside the last ball of the chain, backwards: nothing more to enter.
+    assert_eq!(cast(&dnf, DVec3::new(3.0, 0.0, 0.0), -DVec3::X), None);
+    // Slanted rays from inside and outside agree with the balls' own first entry.
+    for k in 0..50 {
+        let angle = 0.02 * f64::from(k) - 0.5;
+        let direction = DVec3::new(angle.cos(), angle.sin(), 0.3 * angle).normalize();
+        for origin in [DVec3::new(-4.0, 0.1, 0.0), DVec3::new(0.2, 0.0, 0.1)] {
+            let hit = cast(&dnf, origin, direction).map(|h| h.t);
+            let expected = first_entry(origin, direction);
+            let agree = match (hit, expected) {
+                (Some(a), Some(b)) => (a - b).abs() < 1e-9,
+                (a, b) => a == b,
+            };
+            assert!(agree, "{origin} {direction}: {hit:?}, not {expected:?}");
+        }
+    }
+}
+
+/// The first entry into the chain of balls of the test above, from their roots along the ray.
+fn first_entry(origin: DVec3, direction: DVec3) -> Option<f64> {
+    let mut pieces: Vec<(f64, f64)> = [0.0, 1.5, 3.0, 6.0, 7.5]
+        .into_iter()
+        .filter_map(|x| {
+            let o = origin - DVec3::new(x, 0.0, 0.0);
+            let (b, c) = (o.dot(direction), o.length_squared() - 1.0);
+            let d = b * b - c;
+            (d > 0.0).then(|| (-b - d.sqrt(), -b + d.sqrt()))
+        })
+        .filter(|&(_, end)| end > 0.0)
+        .map(|(start, end)| (start.max(0.0), end))
+        .collect();
+    pieces.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut end = f64::NEG_INFINITY;
+    for (start, piece_end) in pieces {
+        if start > end && start > 0.0 {
+            return Some(start);
+        }
+        end = end.max(piece_end);
+    }
+    None
+}
