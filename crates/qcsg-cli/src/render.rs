@@ -81,7 +81,7 @@ enum ProjectionArg {
 
 /// `--renderer`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum Renderer {
+pub(crate) enum Renderer {
     /// Surface splats with local quadric ray tracing on the GPU.
     Splat,
     /// The exact CSG ray tracer on the CPU.
@@ -90,7 +90,7 @@ enum Renderer {
 
 /// `--device`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum Device {
+pub(crate) enum Device {
     /// A hardware GPU when there is one, the CPU otherwise.
     Auto,
     /// A hardware GPU.
@@ -100,7 +100,7 @@ enum Device {
 }
 
 /// The renderer a run uses, with the reason for a fallback.
-enum Choice {
+pub(crate) enum Choice {
     /// The CPU ray tracer; for `auto`, why no GPU was used.
     RayTracer { fallback: Option<String> },
     /// The splat renderer on an open adapter.
@@ -108,7 +108,7 @@ enum Choice {
 }
 
 /// Resolves `--renderer` and `--device` (see the module docs); `Err` is a usage error.
-fn choose(renderer: Option<Renderer>, device: Device) -> Result<Choice, String> {
+pub(crate) fn choose(renderer: Option<Renderer>, device: Device) -> Result<Choice, String> {
     let open = |requirement| SplatRenderer::new(requirement).map(|r| Choice::Splats(Box::new(r)));
     match (renderer, device) {
         (Some(Renderer::Raytrace), Device::Gpu) => {

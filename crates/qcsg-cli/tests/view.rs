@@ -133,21 +133,31 @@ fn dechunk(mut body: &[u8]) -> Vec<u8> {
 }
 
 fn render_cli(file: &Path, args: &[&str]) -> Vec<u8> {
+    render_with(file, &[&["--renderer", "raytrace"], args].concat())
+}
+
+/// `qcsg render FILE -o - ARGS`'s PNG.
+fn render_with(file: &Path, args: &[&str]) -> Vec<u8> {
     let output = Command::new(env!("CARGO_BIN_EXE_qcsg"))
         .arg("render")
         .arg(file)
-        .args(["-o", "-", "--renderer", "raytrace", "--quiet"])
+        .args(["-o", "-", "--quiet"])
         .args(args)
         .output()
         .expect("qcsg render runs");
-    assert!(output.status.success(), "qcsg render {args:?} failed");
+    assert!(
+        output.status.success(),
+        "qcsg render {args:?} failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
     output.stdout
 }
 
 #[test]
 fn frames_are_the_pngs_of_qcsg_render() {
     let file = workspace().join("examples/wheel.qcsg");
-    let server = Server::start(&file, &[]);
+    // The ray tracer, as on a machine without a hardware GPU (where `auto` draws splats).
+    let server = Server::start(&file, &["--renderer", "raytrace"]);
     let cases: [(&str, &[&str]); 4] = [
         ("", &[]),
         (
@@ -175,6 +185,7 @@ fn frames_are_the_pngs_of_qcsg_render() {
         assert_eq!(answer.status, 200, "{query}");
         assert_eq!(answer.headers["content-type"], "image/png");
         assert!(answer.headers.contains_key("x-qcsg-generation"));
+        assert_eq!(answer.headers["x-qcsg-renderer"], "raytrace");
         assert!(
             answer.body == render_cli(&file, args),
             "/frame.png?{query} differs from qcsg render {args:?}"
@@ -477,4 +488,124 @@ fn a_program_that_never_compiled_answers_409_with_its_errors() {
     assert_eq!(server.get("/pick?x=1&y=1").status, 409);
     drop(server);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The renderer `qcsg render --device auto` picks on this machine, from what it says.
+fn renderer_of_render_auto(file: &Path) -> &'static str {
+    let output = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+        .arg("render")
+        .arg(file)
+        .args(["-o", "-", "--size", "16,12"])
+        .output()
+        .expect("qcsg render runs");
+    let said = String::from_utf8_lossy(&output.stderr);
+    if said.contains("with the splat renderer") {
+        "splat"
+    } else if said.contains("with the CPU ray tracer") {
+        "raytrace"
+    } else {
+        panic!("qcsg render did not say its renderer: {said}")
+    }
+}
+
+#[test]
+fn the_renderer_is_chosen_as_qcsg_render_chooses_it() {
+    let file = workspace().join("examples/wheel.qcsg");
+    let server = Server::start(&file, &[]);
+    let answer = server.get("/frame.png?width=16&height=12");
+    assert_eq!(answer.status, 200);
+    assert_eq!(
+        answer.headers["x-qcsg-renderer"],
+        renderer_of_render_auto(&file)
+    );
+    // A request that cannot be met stops the server at its start, as it stops `qcsg render`.
+    let refused = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+        .arg("view")
+        .arg(&file)
+        .args(["--no-open", "--renderer", "raytrace", "--device", "gpu"])
+        .output()
+        .expect("qcsg view runs");
+    assert_eq!(refused.status.code(), Some(2));
+    let said = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        said.contains("the ray tracer runs on the CPU only"),
+        "{said}"
+    );
+}
+
+/// Of the pixels away from edges of `exact` (a one-pixel band around every pixel that differs
+/// from a neighbour by more than a shading step), how many `other` shows within 2 levels per
+/// channel; and how many were compared.
+fn colour_agreement(exact: &image::RgbImage, other: &image::RgbImage) -> (usize, usize) {
+    assert_eq!(exact.dimensions(), other.dimensions());
+    let (width, height) = exact.dimensions();
+    let near = |a: &image::Rgb<u8>, b: &image::Rgb<u8>, within: u8| {
+        a.0.iter().zip(b.0).all(|(&x, y)| x.abs_diff(y) <= within)
+    };
+    let (mut agree, mut compared) = (0, 0);
+    for y in 1..height - 1 {
+        for x in 1..width - 1 {
+            let here = exact.get_pixel(x, y);
+            let edge = (y - 1..=y + 1)
+                .flat_map(|v| (x - 1..=x + 1).map(move |u| (u, v)))
+                .any(|(u, v)| !near(here, exact.get_pixel(u, v), 8));
+            if edge {
+                continue;
+            }
+            compared += 1;
+            if near(here, other.get_pixel(x, y), 2) {
+                agree += 1;
+            }
+        }
+    }
+    (agree, compared)
+}
+
+/// Splats forced (on a software adapter such as lavapipe where there is no GPU): the frames are
+/// `qcsg render --renderer splat`'s, and agree with the ray tracer's away from edges.
+#[test]
+fn frames_by_splats_are_qcsg_render_s_and_agree_with_the_ray_tracer() {
+    let file = workspace().join("examples/wheel.qcsg");
+    let server = Server::start(&file, &["--renderer", "splat"]);
+    let cases: [(&str, &[&str]); 2] = [
+        ("width=160&height=120", &["--size", "160,120"]),
+        (
+            "width=160&height=120&camera=front&projection=ortho",
+            &[
+                "--size",
+                "160,120",
+                "--camera",
+                "front",
+                "--projection",
+                "ortho",
+            ],
+        ),
+    ];
+    for (query, args) in cases {
+        let answer = server.get(&format!("/frame.png?{query}"));
+        assert_eq!(answer.status, 200, "{query}");
+        assert_eq!(answer.headers["x-qcsg-renderer"], "splat");
+        assert!(
+            answer.body == render_with(&file, &[&["--renderer", "splat"], args].concat()),
+            "/frame.png?{query} differs from qcsg render --renderer splat {args:?}"
+        );
+        let decode = |png: &[u8]| {
+            image::load_from_memory_with_format(png, image::ImageFormat::Png)
+                .expect("a PNG")
+                .to_rgb8()
+        };
+        let splats = decode(&answer.body);
+        let exact = decode(&render_cli(&file, args));
+        let (agree, compared) = colour_agreement(&exact, &splats);
+        let pixels = (exact.width() * exact.height()) as usize;
+        assert!(
+            compared * 2 > pixels,
+            "{query}: only {compared} of {pixels} compared"
+        );
+        assert!(
+            agree as f64 >= 0.999 * compared as f64,
+            "{query}: {agree} of {compared} pixels agree"
+        );
+        eprintln!("{query}: {agree} of {compared} pixels agree ({pixels} in all)");
+    }
 }

@@ -18,6 +18,8 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use futures_util::Stream;
 use qcsg_lsp::preview::{Preview, ViewRequest};
+use qcsg_render::{Frame, RenderOptions};
+use qcsg_splat::{SplatError, SplatRenderer};
 use tokio::sync::broadcast;
 
 use super::query::{self, Refusal, SizeLimit};
@@ -44,6 +46,58 @@ pub struct Shared {
     pub limit: SizeLimit,
     /// Where frames are rendered.
     pub pool: rayon::ThreadPool,
+    /// What renders them.
+    pub frames: Frames,
+}
+
+/// What renders the frames (`--renderer`, `--device`); picks always come from the ray tracer.
+pub enum Frames {
+    /// The exact CPU ray tracer.
+    RayTracer,
+    /// The splat renderer on a GPU adapter.
+    Splats(Box<SplatRenderer>),
+}
+
+impl Frames {
+    /// The `x-qcsg-renderer` header's value.
+    fn name(&self) -> &'static str {
+        match self {
+            Self::RayTracer => "raytrace",
+            Self::Splats(_) => "splat",
+        }
+    }
+
+    /// The frame of `request`, as `qcsg render` with the same renderer draws it.
+    fn render(&self, preview: &Preview, request: &ViewRequest) -> Result<Frame, Refusal> {
+        match self {
+            Self::RayTracer => preview.render(request).map_err(camera_refusal),
+            Self::Splats(renderer) => {
+                let camera = request.camera(preview.scene()).map_err(camera_refusal)?;
+                renderer
+                    .render(
+                        preview.scene(),
+                        &camera,
+                        request.size,
+                        &RenderOptions::default(),
+                    )
+                    .map_err(|error| match error {
+                        SplatError::ImageTooLarge { .. } => Refusal {
+                            status: StatusCode::BAD_REQUEST,
+                            message: error.to_string(),
+                            help: Some(
+                                "ask for a smaller frame, or run `qcsg view --renderer raytrace`"
+                                    .into(),
+                            ),
+                        },
+                        _ => Refusal {
+                            status: StatusCode::INTERNAL_SERVER_ERROR,
+                            message: format!("the splat renderer failed: {error}"),
+                            help: None,
+                        },
+                    })
+            }
+        }
+    }
 }
 
 impl Shared {
@@ -181,9 +235,10 @@ async fn frame(State(shared): State<Arc<Shared>>, RawQuery(raw): RawQuery) -> Re
         Ok(image) => image,
         Err(refusal) => return refuse(refusal),
     };
+    let rendering = Arc::clone(&shared);
     let rendered = on_pool(&shared, move || {
         let started = Instant::now();
-        let frame = preview.render(&request).map_err(camera_refusal)?;
+        let frame = rendering.frames.render(&preview, &request)?;
         let png = qcsg_render::png::encode(&frame).map_err(|error| Refusal {
             status: StatusCode::INTERNAL_SERVER_ERROR,
             message: format!("the frame cannot be encoded: {error}"),
@@ -199,6 +254,10 @@ async fn frame(State(shared): State<Arc<Shared>>, RawQuery(raw): RawQuery) -> Re
             headers.insert(header::CONTENT_TYPE, HeaderValue::from_static("image/png"));
             headers.insert(header::CACHE_CONTROL, HeaderValue::from_static("no-store"));
             headers.insert("x-qcsg-generation", HeaderValue::from(generation));
+            headers.insert(
+                "x-qcsg-renderer",
+                HeaderValue::from_static(shared.frames.name()),
+            );
             let millis = format!("{:.1}", took.as_secs_f64() * 1e3);
             if let Ok(value) = HeaderValue::from_str(&millis) {
                 headers.insert("x-qcsg-render-ms", value);

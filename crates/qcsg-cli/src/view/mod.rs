@@ -10,8 +10,10 @@
 //!   embedded page (`assets/`).
 //!
 //! The server binds 127.0.0.1 unless told otherwise and answers only requests addressed to it by
-//! name (`Host`). Frames are rendered by the exact CPU ray tracer, the pixels of
-//! `qcsg render --renderer raytrace` with the same arguments.
+//! name (`Host`). Frames are rendered as `qcsg render` renders them with the same `--renderer`
+//! and `--device`: by default the exact CPU ray tracer, or splats where a hardware GPU is found
+//! (a software adapter such as lavapipe does not count, as for `qcsg render`). Picks always
+//! come from the ray tracer.
 
 mod http;
 mod query;
@@ -27,6 +29,7 @@ use qcsg_render::ImageSize;
 use tokio::sync::{broadcast, mpsc};
 
 use crate::compile::LimitArgs;
+use crate::render::{Choice, Device, Renderer, choose};
 use crate::{CommonArgs, EXIT_OK, EXIT_USAGE, program};
 
 /// How long the watcher waits after a change for the rest of a save's events.
@@ -56,6 +59,17 @@ pub struct ViewArgs {
     #[arg(long, value_name = "W,H", default_value = "4096,4096", value_parser = parse_size)]
     max_size: ImageSize,
 
+    /// The renderer of frames, as for `qcsg render`: splats on a GPU adapter, or the exact CPU
+    /// ray tracer. Unset, `--device` decides.
+    #[arg(long, value_enum)]
+    renderer: Option<Renderer>,
+
+    /// Where to render frames, as for `qcsg render`: `auto` uses splats on a hardware GPU when
+    /// there is one and the CPU ray tracer otherwise; `gpu` requires a hardware GPU; `cpu` the
+    /// CPU (the ray tracer, or with `--renderer splat` a software adapter such as lavapipe).
+    #[arg(long, value_enum, default_value_t = Device::Auto)]
+    device: Device,
+
     #[command(flatten)]
     limits: LimitArgs,
 
@@ -84,6 +98,24 @@ pub fn run(args: ViewArgs) -> u8 {
             return EXIT_USAGE;
         }
     };
+    let frames = match choose(args.renderer, args.device) {
+        Ok(Choice::RayTracer { fallback }) => {
+            let why = fallback.map_or(String::new(), |why| format!(" ({why})"));
+            eprintln!("qcsg view: frames by the CPU ray tracer{why}");
+            http::Frames::RayTracer
+        }
+        Ok(Choice::Splats(renderer)) => {
+            eprintln!(
+                "qcsg view: frames by the splat renderer (adapter: {})",
+                renderer.adapter()
+            );
+            http::Frames::Splats(renderer)
+        }
+        Err(message) => {
+            eprintln!("error: {message}");
+            return EXIT_USAGE;
+        }
+    };
     let runtime = match tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         // The pipeline walks trees recursively, as the language server's threads do.
@@ -97,10 +129,10 @@ pub fn run(args: ViewArgs) -> u8 {
             return EXIT_USAGE;
         }
     };
-    runtime.block_on(serve(args, pool))
+    runtime.block_on(serve(args, pool, frames))
 }
 
-async fn serve(args: ViewArgs, pool: rayon::ThreadPool) -> u8 {
+async fn serve(args: ViewArgs, pool: rayon::ThreadPool, frames: http::Frames) -> u8 {
     let listener = match tokio::net::TcpListener::bind(SocketAddr::new(args.bind, args.port)).await
     {
         Ok(listener) => listener,
@@ -160,6 +192,7 @@ async fn serve(args: ViewArgs, pool: rayon::ThreadPool) -> u8 {
             height: args.max_size.height(),
         },
         pool,
+        frames,
     });
 
     // Rebuild after changes: wait for the rest of a save's events, then compile once.

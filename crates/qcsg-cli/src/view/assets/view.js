@@ -4,7 +4,8 @@
 // Where frames come from is the host's business: over HTTP from `qcsg view` (the default host
 // below), or, in VS Code, through the extension and the language server (the panel defines
 // `window.qcsgHost` before this script runs). A host has:
-//   frame(params)  -> Promise<{url, ms}>   an image URL for {width, height, camera, projection}
+//   frame(params)  -> Promise<{url, ms, renderer?}>   an image URL for {width, height, camera,
+//                     projection}, the render time and the renderer, when it says
 //   pick(params)   -> Promise<object|null> what pixel {x, y} of that frame shows
 //   camera(params) -> Promise<{eye, center, radius}> the eye and centre of a (named) view
 //   subscribe(fn)  -> calls fn(changeEvent) for each rebuilt scene
@@ -18,6 +19,8 @@
   const SMALL = 4; // while dragging, frames are this many times smaller in each direction
   const FOV = 30; // degrees, as the renderer's perspective camera
   const $ = (id) => document.getElementById(id);
+  // The status line's words for the server's `x-qcsg-renderer`.
+  const RENDERERS = { raytrace: "CPU ray tracer", splat: "splat renderer" };
 
   function httpHost() {
     const query = (params) =>
@@ -39,7 +42,11 @@
       async frame(params) {
         const response = await answer(await fetch(`frame.png?${query(params)}`));
         const blob = await response.blob();
-        return { url: URL.createObjectURL(blob), ms: Number(response.headers.get("x-qcsg-render-ms")) };
+        return {
+          url: URL.createObjectURL(blob),
+          ms: Number(response.headers.get("x-qcsg-render-ms")),
+          renderer: RENDERERS[response.headers.get("x-qcsg-renderer")],
+        };
       },
       async pick(params) {
         return (await answer(await fetch(`pick?${query(params)}`))).json();
@@ -126,7 +133,7 @@
       document.body.dataset.frameWidth = p.width;
       const total = performance.now() - started;
       setStatus(
-        `${host.renderer} · ${p.width}×${p.height} · render ${frame.ms ? frame.ms.toFixed(0) : "?"} ms` +
+        `${frame.renderer || host.renderer} · ${p.width}×${p.height} · render ${frame.ms ? frame.ms.toFixed(0) : "?"} ms` +
           ` (${total.toFixed(0)} ms in all)` +
           (state.change && state.change.quadrics != null ? ` · ${state.change.quadrics} quadrics` : ""),
       );
