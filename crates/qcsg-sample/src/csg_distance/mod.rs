@@ -13,8 +13,16 @@
 //!   the literals of every term. The per-term boxes are *not* used: they only bound their term
 //!   (nothing is lost without them), and a box face often coincides with a sampled surface (a
 //!   cube's box with its slabs), where the distance 0 would leave the face unclassifiable.
+//! - **One notion of the same surface.** Which literals are `Q_ab` itself, its complement, or
+//!   lie on a sheet of it is what the compiler decided (`qcsg_csg::coincident`, read through
+//!   [`Dnf::surfaces`](qcsg_csg::Dnf::surfaces) by `identity`): one surface up to a non-zero
+//!   factor, within the rounding of the transforms that placed each quadric, so flush faces
+//!   are found alike near the origin, far from it, turned and scaled, curved or flat, and a wall
+//!   `1e-9` thick is two surfaces. Only literals the sampler makes itself (halves of slabs in
+//!   merged terms and planar sections) and DNFs without surfaces fall back to comparing values
+//!   (`1e-12` relative) and, on a plane, the point test below.
 //! - **Shared surfaces.** A term `i ≠ a` that has `Q_ab` itself among its literals (the same
-//!   index, or an equal quadric up to a positive factor) is a subset of `Q_ab`'s solid, so a
+//!   index, or the same surface with the same orientation) is a subset of `Q_ab`'s solid, so a
 //!   point on `Q_ab` is never in its interior: the term is left out. Without this the distance
 //!   would be 0 on all of `Q_ab` inside that term and subdivision could never classify it.
 //! - **Complementary literals.** A literal of term `i` that is `Q_ab`'s complement is zero on
@@ -24,9 +32,10 @@
 //!   on all of `Q_ab`).
 //! - **Shared planes.** Two *different* quadrics can share a patch of surface only where both
 //!   are made of planes (a half-space, a slab): two parts sharing a face, a difference flush
-//!   with a face. When `Q_ab` is planar and `p` lies on a plane of another planar literal `L`
-//!   (within [`CsgDistance`]'s length tolerance, normals parallel), that plane is `p`'s whole
-//!   sheet of `Q_ab`, so what holds at `p` holds on the sheet: if `L`'s inside is on `Q_ab`'s
+//!   with a face. (Curved quadrics share a surface only whole: the rules above.) When `Q_ab` is
+//!   planar and another planar literal `L` has a sheet on the surface of `p`'s sheet of `Q_ab`
+//!   (for a literal the sampler made: `p` lies on its plane within [`CsgDistance`]'s length
+//!   tolerance, normals parallel), what holds at `p` holds on the whole sheet: if `L`'s inside is on `Q_ab`'s
 //!   inside, `L` is left out of term `a` (it holds up to the sheet) and a term `i ≠ a` holding
 //!   `L` is left out (its interior never reaches the sheet); if `L`'s inside is on the other
 //!   side, term `a` is empty along the sheet (distance `+∞`) and `L` is left out of term `i`
@@ -68,7 +77,9 @@
 //!   are made: a merged term may still reach the surface). Rounding in transformed primitives
 //!   is absorbed within `1e-12` of the diagonal (`TANGENT_SLACK`). Likewise a planar literal
 //!   parallel to a sampled plane, but farther from it than the tolerance of "Shared planes",
-//!   holds on all of the plane or on none of it (a countersink's top `0.01` above a face).
+//!   holds on all of the plane or on none of it (a countersink's top `0.01` above a face); where
+//!   the surfaces say the two planes differ, only rounding is allowed for, however close they
+//!   are (a wall `1e-9` thick).
 //! - **Planar sections.** Each sheet (plane) of a planar quadric gets its own view of the
 //!   terms. A literal that crosses the sheet is replaced by its section by the sheet, extruded
 //!   along the sheet's normal: a cylinder cut along its axis becomes the slab between its two
@@ -144,12 +155,14 @@
 //! The modules: `distance` sets eq. 22 up for one sampled literal and queries it, through
 //! the terms as the sampled quadric sees them (`view`) and as each sheet of it does
 //! (`sheet_views`); `near` narrows it to a box. The rules above live in `abutting`,
-//! `half_spaces`, `sections` (planar sections, sides of slabs, strips of no width),
+//! `half_spaces`, `identity` (the compiler's surfaces as a sheet reads them), `sections`
+//! (planar sections, sides of slabs, strips of no width),
 //! `surface_sign` (offset and touching surfaces) and `tangency` (tangent planes).
 
 mod abutting;
 mod distance;
 mod half_spaces;
+mod identity;
 mod near;
 mod sections;
 mod sheet_views;

@@ -4,7 +4,7 @@
 
 use super::half_spaces::{HalfSpace, PlanarParts, beyond, planar_parts};
 use super::sheet_views::Refined;
-use super::view::PARALLEL;
+use super::view::{PARALLEL, Shared};
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DVec3, Quadric};
 
@@ -152,7 +152,7 @@ pub(super) fn one_side_with_area(
             (false, true) => b,
             (true, true) => continue,
         };
-        *r = Refined::one_side(r.index, half, r.quadric);
+        *r = Refined::one_side(r.index, half, r.quadric, None);
     }
     false
 }
@@ -207,14 +207,15 @@ pub(super) fn no_area_between(
 }
 
 /// A planar literal of another term without the half-spaces that term `a` holds too (see
-/// "Literals of both terms"), as `(quadric, planar, in term a)`: a slab sharing one side with
-/// term `a` becomes its other side.
+/// "Literals of both terms"), as `(quadric, planar, in term a, on the sheet)`: a slab sharing
+/// one side with term `a` becomes its other side (whose relation to the sheet the point test
+/// decides).
 pub(super) fn without_own_sides(
     literal: &Refined,
     own_sides: &[HalfSpace],
     tolerance: f64,
-) -> Vec<(Quadric, bool, bool)> {
-    let whole = vec![(literal.quadric, literal.planar, false)];
+) -> Vec<(Quadric, bool, bool, Option<Shared>)> {
+    let whole = vec![(literal.quadric, literal.planar, false, literal.on_sheet)];
     let Some((spaces, false)) = &literal.parts else {
         return whole;
     };
@@ -230,6 +231,6 @@ pub(super) fn without_own_sides(
         .iter()
         .filter(|h| !shared(h))
         .filter_map(|h| Quadric::half_space(h.point, h.normal))
-        .map(|q| (q, true, false))
+        .map(|q| (q, true, false, None))
         .collect()
 }

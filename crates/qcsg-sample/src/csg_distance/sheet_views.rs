@@ -5,11 +5,12 @@
 use super::abutting::{MADE_LITERAL, TermLiterals};
 use super::distance::SheetViews;
 use super::half_spaces::{HalfSpace, PlanarParts};
+use super::identity::SheetIdentity;
 use super::sections::{
     no_area_between, one_side, one_side_with_area, own_half_spaces, section, without_own_sides,
 };
 use super::tangency::{Contact, Shape, Shapes, Tangency};
-use super::view::{NearTerms, SAME_QUADRIC, TermView};
+use super::view::{NearTerms, SAME_QUADRIC, Shared, TermView};
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
 use rustc_hash::FxHashMap;
@@ -35,6 +36,9 @@ impl SheetViews {
         let complement = q.negated();
         let same_value = |o: &Quadric| q.approx_eq_up_to_scale(o, SAME_QUADRIC);
         let complement_value = |o: &Quadric| complement.approx_eq_up_to_scale(o, SAME_QUADRIC);
+        // The compiler's surfaces decide which literals are the sampled quadric, its complement
+        // or on the sheet; the value and point tests stand where a DNF has no surfaces.
+        let identity = SheetIdentity::new(dnf, quadric, plane.as_ref());
         // Each quadric of the DNF in these terms as a literal seen from the sheet, found once.
         let (own_term_literals, own_floor) = &terms.own;
         let in_terms = own_term_literals.iter().map(|(i, _)| *i).chain(
@@ -53,14 +57,18 @@ impl SheetViews {
             })
             .map(|(i, entry, shape)| {
                 let o = entry.quadric;
-                let contact = contact.of(shape);
+                let on_sheet = identity.on_sheet(i);
+                let contact = contact.of_identified(shape, on_sheet);
                 let SeenFromSheet {
                     same,
                     complement,
                     section,
                 } = shapes.seen_from_sheet(
                     (quadric, sheet, i),
-                    || (i == quadric || same_value(&o), complement_value(&o)),
+                    || match identity.identity(i) {
+                        Some((same, complement)) => (i == quadric || same, complement),
+                        None => (i == quadric || same_value(&o), complement_value(&o)),
+                    },
                     |same, complement| !(same || complement) && contact == Contact::Crosses,
                     || plane.and_then(|h| section(&o, &h)),
                 );
@@ -76,6 +84,7 @@ impl SheetViews {
                     refined,
                     planar,
                     parts,
+                    on_sheet,
                 };
                 (i, seen)
             })
@@ -90,6 +99,7 @@ impl SheetViews {
                 refined: *o,
                 planar: shape.is_planar,
                 parts: shape.planar,
+                on_sheet: None,
             }
         };
         let look = |i: u32, o: &Quadric| -> std::borrow::Cow<'_, Seen> {
@@ -123,7 +133,13 @@ impl SheetViews {
                         .then(|| one_side(seen.parts.as_ref(), bounds, tolerance))
                         .flatten();
                     match side {
-                        Some(half) => Refined::one_side(index, half, seen.refined),
+                        Some(half) => {
+                            let planes = seen.parts.as_ref().map_or(&[][..], |(p, _)| &p[..]);
+                            let on_sheet = plane.as_ref().and_then(|plane| {
+                                identity.half_on_sheet(index, &half, planes, plane)
+                            });
+                            Refined::one_side(index, half, seen.refined, on_sheet)
+                        }
                         None => Refined {
                             index,
                             quadric: seen.refined,
@@ -131,6 +147,7 @@ impl SheetViews {
                             parts: seen.parts.clone(),
                             same: seen.same,
                             complement: seen.complement,
+                            on_sheet: seen.on_sheet,
                         },
                     }
                 })
@@ -159,7 +176,7 @@ impl SheetViews {
             own_literals
                 .iter()
                 .filter(|r| !r.same)
-                .map(|r| (r.quadric, r.planar, false)),
+                .map(|r| (r.quadric, r.planar, false, r.on_sheet)),
             region,
             (own_term.bounds, *own_floor),
         );
@@ -177,7 +194,7 @@ impl SheetViews {
                     .filter(|r| !r.complement)
                     .flat_map(|r| {
                         if in_own_term(&r) {
-                            return vec![(r.quadric, r.planar, true)];
+                            return vec![(r.quadric, r.planar, true, r.on_sheet)];
                         }
                         without_own_sides(&r, &own_sides, tolerance)
                     });
@@ -211,6 +228,8 @@ pub(super) struct Seen {
     pub(super) planar: bool,
     /// The half-spaces of `refined`, when planar ([`planar_parts`](super::half_spaces::planar_parts)).
     pub(super) parts: Option<PlanarParts>,
+    /// How it lies on the sheet, as the compiler's surfaces decided ([`SheetIdentity`]).
+    pub(super) on_sheet: Option<Shared>,
 }
 
 /// A literal of the DNF as a sheet of a sampled quadric sees it, whatever the term: whether it
@@ -232,12 +251,19 @@ pub(super) struct Refined {
     pub(super) parts: Option<PlanarParts>,
     pub(super) same: bool,
     pub(super) complement: bool,
+    /// How it lies on the sheet ([`Seen::on_sheet`]).
+    pub(super) on_sheet: Option<Shared>,
 }
 
 impl Refined {
     /// Literal `index`, the outside of a slab, as the one half-space `half` of it that the term
     /// holds ("One side of a slab"); `outside` stands if the half-space cannot be formed.
-    pub(super) fn one_side(index: u32, half: HalfSpace, outside: Quadric) -> Self {
+    pub(super) fn one_side(
+        index: u32,
+        half: HalfSpace,
+        outside: Quadric,
+        on_sheet: Option<Shared>,
+    ) -> Self {
         Self {
             index,
             quadric: Quadric::half_space(half.point, half.normal).unwrap_or(outside),
@@ -245,6 +271,7 @@ impl Refined {
             parts: Some((vec![half], false)),
             same: false,
             complement: false,
+            on_sheet,
         }
     }
 }

@@ -6,7 +6,7 @@
 use super::abutting::{MAX_MERGED_PER_TERM, TermLiterals, abutting_unions};
 use super::half_spaces::{HalfSpace, PlanarParts, planar_parts};
 use super::sheet_views::SeenFromSheet;
-use super::view::PARALLEL;
+use super::view::{PARALLEL, Shared};
 use qcsg_csg::{Aabb, BoxIndex, Dnf};
 use qcsg_quadric::{DVec3, PrincipalFrame, Quadric, QuadricKind, Tolerances};
 use rustc_hash::FxHashMap;
@@ -313,6 +313,20 @@ impl Tangency {
         }
     }
 
+    /// [`Self::of`] for a literal whose relation to the sampled sheet the compiler's surfaces
+    /// decided (`on_sheet`, [`super::identity::SheetIdentity::on_sheet`]): a literal on the sheet crosses it (the
+    /// shared-plane rule takes it), and a planar one parallel to the sheet but not on it holds
+    /// on all of it or on none, however near (a wall `1e-9` thick), up to rounding alone.
+    pub(super) fn of_identified(&self, literal: &Shape, on_sheet: Option<Shared>) -> Contact {
+        match (&self.sampled, on_sheet, &literal.planar) {
+            (Sampled::Planar(_), Some(Shared::SameSide | Shared::OtherSide), _) => Contact::Crosses,
+            (Sampled::Planar(sheet), Some(Shared::No), Some((spaces, complement))) => {
+                self.parallel(sheet, spaces, *complement, 0.0)
+            }
+            _ => self.of(literal),
+        }
+    }
+
     /// How `literal` meets the sampled surface.
     pub(super) fn of(&self, literal: &Shape) -> Contact {
         match &self.sampled {
@@ -343,7 +357,7 @@ impl Tangency {
             // closed outside, which is its solid when it is a complement.
             Sampled::Planar(sheet) => {
                 if let Some((spaces, complement)) = &literal.planar {
-                    return self.parallel(sheet, spaces, *complement);
+                    return self.parallel(sheet, spaces, *complement, self.shared);
                 }
                 let Some(solid) = &literal.ellipsoidal else {
                     return Contact::Crosses;
@@ -368,13 +382,15 @@ impl Tangency {
 
     /// A planar literal (its half-spaces `spaces`, the outside of their slab if `complement`)
     /// seen from the sheet `sheet`: a half-space parallel to the sheet holds on all of it or on
-    /// none of it (a countersink's top `0.01` above a face). Planes within the tolerance of
-    /// "Shared planes" are that rule's, and a half-space across the sheet crosses it.
+    /// none of it (a countersink's top `0.01` above a face). Planes within `shared` of the sheet
+    /// (the tolerance of "Shared planes" where the surfaces did not decide) are that rule's, and
+    /// a half-space across the sheet crosses it.
     pub(super) fn parallel(
         &self,
         sheet: &HalfSpace,
         spaces: &[HalfSpace],
         complement: bool,
+        shared: f64,
     ) -> Contact {
         let reach = self.reach;
         let mut contact = Contact::Holds;
@@ -383,7 +399,7 @@ impl Tangency {
             let tilt = (h.normal - side * sheet.normal).length();
             // On the sheet `n·x = c`: `h.normal·x − h.offset = side c − h.offset` up to the tilt.
             let value = side * sheet.offset - h.offset;
-            let margin = self.shared
+            let margin = shared
                 + 3.0 * tilt * reach
                 + 64.0 * f64::EPSILON * (sheet.offset.abs() + h.offset.abs() + reach);
             if !(margin.is_finite() && tilt <= PARALLEL) || value.abs() <= margin {

@@ -66,6 +66,11 @@ pub(super) struct Literal {
     pub(super) planar: bool,
     /// A literal of another term that term `a` holds too (see "Literals of both terms").
     pub(super) in_own_term: bool,
+    /// How it lies on the sampled sheet, as the compiler's surfaces decided
+    /// ([`SheetIdentity`](super::identity::SheetIdentity)); `None` where they did not (a
+    /// literal made by the sampler, a DNF without surfaces): then the point test of
+    /// [`SheetPlane::shared`] decides.
+    pub(super) on_sheet: Option<Shared>,
 }
 
 /// A term of the DNF as seen from one quadric: the literals that matter and the box.
@@ -104,19 +109,20 @@ pub(super) struct NearLiterals {
 }
 
 impl TermView {
-    /// The view of `literals`, each with whether it is planar and whether term `a` holds it
-    /// too.
+    /// The view of `literals`, each with whether it is planar, whether term `a` holds it too
+    /// and how it lies on the sampled sheet ([`Literal::on_sheet`]).
     pub(super) fn new(
-        literals: impl IntoIterator<Item = (Quadric, bool, bool)>,
+        literals: impl IntoIterator<Item = (Quadric, bool, bool, Option<Shared>)>,
         bounds: Aabb,
         (extent, floor): (Aabb, f64),
     ) -> Self {
         let literals: Vec<Literal> = literals
             .into_iter()
-            .map(|(quadric, planar, in_own_term)| Literal {
+            .map(|(quadric, planar, in_own_term, on_sheet)| Literal {
                 planar,
                 in_own_term,
                 quadric,
+                on_sheet,
             })
             .collect();
         Self {
@@ -205,7 +211,9 @@ impl TermView {
             }
             // Evaluated once: a planar literal needs it for the plane test too.
             let distance = literal.quadric.conservative_distance(p);
-            let shared = on_plane.map_or(Shared::No, |plane| plane.shared(literal, p, distance));
+            let shared = on_plane.map_or(Shared::No, |plane| {
+                (literal.on_sheet).unwrap_or_else(|| plane.shared(literal, p, distance))
+            });
             match (shared, own) {
                 (Shared::No, false) if literal.in_own_term => {}
                 (Shared::No, _) => d = d.max(distance),
