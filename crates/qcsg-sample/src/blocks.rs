@@ -34,6 +34,10 @@ const REGION_OVERHEAD: f64 = 16.0;
 /// borders of blocks, and a border only limits which earlier samples may cover a region's small
 /// rectangles: the guarantee does not depend on it.
 pub fn region_cost(region: &BasicRegion, radius: f64) -> f64 {
+    // A small patch takes one sample at most (`crate::small_patches`).
+    if region.max_distortion == f64::INFINITY {
+        return REGION_OVERHEAD + 1.0;
+    }
     let stretched = region.max_distortion / radius;
     let samples = 0.5 * region.rect.width() * region.rect.height() * stretched * stretched;
     // Unbounded or NaN estimates (never for a bounded region) still give a finite total.

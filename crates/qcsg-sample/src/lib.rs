@@ -129,6 +129,7 @@ mod run;
 mod sample_point;
 pub mod samples;
 mod sampling;
+mod small_patches;
 mod stats;
 pub mod subdivide;
 pub mod threads;

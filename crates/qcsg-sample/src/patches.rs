@@ -3,7 +3,7 @@
 //! patch carries eq. 22 set up for the part of its quadric its regions hold.
 
 use crate::csg_distance::{CsgDistance, Shapes};
-use crate::regions::{BasicRegion, RegionStats, basic_regions, patch_bounds};
+use crate::regions::{BasicRegion, RegionCap, RegionStats, basic_regions_within, patch_bounds};
 use crate::stats::SampleStats;
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{PrincipalFrame, QuadricKind};
@@ -38,7 +38,16 @@ pub(super) fn term_box(dnf: &Dnf, term: usize) -> Option<Aabb> {
 /// Every basic region of every literal of every term, in a fixed order (term, literal, plane,
 /// sheet, rectangle), with the patch each belongs to. Literals are decomposed in parallel (a
 /// scene of many parts has thousands of them), and so are each literal's sampling planes.
-pub(super) fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Vec<PlacedRegion>) {
+/// Rectangles whose surface fits in a box of diagonal `radius` are kept whole
+/// ([`crate::small_patches`]). At most `max_regions` regions are kept in all ([`RegionCap`]);
+/// past that the decomposition stops and the quadric whose regions crossed the cap is the
+/// error.
+pub(super) fn all_regions(
+    dnf: &Dnf,
+    (radius, max_regions): (f64, u64),
+    stats: &mut SampleStats,
+) -> Result<(Vec<Patch>, Vec<PlacedRegion>), u32> {
+    let cap = RegionCap::new(max_regions);
     let mut literals = Vec::new();
     for (term_index, term) in dnf.terms.iter().enumerate() {
         let Some(bounds) = term_box(dnf, term_index) else {
@@ -69,19 +78,30 @@ pub(super) fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Ve
             if kind.has_no_surface() || matches!(kind, QuadricKind::Point | QuadricKind::Line) {
                 return None;
             }
+            if cap.crossed().is_some() {
+                return None;
+            }
             let frame = entry.quadric.frame();
+            // Around a cone's apex the normal turns all the way round within any distance: its
+            // rectangles there are refined as far as they go and settled at the apex
+            // ([`crate::apex`]).
+            let small_patch = if kind == QuadricKind::Cone {
+                0.0
+            } else {
+                radius
+            };
             // The three sampling planes each on its own: a scene of a few quadrics has too few
             // literals to share out.
             let planes: Vec<_> = (frame.heightfields().into_par_iter())
                 .map(|heightfield| {
                     let (mut found, mut counters) = (Vec::new(), RegionStats::default());
                     let key = (literal, term);
-                    let reach = basic_regions(
+                    let reach = basic_regions_within(
                         &frame,
                         &heightfield,
-                        &bounds,
+                        (&bounds, small_patch),
                         key,
-                        &mut found,
+                        (&mut found, &cap),
                         &mut counters,
                     );
                     let found: Vec<(BasicRegion, Aabb)> = (found.into_iter())
@@ -117,6 +137,9 @@ pub(super) fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Ve
             Some((patch, found, counters))
         })
         .collect();
+    if let Some(quadric) = cap.crossed() {
+        return Err(quadric);
+    }
     let mut patches = Vec::new();
     let mut regions = Vec::new();
     for (patch, found, counters) in decomposed.into_iter().flatten() {
@@ -125,7 +148,7 @@ pub(super) fn all_regions(dnf: &Dnf, stats: &mut SampleStats) -> (Vec<Patch>, Ve
         patches.push(patch);
         stats.regions.add(&counters);
     }
-    (patches, regions)
+    Ok((patches, regions))
 }
 
 /// The margin eq. 22 keeps around a patch's box `bounds` ([`CsgDistance::near`]): its diagonal

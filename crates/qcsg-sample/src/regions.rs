@@ -38,6 +38,22 @@
 //! distortion is undefined, like a cone's apex seen from the side, at `2⁻⁴⁰` of the domain) are
 //! counted in [`RegionStats::unresolved`] and dropped; around a cone's apex [`crate::apex`]
 //! then settles them.
+//!
+//! **Following the radius, not the features.** Both kinds of refinement above end at the
+//! scale of the surface's features: the band beside a border where the distortion is between
+//! `√3` and [`KEEP_DISTORTION`], and the band beside a `Root` heightfield's rim where the plane
+//! is still the best, are as narrow as the surface turns fast (`10⁻³` beside the waist of a
+//! flat hyperboloid). A rectangle still to be split whose surface fits in a world box of
+//! diagonal at most the radius is kept whole as a small patch instead, which one sample
+//! settles ([`crate::small_patches`]); the partition's work then follows the surface's area
+//! over the radius squared. A rectangle across a rim, whose distortion bounds cannot choose
+//! the cut, is cut across the coordinate along which the radicand varies more
+//! ([`radicand_cut`]), not at its longer edge, which cut a needle's rim into squares of its
+//! width. The regions kept are charged to a [`RegionCap`], the run's sample limit: each is
+//! held with eq. 22 narrowed to it until the run ends.
+
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DVec3, Heightfield, HeightfieldForm, PrincipalFrame};
@@ -219,6 +235,48 @@ impl RegionStats {
     }
 }
 
+/// The most basic regions a run may hold, shared by the decompositions of all its sampling
+/// planes (which run in parallel). Each region is held, with eq. 22 narrowed to it, until the
+/// run ends, at about the memory of a few samples; a run of more regions than its sample
+/// limit would hold more than that limit implies, so the decomposition stops as soon as the
+/// regions kept cross it ([`basic_regions_within`]) and the run is refused.
+#[derive(Debug)]
+pub struct RegionCap {
+    limit: u64,
+    kept: AtomicU64,
+    crossed: OnceLock<u32>,
+}
+
+impl RegionCap {
+    /// A cap of `limit` regions in all.
+    pub fn new(limit: u64) -> Self {
+        Self {
+            limit,
+            kept: AtomicU64::new(0),
+            crossed: OnceLock::new(),
+        }
+    }
+
+    /// Charges `count` more regions of `quadric`; `false` once the cap is crossed (by this
+    /// charge or an earlier one).
+    fn charge(&self, count: u64, quadric: u32) -> bool {
+        if self.crossed.get().is_some() {
+            return false;
+        }
+        let before = self.kept.fetch_add(count, Ordering::Relaxed);
+        if before.saturating_add(count) > self.limit {
+            let _ = self.crossed.set(quadric);
+            return false;
+        }
+        true
+    }
+
+    /// The quadric whose regions crossed the cap first, if any did.
+    pub fn crossed(&self) -> Option<u32> {
+        self.crossed.get().copied()
+    }
+}
+
 enum RectClass {
     /// A basic region, with its maximum distortion and whether it straddles the border.
     Keep(f64, bool),
@@ -248,8 +306,22 @@ pub fn basic_regions(
     frame: &PrincipalFrame,
     heightfield: &Heightfield,
     bounds: &Aabb,
-    (quadric, term): (u32, u32),
+    key: (u32, u32),
     out: &mut Vec<BasicRegion>,
+    stats: &mut RegionStats,
+) -> f64 {
+    let cap = RegionCap::new(u64::MAX);
+    basic_regions_within(frame, heightfield, (bounds, 0.0), key, (out, &cap), stats)
+}
+
+/// [`basic_regions`], charging every region kept to `cap`: once the cap is crossed the
+/// decomposition stops, and what it found is incomplete ([`RegionCap::crossed`] says so).
+pub fn basic_regions_within(
+    frame: &PrincipalFrame,
+    heightfield: &Heightfield,
+    (bounds, small_patch): (&Aabb, f64),
+    (quadric, term): (u32, u32),
+    (out, cap): (&mut Vec<BasicRegion>, &RegionCap),
     stats: &mut RegionStats,
 ) -> f64 {
     let sheets: &[f64] = match heightfield.form {
@@ -264,42 +336,15 @@ pub fn basic_regions(
     if !finite || domain.width() <= 0.0 || domain.height() <= 0.0 {
         return 0.0;
     }
-    let mut given_up_reach = 0.0f64;
-    let mut kept = Vec::new();
-    let mut budget = MAX_REGION_RECTANGLES;
-    let best = BestPlane::new(heightfield);
-    // Each rectangle lies in one quadrant, where its corners' squared slopes bound its
-    // distortion ([`corner_bounds`]): a split takes four new ones.
-    let slope = |x: f64, y: f64| heightfield.slope_squared(x, y).unwrap_or(f64::NAN);
-    for quadrant in quadrants(domain) {
-        let (x, y) = (quadrant.x, quadrant.y);
-        let slopes = [
-            slope(x.0, y.0),
-            slope(x.1, y.0),
-            slope(x.0, y.1),
-            slope(x.1, y.1),
-        ];
-        let mut stack = vec![((quadrant, slopes), 0u32)];
-        while let Some(((rect, slopes), depth)) = stack.pop() {
-            stats.examined += 1;
-            budget = budget.saturating_sub(1);
-            match classify_rect(heightfield, &best, (&rect, corner_bounds(slopes))) {
-                RectClass::Keep(max_distortion, border) => {
-                    kept.push((rect, max_distortion, border))
-                }
-                RectClass::Drop => {}
-                RectClass::Split if depth >= MAX_REGION_DEPTH || budget == 0 => {
-                    stats.unresolved += 1;
-                    given_up_reach = given_up_reach.max(reach_from_centre(heightfield, &rect));
-                }
-                RectClass::Split => {
-                    let [low, high] = split_for_distortion_at_corners(heightfield, &rect, slopes);
-                    stack.push((high, depth + 1));
-                    stack.push((low, depth + 1));
-                }
-            }
-        }
-    }
+    let partition = Partition {
+        frame,
+        heightfield,
+        small_patch,
+        sheets: sheets.len() as u64,
+        quadric,
+        cap,
+    };
+    let (kept, given_up_reach) = partition.run(quadrants(domain), stats);
     for &sheet in sheets {
         out.extend(
             kept.iter()
@@ -315,6 +360,102 @@ pub fn basic_regions(
         );
     }
     given_up_reach
+}
+
+/// The refinement of rectangles into basic regions, for one heightfield.
+pub(crate) struct Partition<'a> {
+    pub(crate) frame: &'a PrincipalFrame,
+    pub(crate) heightfield: &'a Heightfield,
+    /// A rectangle to be split whose surface fits in a world box of this diagonal is kept as a
+    /// small patch instead ([`crate::small_patches`]); `0` keeps none.
+    pub(crate) small_patch: f64,
+    /// Regions each kept rectangle makes (one per sheet), charged to `cap`.
+    pub(crate) sheets: u64,
+    pub(crate) quadric: u32,
+    pub(crate) cap: &'a RegionCap,
+}
+
+impl Partition<'_> {
+    /// The rectangles kept from `roots` (each inside one quadrant of the plane), with their
+    /// maximum distortion ([`f64::INFINITY`] for a small patch) and whether they straddle the
+    /// border, depth first, lower half first; and how far from the frame's centre the surface
+    /// over the rectangles given up reaches.
+    pub(crate) fn run(
+        &self,
+        roots: Vec<Rect>,
+        stats: &mut RegionStats,
+    ) -> (Vec<(Rect, f64, bool)>, f64) {
+        let heightfield = self.heightfield;
+        let mut given_up_reach = 0.0f64;
+        let mut kept = Vec::new();
+        let mut budget = MAX_REGION_RECTANGLES;
+        let best = BestPlane::new(heightfield);
+        // Each rectangle lies in one quadrant, where its corners' squared slopes bound its
+        // distortion ([`corner_bounds`]): a split takes four new ones.
+        let slope = |x: f64, y: f64| heightfield.slope_squared(x, y).unwrap_or(f64::NAN);
+        'roots: for root in roots {
+            let (x, y) = (root.x, root.y);
+            let slopes = [
+                slope(x.0, y.0),
+                slope(x.1, y.0),
+                slope(x.0, y.1),
+                slope(x.1, y.1),
+            ];
+            let mut stack = vec![((root, slopes), 0u32)];
+            while let Some(((rect, slopes), depth)) = stack.pop() {
+                stats.examined += 1;
+                budget = budget.saturating_sub(1);
+                let keep = match classify_rect(heightfield, &best, (&rect, corner_bounds(slopes))) {
+                    RectClass::Keep(max_distortion, border) => Some((max_distortion, border)),
+                    RectClass::Drop => None,
+                    // Refining it for its distortion, or to tell where the rim of its
+                    // heightfield crosses it, would only cut a patch that one sample can
+                    // cover into many regions.
+                    RectClass::Split if self.is_small_patch(&rect) => Some((f64::INFINITY, true)),
+                    RectClass::Split if depth >= MAX_REGION_DEPTH || budget == 0 => {
+                        stats.unresolved += 1;
+                        given_up_reach = given_up_reach.max(reach_from_centre(heightfield, &rect));
+                        None
+                    }
+                    RectClass::Split => {
+                        let cut = |rect: &Rect| radicand_cut(heightfield, rect);
+                        let [low, high] = split_at_corners(heightfield, &rect, slopes, cut);
+                        stack.push((high, depth + 1));
+                        stack.push((low, depth + 1));
+                        None
+                    }
+                };
+                if let Some((max_distortion, border)) = keep {
+                    if !self.cap.charge(self.sheets, self.quadric) {
+                        break 'roots;
+                    }
+                    kept.push((rect, max_distortion, border));
+                }
+            }
+        }
+        (kept, given_up_reach)
+    }
+
+    /// Whether the surface over `rect` (both sheets) fits in a world box of diagonal
+    /// `small_patch`.
+    fn is_small_patch(&self, rect: &Rect) -> bool {
+        if self.small_patch <= 0.0 {
+            return false;
+        }
+        let region = |sheet: f64| BasicRegion {
+            quadric: self.quadric,
+            term: 0,
+            heightfield: *self.heightfield,
+            sheet,
+            rect: *rect,
+            max_distortion: f64::INFINITY,
+            border: None,
+        };
+        [1.0, -1.0].iter().all(|&sheet| {
+            patch_bounds(self.frame, &region(sheet))
+                .is_some_and(|b| (b.max - b.min).length() <= self.small_patch)
+        })
+    }
 }
 
 /// How far from the frame's centre the surface over `rect` reaches: `√(x² + y² + S)` at most,
@@ -361,6 +502,19 @@ pub fn split_for_distortion_at_corners(
     rect: &Rect,
     slopes: [f64; 4],
 ) -> [(Rect, [f64; 4]); 2] {
+    split_at_corners(heightfield, rect, slopes, |rect| {
+        rect.width() >= rect.height()
+    })
+}
+
+/// [`split_for_distortion_at_corners`], cutting across `x` where `undecided(rect)` says so
+/// when the halves' distortion bounds do not decide.
+fn split_at_corners(
+    heightfield: &Heightfield,
+    rect: &Rect,
+    slopes: [f64; 4],
+    undecided: impl Fn(&Rect) -> bool,
+) -> [(Rect, [f64; 4]); 2] {
     let slope = |x: f64, y: f64| heightfield.slope_squared(x, y).unwrap_or(f64::NAN);
     let (mx, my) = rect.centre();
     let [a, b, c, d] = slopes;
@@ -370,10 +524,52 @@ pub fn split_for_distortion_at_corners(
     let by_x = [(x_low, [a, bottom, c, top]), (x_high, [bottom, b, top, d])];
     let by_y = [(y_low, [a, b, left, right]), (y_high, [left, right, c, d])];
     let bounds = |halves: &[(Rect, [f64; 4]); 2]| halves.map(|(_, s)| corner_bounds(s));
-    if cut_along_x(rect, [bounds(&by_x), bounds(&by_y)]) {
-        by_x
+    let along_x = match cut_scores([bounds(&by_x), bounds(&by_y)]) {
+        (x, y) if x.is_finite() && y.is_finite() && x != y => x < y,
+        _ => undecided(rect),
+    };
+    if along_x { by_x } else { by_y }
+}
+
+/// The cut of a rectangle of [`basic_regions`] whose halves' distortion bounds do not decide
+/// it (a `Root` heightfield's rim crosses it, where the slope is unbounded): across the
+/// coordinate along which the radicand `S` varies more, so that the halves' ranges of `S`
+/// shrink, which is what decides such a rectangle ([`partially_defined`]: it is dropped once
+/// `S` is small beside the gradient). The longer edge would cut a long thin sheet (a
+/// paraboloid `10⁸` long and `74` wide seen from the side, an ellipsoid `10⁶` long) into
+/// squares of its width all along its rim: millions of rectangles, and as many basic regions,
+/// however coarse the radius.
+fn radicand_cut(heightfield: &Heightfield, rect: &Rect) -> bool {
+    let HeightfieldForm::Root {
+        alpha_x,
+        alpha_y,
+        beta_x,
+        beta_y,
+        ..
+    } = heightfield.form
+    else {
+        return rect.width() >= rect.height();
+    };
+    // The range of `S`'s part in one coordinate over the whole interval, and the larger of
+    // its ranges over the two halves.
+    let spread = |alpha: f64, beta: f64, (a, b): (f64, f64)| {
+        let parabola = Parabola::new(alpha, beta);
+        let mid = 0.5 * (a + b);
+        let halves = [(a, mid), (mid, b)].map(|half| {
+            let (low, high) = parabola.range(half);
+            high - low
+        });
+        let (low, high) = parabola.range((a, b));
+        (high - low, halves[0].max(halves[1]))
+    };
+    let (whole_x, halved_x) = spread(alpha_x, beta_x, rect.x);
+    let (whole_y, halved_y) = spread(alpha_y, beta_y, rect.y);
+    // The largest range of `S` over a half, for each cut.
+    let (by_x, by_y) = (halved_x + whole_y, whole_x + halved_y);
+    if by_x.is_finite() && by_y.is_finite() && by_x != by_y {
+        by_x < by_y
     } else {
-        by_y
+        rect.width() >= rect.height()
     }
 }
 
@@ -393,18 +589,24 @@ pub fn corner_bounds(slopes: [f64; 4]) -> Option<(f64, f64)> {
 
 /// Whether [`split_for_distortion`] cuts across `x`, from the bounds of the halves of the cut
 /// across `x` and of the cut across `y`.
-fn cut_along_x(rect: &Rect, [by_x, by_y]: [[Option<(f64, f64)>; 2]; 2]) -> bool {
-    let score = |halves: [Option<(f64, f64)>; 2]| {
-        let spread =
-            |bounds: Option<(f64, f64)>| bounds.map_or(f64::INFINITY, |(low, high)| high - low);
-        spread(halves[0]).max(spread(halves[1]))
-    };
-    let (score_x, score_y) = (score(by_x), score(by_y));
+fn cut_along_x(rect: &Rect, cuts: [[Option<(f64, f64)>; 2]; 2]) -> bool {
+    let (score_x, score_y) = cut_scores(cuts);
     if score_x.is_finite() && score_y.is_finite() && score_x != score_y {
         score_x < score_y
     } else {
         rect.width() >= rect.height()
     }
+}
+
+/// The largest spread of the distortion bounds over the halves of the cut across `x` and of
+/// the cut across `y` (infinite where a half has none).
+fn cut_scores([by_x, by_y]: [[Option<(f64, f64)>; 2]; 2]) -> (f64, f64) {
+    let score = |halves: [Option<(f64, f64)>; 2]| {
+        let spread =
+            |bounds: Option<(f64, f64)>| bounds.map_or(f64::INFINITY, |(low, high)| high - low);
+        spread(halves[0]).max(spread(halves[1]))
+    };
+    (score(by_x), score(by_y))
 }
 
 /// A rectangle with its distortion bounds ([`Heightfield::distortion_bounds`]).
@@ -587,6 +789,35 @@ fn radicand_max(heightfield: &Heightfield, rect: &Rect) -> Option<f64> {
     let (_, in_x) = Parabola::new(alpha_x, beta_x).range(rect.x);
     let (_, in_y) = Parabola::new(alpha_y, beta_y).range(rect.y);
     Some(in_x + in_y + alpha_c)
+}
+
+/// Where over `rect` the radicand `S` of a `Root` heightfield is largest (the surface over it
+/// is there if anywhere); the centre for other forms.
+pub(crate) fn radicand_peak(heightfield: &Heightfield, rect: &Rect) -> (f64, f64) {
+    let HeightfieldForm::Root {
+        alpha_x,
+        alpha_y,
+        beta_x,
+        beta_y,
+        ..
+    } = heightfield.form
+    else {
+        return rect.centre();
+    };
+    let peak = |parabola: Parabola, (a, b): (f64, f64)| {
+        let f = |v: f64| (parabola.alpha * v + 2.0 * parabola.beta) * v;
+        if parabola.alpha < 0.0 && a < parabola.vertex && parabola.vertex < b {
+            parabola.vertex
+        } else if f(b) > f(a) {
+            b
+        } else {
+            a
+        }
+    };
+    (
+        peak(Parabola::new(alpha_x, beta_x), rect.x),
+        peak(Parabola::new(alpha_y, beta_y), rect.y),
+    )
 }
 
 /// A `Root` rectangle over which the radicand is negative somewhere: drop it if there is no

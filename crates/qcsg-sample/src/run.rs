@@ -19,6 +19,7 @@ use crate::patches::{Patch, PlacedRegion, all_regions, near_margin};
 use crate::progress::{Progress, REFINE_WORK};
 use crate::sample_point::Sample;
 use crate::sampling::{Sampling, SpareBuffers};
+use crate::small_patches;
 use crate::stats::SampleStats;
 use crate::subdivide::{
     Emitted, GivenUp, Probed, RegionContext, SampleIndex, SubdivisionStats, given_up_share,
@@ -125,7 +126,16 @@ pub(super) fn sample_on_pool(
         None => Ok(()),
     };
     let mut stats = SampleStats::default();
-    let (patches, regions) = all_regions(dnf, &mut stats);
+    let too_many = |quadric| SampleError::TooManySamples {
+        limit: limits.max_samples,
+        quadric,
+    };
+    // Each region is held to the end of the run, at about the memory of a few samples: a
+    // decomposition into more regions than the sample limit is refused before eq. 22 is
+    // narrowed to each (a needle or a sharp waist cut into millions of regions took gigabytes
+    // here).
+    let (patches, regions) =
+        all_regions(dnf, (radius, limits.max_samples), &mut stats).map_err(too_many)?;
     // Eq. 22 of each region keeps the terms and literals near the region's patch, narrowed
     // from its whole patch's; regions where that is still many literals are tiled.
     let wholes: Vec<NearDistance<'_>> = patches
@@ -148,13 +158,21 @@ pub(super) fn sample_on_pool(
         })
         .collect();
     drop(wholes);
+    // Each small patch settled by eq. 22 at one point, or refined where a feature is near.
+    let limit = (radius, limits.max_samples);
+    let (regions, near) =
+        small_patches::settle_all((regions, near), &patches, limit, &mut stats.regions)
+            .map_err(too_many)?;
     let heavy = |near: &NearDistance<'_>| near.literals_of_large_terms() > TILE_LITERALS;
     let (regions, near): (Vec<PlacedRegion>, Vec<_>) = if near.iter().flatten().any(heavy) {
         regions
             .into_par_iter()
             .zip(near)
             .flat_map_iter(|(region, near)| match near {
-                Some(near) if heavy(&near) => tiles(&patches, region, near, radius),
+                // A small patch takes one sample, whatever its literals.
+                Some(near) if heavy(&near) && !small_patches::is_small_patch(&region.1) => {
+                    tiles(&patches, region, near, radius)
+                }
                 near => vec![(region, near)],
             })
             .unzip()

@@ -8,7 +8,8 @@ use common::{Rng, points_on};
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DMat4, DVec3, HeightfieldForm, PrincipalFrame, Quadric, QuadricKind};
 use qcsg_sample::regions::{
-    BasicRegion, Owned, Rect, RegionStats, basic_regions, patch_bounds, region_point,
+    BasicRegion, Owned, Rect, RegionCap, RegionStats, basic_regions, basic_regions_within,
+    patch_bounds, region_point,
 };
 
 fn kinds() -> Vec<(&'static str, Quadric)> {
@@ -242,4 +243,32 @@ fn patch_bounds_hold_the_patch() {
             }
         }
     }
+}
+
+/// A cap on the regions kept stops the partition as soon as it is crossed and names the
+/// quadric; under the cap the regions are those of an uncapped partition.
+#[test]
+fn the_region_cap_stops_the_partition() {
+    let q = Quadric::sphere(DVec3::ZERO, 1.0).expect("a sphere");
+    let bounds = Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0));
+    let (_, all, _) = regions_of(&q, &bounds);
+    let frame = q.frame();
+    let partition = |limit: u64| {
+        let cap = RegionCap::new(limit);
+        let mut regions = Vec::new();
+        let mut stats = RegionStats::default();
+        for hf in frame.heightfields() {
+            let key = (7, 0);
+            let out = (&mut regions, &cap);
+            basic_regions_within(&frame, &hf, (&bounds, 0.0), key, out, &mut stats);
+        }
+        (regions, cap.crossed())
+    };
+    let count = all.len() as u64;
+    let (under, crossed) = partition(count);
+    assert_eq!(crossed, None);
+    assert_eq!(under.len(), all.len());
+    let (over, crossed) = partition(count - 1);
+    assert_eq!(crossed, Some(7));
+    assert!((over.len() as u64) < count, "{} regions", over.len());
 }

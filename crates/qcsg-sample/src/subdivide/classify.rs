@@ -35,6 +35,7 @@ use super::emitted::Emitted;
 use super::fill::fill;
 use crate::regions::{BasicRegion, Rect, region_point};
 use crate::sample_point::Sample;
+use qcsg_quadric::DVec3;
 
 /// What a cell is after its corner distances are looked at.
 pub(super) enum Verdict {
@@ -184,7 +185,17 @@ pub(super) fn covered_by_recent(
     let Some(position) = region_point(ctx.frame, &region.heightfield, region.sheet, x, y) else {
         return false;
     };
-    let extent = 0.5 * footprint;
+    covered_near(ctx, region, (position, 0.5 * footprint), out)
+}
+
+/// Whether one of the last samples of `out` covers, with a radius of at most `r` (grown to
+/// it), every point within `extent` of `position`, a point of the region's quadric.
+pub(super) fn covered_near(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    (position, extent): (DVec3, f64),
+    out: &mut [Sample],
+) -> bool {
     let recent = out.len().saturating_sub(RECENT_SAMPLES)..out.len();
     // Where no recent sample is near enough (most rectangles), the centre needs no normal.
     let near = |s: &Sample| may_cover(s.position - position, extent, ctx.radius);

@@ -11,14 +11,16 @@
 //! on one thread as on many, so the output stays the same for any thread count; on one thread
 //! it costs a join per large rectangle and nothing is copied.
 
-use super::cell::{Cell, Walk};
-use super::classify::{Verdict, at_centre, classify, split};
+use super::cell::{Cell, Walk, query};
+use super::classify::{Verdict, at_centre, classify, covered_near, split};
+use super::emit::emit;
 use super::emitted::Emitted;
 use super::{RegionContext, SubdivisionStats};
 use crate::budget::Meter;
 use crate::in_order::lock;
 use crate::regions::{BasicRegion, region_point};
 use crate::sample_point::Sample;
+use crate::small_patches;
 use qcsg_quadric::DVec3;
 use std::sync::{Mutex, PoisonError};
 
@@ -55,6 +57,11 @@ pub fn sample_region(
     // plane coordinates alone, and the region before may have been another sheet, plane or
     // quadric, whose value at the same coordinates is that of another point.
     memo.clear();
+    if small_patches::is_small_patch(region) {
+        small_patch(ctx, region, (out, block_start), stats);
+        out.box_new();
+        return;
+    }
     let root = Cell::new(ctx, region, region.rect, (memo, stats));
     subdivide(
         (ctx, index, region),
@@ -64,6 +71,43 @@ pub fn sample_region(
         (memo, stats),
     );
     out.box_new();
+}
+
+/// A small patch's one sample ([`crate::small_patches`]): at its test point `p`, of radius the
+/// diagonal `E` of its box, where eq. 22 is negative there (the settling of the run kept it for
+/// that). Every point of the patch lies within `E` of `p`: a recent sample of the block that
+/// covers that ball (its radius grown up to `r`) covers the patch, as for small rectangles
+/// ([`super::classify`]).
+fn small_patch(
+    ctx: &RegionContext<'_>,
+    region: &BasicRegion,
+    (out, block_start): (&mut Emitted, usize),
+    stats: &mut SubdivisionStats,
+) {
+    stats.rectangles += 1;
+    let (x, y) = small_patches::test_point(region);
+    let Some(position) = region_point(ctx.frame, &region.heightfield, region.sheet, x, y) else {
+        return;
+    };
+    let extent = small_patches::extent(ctx.frame, region);
+    if covered_near(ctx, region, (position, extent), &mut out[block_start..]) {
+        stats.small += 1;
+        return;
+    }
+    let d = if ctx.on_surface {
+        f64::NEG_INFINITY
+    } else {
+        query(ctx, region, x, y, stats)
+    };
+    let mut meter = Meter::new(ctx.budget, region.quadric);
+    if d < 0.0 {
+        let radius = extent.min(ctx.radius);
+        emit(ctx, region, x, y, radius, out);
+        stats.small += 1;
+        meter.finish(1, 1);
+    } else {
+        meter.finish(0, 1);
+    }
 }
 
 /// Rectangles whose footprint is at least this many radii are split into halves that other
