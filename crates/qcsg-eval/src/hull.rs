@@ -16,8 +16,9 @@
 //! ([`crate::hull_2d::build_prism`]).
 //!
 //! Balls of different radii (a point being a ball of radius 0) have cones and planes tangent to
-//! several balls in their hull; they are refused ([`HullRefusal::UnequalRadii`]), as are parts
-//! that are neither (an ellipsoid, a cylinder, a difference: [`HullRefusal::Part`]).
+//! several balls in their hull, built by [`crate::hull_balls`] when [`common_radius`] finds two
+//! radii ([`HullRefusal::UnequalRadii`]). Parts that are neither balls nor convex polytopes (an
+//! ellipsoid, a cylinder beside a ball, a difference) are refused ([`HullRefusal::Part`]).
 
 use std::collections::{HashMap, HashSet};
 
@@ -491,32 +492,32 @@ pub struct HullBuilder {
     pub source: Source,
 }
 
-fn padded(min: DVec3, max: DVec3) -> Aabb {
+pub(crate) fn padded(min: DVec3, max: DVec3) -> Aabb {
     // Room for the rounding of the pieces' own coefficients, near and far from the origin.
     let pad = 1e-9 * (max - min).max_element() + 1e-15 * max.abs().max(min.abs()).max_element();
     Aabb::new(min - pad, max + pad)
 }
 
-fn box_of(points: &[DVec3], r: f64) -> Aabb {
+pub(crate) fn box_of(points: &[DVec3], r: f64) -> Aabb {
     let min = points.iter().fold(DVec3::INFINITY, |m, p| m.min(*p)) - r;
     let max = points.iter().fold(DVec3::NEG_INFINITY, |m, p| m.max(*p)) + r;
     padded(min, max)
 }
 
 impl HullBuilder {
-    fn leaf(&self, dag: &mut Dag, q: Option<Quadric>) -> Edge {
+    pub(crate) fn leaf(&self, dag: &mut Dag, q: Option<Quadric>) -> Edge {
         match q {
             Some(q) => dag.leaf(q, self.source).into(),
             None => dag.empty(self.source).into(),
         }
     }
 
-    fn intersection_in(&self, dag: &mut Dag, parts: Vec<Edge>, bounds: Aabb) -> Edge {
+    pub(crate) fn intersection_in(&self, dag: &mut Dag, parts: Vec<Edge>, bounds: Aabb) -> Edge {
         let cut = dag.intersection(parts, self.source);
         dag.bounded(cut, bounds).into()
     }
 
-    fn ball(&self, dag: &mut Dag, c: DVec3, r: f64) -> Edge {
+    pub(crate) fn ball(&self, dag: &mut Dag, c: DVec3, r: f64) -> Edge {
         match Quadric::sphere(c, r) {
             Some(q) => dag
                 .bounded_leaf(q, self.source, Aabb::from_centre_half(c, DVec3::splat(r)))

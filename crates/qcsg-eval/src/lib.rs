@@ -45,6 +45,7 @@ pub mod extrude;
 pub mod glyphs;
 pub mod hull;
 pub mod hull_2d;
+pub mod hull_balls;
 pub mod import;
 pub mod math;
 pub mod mesh_shadow;

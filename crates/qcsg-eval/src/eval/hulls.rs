@@ -7,8 +7,11 @@ use qcsg_csg::{Edge, Source};
 use qcsg_diag::{Diagnostic, FileId, Span};
 
 use crate::codes;
-use crate::hull::{Collector, Cylinder, HullBuilder, HullRefusal, Piece, common_radius};
+use crate::hull::{
+    Collector, Cylinder, HullBuilder, HullRefusal, MAX_HULL_POINTS, Piece, common_radius,
+};
 use crate::hull_2d::{self, Collector2};
+use crate::hull_balls;
 use crate::minkowski;
 use crate::planar::{PlanarError, planar_expression};
 
@@ -103,8 +106,14 @@ impl<'a> Evaluator<'a> {
             })
             .collect();
         if cylinders.is_empty() {
-            let r = common_radius(&pieces)?;
-            return HullBuilder { source }.build(&mut self.dag, &pieces, r);
+            let builder = HullBuilder { source };
+            return match common_radius(&pieces) {
+                Ok(r) => builder.build(&mut self.dag, &pieces, r),
+                Err(HullRefusal::UnequalRadii(_)) => {
+                    hull_balls::build(&mut self.dag, &builder, &pieces, MAX_HULL_POINTS)
+                }
+                Err(refusal) => Err(refusal),
+            };
         }
         if let Some(at) = pieces.iter().find_map(|p| match *p {
             Piece::Point(_, s) | Piece::Ball(_, _, s) => Some(s),
