@@ -11,6 +11,8 @@
 //! - [`image`]: the ray tracer's frame and a CPU model of splat rendering to compare with it;
 //! - [`mesh`]: STL meshes of a mesh-based peer and their Hausdorff distance to the exact surface;
 //! - [`openscad`]: OpenSCAD's CGAL export, the mesh-based peer, run when installed;
+//! - [`python_peer`]: the Python peers, Manifold and build123d (OpenCascade), run when installed;
+//! - [`shape`]: one CSG tree as OpenSCAD text and as the Python peers' JSON; the scaling families;
 //! - [`plot`]: log-log SVG plots and power-law fits for the report;
 //! - [`stability`]: the stability cases' header format (`// expect: …`) and running one case.
 
@@ -21,5 +23,7 @@ pub mod metrics;
 pub mod openscad;
 pub mod pipeline;
 pub mod plot;
+pub mod python_peer;
 pub mod reference;
+pub mod shape;
 pub mod stability;

@@ -1,8 +1,9 @@
-//! The mesh-based peer: OpenSCAD's CGAL export to STL, run with a time limit. OpenSCAD is
+//! The mesh-based peer: OpenSCAD's CGAL export to STL and its preview PNG (under a virtual X
+//! display), run with a time limit. OpenSCAD is
 //! optional: [`find`] says whether it is installed, and callers report "not installed".
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// The `openscad` executable on `PATH` (or `QCSG_OPENSCAD`), with its version line; `None` when
@@ -52,13 +53,86 @@ pub fn export_stl(
             .file_stem()
             .map_or_else(String::new, |s| s.to_string_lossy().into_owned())
     ));
-    let start = Instant::now();
-    let child = Command::new(program)
+    let mut command = Command::new(program);
+    command
         .arg("-o")
         .arg(&out)
         .arg("-D")
         .arg(format!("$fn={fn_value}"))
-        .arg(scene)
+        .arg(scene);
+    run_limited(command, &out, limit)
+}
+
+/// A virtual X display (`Xvfb`) for OpenSCAD's preview images, stopped when dropped.
+#[derive(Debug)]
+pub struct Display {
+    child: Child,
+    /// The `DISPLAY` value.
+    pub name: String,
+}
+
+impl Display {
+    /// Starts `Xvfb` on a free display number with a 1920×1080 screen; `Err` when Xvfb is not
+    /// installed (`apt-get install xvfb`).
+    pub fn start() -> Result<Self, String> {
+        let number = 90 + std::process::id() % 400;
+        let name = format!(":{number}");
+        let child = Command::new("Xvfb")
+            .arg(&name)
+            .args(["-screen", "0", "1920x1080x24", "-nolisten", "tcp"])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .map_err(|e| {
+                format!("Xvfb does not start ({e}); install it with apt-get install xvfb")
+            })?;
+        // Xvfb takes a moment to accept clients.
+        std::thread::sleep(Duration::from_millis(500));
+        Ok(Self { child, name })
+    }
+}
+
+impl Drop for Display {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// OpenSCAD's preview (OpenCSG, not CGAL) of `scene` with `$fn = fn_value` as a PNG of
+/// `width`×`height` on `display`, stopped after `limit`.
+pub fn preview_png(
+    program: &Path,
+    scene: &Path,
+    fn_value: u32,
+    (width, height): (u32, u32),
+    display: &Display,
+    work_dir: &Path,
+    limit: Duration,
+) -> Export {
+    let out = work_dir.join(format!(
+        "{}-fn{fn_value}.png",
+        scene
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned())
+    ));
+    let mut command = Command::new(program);
+    command
+        .env("DISPLAY", &display.name)
+        .arg("-o")
+        .arg(&out)
+        .arg(format!("--imgsize={width},{height}"))
+        .arg("-D")
+        .arg(format!("$fn={fn_value}"))
+        .arg(scene);
+    run_limited(command, &out, limit)
+}
+
+/// Runs `command`, stopping it after `limit`; its product is the file `out`.
+fn run_limited(mut command: Command, out: &Path, limit: Duration) -> Export {
+    let start = Instant::now();
+    let child = command
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -80,9 +154,9 @@ pub fn export_stl(
                     let tail: Vec<&str> = log.lines().rev().take(3).collect();
                     return Export::Failed(tail.into_iter().rev().collect::<Vec<_>>().join(" / "));
                 }
-                return match std::fs::read(&out) {
+                return match std::fs::read(out) {
                     Ok(bytes) => Export::Done(bytes, elapsed),
-                    Err(err) => Export::Failed(format!("no STL written: {err}")),
+                    Err(err) => Export::Failed(format!("no file written: {err}")),
                 };
             }
             Ok(None) if start.elapsed() > limit => {

@@ -3,7 +3,14 @@
 //! throughput beside paper 000's Tables 1 and 2, scaling with fitted exponents, what pruning
 //! left out, and the stability suite's measured errors.
 //!
-//! Run it with `cargo run --release -p qcsg-bench` (add `--quick` for smaller sweeps).
+//! Run it with `cargo run --release -p qcsg-bench` (add `--quick` for smaller sweeps). The
+//! Python peers (Manifold, build123d) are measured when `crates/qcsg-bench/peers/setup.sh` has
+//! made their environment; OpenSCAD when it is installed, its preview when Xvfb is.
+
+mod families;
+mod peers;
+mod summary;
+mod to_image;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -13,16 +20,19 @@ use clap::Parser;
 use peak_alloc::PeakAlloc;
 use qcsg_bench::image::{Agreement, camera_for, ray_traced, splat};
 use qcsg_bench::measure::{Measured, References, measure};
-use qcsg_bench::mesh::{mesh_distance, parse_stl};
-use qcsg_bench::openscad::{Export, export_stl, find};
+use qcsg_bench::mesh::parse_stl;
+use qcsg_bench::openscad::{Display, Export, export_stl, find};
 use qcsg_bench::pipeline::{compile_file, compile_source};
 use qcsg_bench::plot::{Plot, Series, power_law};
+use qcsg_bench::python_peer::{self, Peer};
 use qcsg_bench::reference::diagonal;
 use qcsg_bench::stability::{self, run_case};
 use qcsg_csg::dnf::Pruning;
 use qcsg_csg::{Dnf, DnfOptions};
 use qcsg_render::ImageSize;
 use qcsg_sample::{SampleError, Sampling, sample};
+
+use peers::PeerRow;
 
 #[global_allocator]
 static PEAK: PeakAlloc = PeakAlloc;
@@ -41,6 +51,20 @@ struct Args {
     /// Leave out the OpenSCAD comparison even when `openscad` is installed.
     #[arg(long)]
     no_openscad: bool,
+    /// Leave out the Python peers (Manifold, build123d) even when installed.
+    #[arg(long)]
+    no_python_peers: bool,
+    /// The most samples one sampling of the sweep may be expected to make: the sweep stops at
+    /// the first radius whose count, extrapolated from the one before (r⁻²), is larger.
+    #[arg(long, default_value_t = 12_000_000)]
+    max_samples: usize,
+    /// The most samples a sampling of the sweep may have for its images to be drawn by the
+    /// CPU splat model (its cost grows with the samples).
+    #[arg(long, default_value_t = 2_000_000)]
+    max_image_samples: usize,
+    /// Seconds each peer process (OpenSCAD, Python) may run.
+    #[arg(long, default_value_t = 60)]
+    peer_limit: u64,
 }
 
 /// The sweeps of one run.
@@ -63,7 +87,7 @@ impl Config {
     fn new(quick: bool) -> Self {
         if quick {
             Self {
-                radii: vec![0.1, 0.04, 0.016],
+                radii: vec![0.1, 0.04, 0.016, 0.004],
                 sizes: vec![(160, 120)],
                 rays: (600, 150),
                 fns: vec![8, 16],
@@ -72,7 +96,9 @@ impl Config {
             }
         } else {
             Self {
-                radii: vec![0.1, 0.05, 0.025, 0.0125, 0.00625],
+                radii: vec![
+                    0.1, 0.05, 0.025, 0.0125, 0.00625, 0.0025, 0.001, 5e-4, 2.5e-4, 1e-4,
+                ],
                 sizes: vec![(160, 120), (320, 240), (640, 480)],
                 rays: (3000, 600),
                 fns: vec![8, 16, 32, 64],
@@ -143,14 +169,48 @@ struct ImageRow {
     agreement: Agreement,
 }
 
-/// One OpenSCAD export and its distance to the exact surface.
-struct PeerRow {
-    fn_value: u32,
-    outcome: String,
-    time: Duration,
-    triangles: usize,
-    surface_to_mesh: f64,
-    mesh_to_surface: f64,
+/// The processor, its logical cores and the memory, from `/proc` (Linux).
+fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let model = cpu
+        .lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split(':').nth(1))
+        .map_or_else(
+            || "an unknown processor".to_owned(),
+            |m| m.trim().to_owned(),
+        );
+    let cores = std::thread::available_parallelism().map_or(0, usize::from);
+    let mem = std::fs::read_to_string("/proc/meminfo").unwrap_or_default();
+    let gib = mem
+        .lines()
+        .find(|l| l.starts_with("MemTotal"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|k| k.parse::<f64>().ok())
+        .map_or_else(String::new, |k| {
+            format!(", {:.0} GiB", k / (1 << 20) as f64)
+        });
+    format!("{model} ({cores} logical cores available{gib})")
+}
+
+/// The 1-, 5- and 15-minute load averages (`/proc/loadavg`).
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg").map_or_else(
+        |_| "unknown".to_owned(),
+        |l| l.split_whitespace().take(3).collect::<Vec<_>>().join(" / "),
+    )
+}
+
+/// How to install the Python peers, for the report.
+const SETUP: &str = "Install them with `sh crates/qcsg-bench/peers/setup.sh` (a virtual \
+    environment under `target/qcsg-bench-peers/`, versions pinned in \
+    `crates/qcsg-bench/peers/requirements.txt`) and run the report again.";
+
+fn why_missing(err: &Option<&String>) -> String {
+    err.map_or_else(
+        || "the peer did not run".to_owned(),
+        |e| e.replace('|', "/"),
+    )
 }
 
 fn secs(d: Duration) -> f64 {
@@ -184,6 +244,8 @@ fn run(args: &Args) -> Result<(), String> {
         .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
     let scene_dir = root.join("crates/qcsg-bench/scenes");
     let threads = rayon::current_num_threads();
+    let machine = machine();
+    let load_start = load_average();
     let mut md = String::new();
     let mut plots: Vec<String> = Vec::new();
 
@@ -216,6 +278,8 @@ fn run(args: &Args) -> Result<(), String> {
 
     // (a) error against run time.
     let mut rows: Vec<Vec<Row>> = Vec::new();
+    // Per scene, the radius the sweep stopped before and the samples it would have made.
+    let mut stops: Vec<Option<(f64, f64)>> = Vec::new();
     for scene in &scenes {
         let mut frames = Vec::new();
         for &(w, h) in &cfg.sizes {
@@ -224,12 +288,24 @@ fn run(args: &Args) -> Result<(), String> {
             let (frame, time) = ray_traced(&scene.dnf, &camera, size);
             frames.push((size, camera, frame, time));
         }
-        let mut scene_rows = Vec::new();
+        let mut scene_rows: Vec<Row> = Vec::new();
+        let mut stop = None;
         for &rel in &cfg.radii {
+            if let (Some(last), Some(&last_rel)) = (
+                scene_rows.last(),
+                cfg.radii.get(scene_rows.len().wrapping_sub(1)),
+            ) {
+                let expected = last.m.sampling.samples.len() as f64 * (last_rel / rel).powi(2);
+                if expected > args.max_samples as f64 {
+                    stop = Some((rel, expected));
+                    break;
+                }
+            }
             let m = one_thread(|| measure(&scene.dnf, rel * scene.diag, &scene.refs))?
                 .map_err(|e: SampleError| e.to_string())?;
             let mut images = Vec::new();
-            for (size, camera, frame, rt) in &frames {
+            let draw = m.sampling.samples.len() <= args.max_image_samples;
+            for (size, camera, frame, rt) in frames.iter().filter(|_| draw) {
                 let start = Instant::now();
                 let drawn = splat(&scene.dnf, &m.sampling.samples, camera, *size);
                 let time = start.elapsed();
@@ -249,40 +325,27 @@ fn run(args: &Args) -> Result<(), String> {
             scene_rows.push(Row { m, images });
         }
         rows.push(scene_rows);
+        stops.push(stop);
     }
 
     // (b) OpenSCAD.
+    let limit = Duration::from_secs(args.peer_limit);
+    let work = std::env::temp_dir().join(format!("qcsg-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
     let peer = if args.no_openscad { None } else { find() };
     let mut peer_rows: Vec<Vec<PeerRow>> = Vec::new();
     if let Some((program, _)) = &peer {
-        let work = std::env::temp_dir().join(format!("qcsg-bench-{}", std::process::id()));
-        std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
         for scene in &scenes {
             let mut list = Vec::new();
             for &f in &cfg.fns {
-                let export = export_stl(program, &scene.path, f, &work, Duration::from_secs(90));
+                let export = export_stl(program, &scene.path, f, &work, limit);
                 let row = match export {
                     Export::Done(bytes, time) => match parse_stl(&bytes) {
-                        Ok(mesh) => {
-                            let d = mesh_distance(
-                                &scene.dnf,
-                                &mesh,
-                                &scene.refs.surface,
-                                scene.diag / 400.0,
-                            );
-                            PeerRow {
-                                fn_value: f,
-                                outcome: "ok".into(),
-                                time,
-                                triangles: mesh.triangles.len(),
-                                surface_to_mesh: d.surface_to_mesh,
-                                mesh_to_surface: d.mesh_to_surface,
-                            }
-                        }
-                        Err(e) => failed_peer(f, time, e),
+                        Ok(mesh) => PeerRow::of_mesh(scene, f.to_string(), "ok", time, &mesh),
+                        Err(e) => PeerRow::failed(f.to_string(), time, &e),
                     },
-                    Export::TimedOut(time) => failed_peer(f, time, "timed out".into()),
-                    Export::Failed(e) => failed_peer(f, Duration::ZERO, e),
+                    Export::TimedOut(time) => PeerRow::failed(f.to_string(), time, "timed out"),
+                    Export::Failed(e) => PeerRow::failed(f.to_string(), Duration::ZERO, &e),
                 };
                 eprintln!(
                     "openscad {} $fn={f}: {} in {:.2} s",
@@ -298,16 +361,66 @@ fn run(args: &Args) -> Result<(), String> {
             }
             peer_rows.push(list);
         }
-        let _ = std::fs::remove_dir_all(&work);
     }
+
+    // (b) The Python peers.
+    let python = |peer: Peer| {
+        if args.no_python_peers {
+            Err("left out (`--no-python-peers`)".to_owned())
+        } else {
+            python_peer::find(&root, peer)
+        }
+    };
+    let manifold = python(Peer::Manifold);
+    let build123d = python(Peer::Build123d);
+    let manifold_runs = match &manifold {
+        Ok(m) => Some(peers::run_python(m, &scenes, args.quick, &work, limit)?),
+        Err(_) => None,
+    };
+    let build123d_runs = match &build123d {
+        Ok(b) => Some(peers::run_python(b, &scenes, args.quick, &work, limit)?),
+        Err(_) => None,
+    };
+
+    // (c) Time to an image.
+    let display = match &peer {
+        Some(_) => Some(Display::start()),
+        None => None,
+    };
+    let images = to_image::measure(
+        &scenes,
+        peer.as_ref()
+            .map(|(p, _)| (p.as_path(), peer_rows.as_slice())),
+        display.as_ref().and_then(|d| d.as_ref().ok()),
+        manifold_runs.as_deref(),
+        build123d_runs.as_deref(),
+        &work,
+        limit,
+    )?;
+    drop(display);
+
+    // (d) Scaling beside the peers.
+    let family_list = families::families(args.quick);
+    let family_results = families::measure(
+        &family_list,
+        &families::Tools {
+            manifold: manifold.as_ref().ok(),
+            build123d: build123d.as_ref().ok(),
+            openscad: peer.as_ref().map(|(p, _)| p.as_path()),
+        },
+        &work.join("families"),
+        limit,
+    )?;
+    let _ = std::fs::remove_dir_all(&work);
 
     // Header.
     let _ = writeln!(md, "# qcsg: error against run time\n");
     let _ = writeln!(
         md,
-        "Generated by `cargo run --release -p qcsg-bench{}` in {{TOTAL}} on a machine with {threads} \
-         rayon threads (shared with other work, so absolute times are noisy; ratios within one \
-         table come from one run). Sampling is timed on **one thread**, as paper 000 does; the \
+        "Generated by `cargo run --release -p qcsg-bench{}` in {{TOTAL}} on {machine}, with \
+         {threads} rayon threads; load average {load_start} at the start and {{LOAD_END}} at the \
+         end (the machine is shared with other work, so absolute times are noisy; every figure \
+         comes from this one run, and ratios within a table from the same minutes). Sampling is timed on **one thread**, as paper 000 does; the \
          ray tracer and the CPU splat model use all threads. Errors are measured against the \
          exact surface, independently of the sampler (`crates/qcsg-bench/src/reference.rs`): \
          reference points are exact intersections of random lines with the DNF's quadrics where \
@@ -358,7 +471,10 @@ fn run(args: &Args) -> Result<(), String> {
          with the ray tracer on every example and stiff scene is a test \
          (`cargo test -p qcsg-splat --test agreement`), and its 1920×1080 times against the ray \
          tracer on this machine's software adapter are in [render.md](render.md). The splat \
-         model's time is a CPU time, not comparable to the paper's GPU times.\n"
+         model's time is a CPU time, not comparable to the paper's GPU times. Samplings of more \
+         than {} samples are not drawn (\"not drawn\"; `--max-image-samples`): the CPU model's \
+         cost grows with the samples and the report must stay within its time.\n",
+        args.max_image_samples
     );
     for (scene, scene_rows) in scenes.iter().zip(&rows) {
         let _ = writeln!(md, "### {}\n", scene.name);
@@ -392,6 +508,9 @@ fn run(args: &Args) -> Result<(), String> {
                     img.agreement.disagreement()
                 );
             }
+            for _ in row.images.len()..cfg.sizes.len() {
+                md.push_str(" not drawn | – |");
+            }
             let _ = writeln!(md);
         }
         let rt: Vec<String> = scene_rows
@@ -404,6 +523,22 @@ fn run(args: &Args) -> Result<(), String> {
             })
             .unwrap_or_default();
         let _ = writeln!(md, "\nReference ray tracer: {}.\n", rt.join(", "));
+        if let Some(Some((rel, expected))) = stops.get(
+            scenes
+                .iter()
+                .position(|s| s.name == scene.name)
+                .unwrap_or(0),
+        ) {
+            let _ = writeln!(
+                md,
+                "The sweep stops here: r = {rel} diag would make about {:.1} M samples (extrapolated \
+                 as r⁻² from the last row), over the limit of {:.1} M (`--max-samples`; the \
+                 sampling, its k-d tree and the measurements must fit this shared machine's memory \
+                 and the report's time).\n",
+                expected / 1e6,
+                args.max_samples as f64 / 1e6
+            );
+        }
 
         let mut error_plot = Plot {
             title: format!("{}: error against time", scene.name),
@@ -442,15 +577,31 @@ fn run(args: &Args) -> Result<(), String> {
                 name: "OpenSCAD Hausdorff distance (export time)".into(),
                 points: list
                     .iter()
-                    .filter(|p| p.outcome == "ok")
-                    .map(|p| {
-                        (
-                            secs(p.time),
-                            p.surface_to_mesh.max(p.mesh_to_surface) / scene.diag,
-                        )
-                    })
+                    .filter(|p| p.measured())
+                    .map(|p| (secs(p.time), p.hausdorff() / scene.diag))
                     .collect(),
             });
+        }
+        let k = scenes
+            .iter()
+            .position(|s| s.name == scene.name)
+            .unwrap_or(0);
+        for (name, runs) in [
+            ("Manifold", &manifold_runs),
+            ("build123d (boolean + tessellation)", &build123d_runs),
+        ] {
+            if let Some(run) = runs.as_ref().and_then(|r| r.get(k)) {
+                let exact = run.exact.map_or(Duration::ZERO, |e| e.0);
+                error_plot.series.push(Series {
+                    name: format!("{name} Hausdorff distance"),
+                    points: run
+                        .rows
+                        .iter()
+                        .filter(|p| p.measured())
+                        .map(|p| (secs(exact + p.time), p.hausdorff() / scene.diag))
+                        .collect(),
+                });
+            }
         }
         let file = format!("error_{}.svg", scene.name);
         if error_plot.write_svg(&out_dir.join(&file))? {
@@ -468,9 +619,9 @@ fn run(args: &Args) -> Result<(), String> {
                 name: format!("{w}×{h}"),
                 points: scene_rows
                     .iter()
-                    .map(|r| {
-                        let i = &r.images[k];
-                        (secs(r.m.time + i.splat), i.agreement.disagreement())
+                    .filter_map(|r| {
+                        let i = r.images.get(k)?;
+                        Some((secs(r.m.time + i.splat), i.agreement.disagreement()))
                     })
                     .collect(),
             });
@@ -481,7 +632,7 @@ fn run(args: &Args) -> Result<(), String> {
             let _ = writeln!(
                 md,
                 "The image from samples matched the ray tracer's in every pixel at every radius \
-                 and resolution (no disagreement plot: a zero has no place on a log axis).\n"
+                 and resolution drawn (no disagreement plot: a zero has no place on a log axis).\n"
             );
         }
         if drawn {
@@ -496,76 +647,146 @@ fn run(args: &Args) -> Result<(), String> {
     }
 
     // (b) section.
-    let _ = writeln!(md, "## 2. A mesh-based peer: OpenSCAD's CGAL export\n");
+    let _ = writeln!(
+        md,
+        "## 2. The peers' meshes: OpenSCAD, Manifold, build123d (OpenCascade)\n"
+    );
+    let _ = writeln!(
+        md,
+        "Every peer gets the same solids: OpenSCAD reads the scene files; Manifold and build123d \
+         build the same CSG trees (`crates/qcsg-bench/src/shape.rs`, checked against the files by \
+         a test) in Python subprocesses (`crates/qcsg-bench/peers/peer.py`), whose times are \
+         measured inside the script around the peer's own work; process times (interpreter, \
+         imports, writing the STL files) are given separately. Each mesh's Hausdorff distance to \
+         the exact surface is measured both ways: from every surface reference point to the \
+         mesh (exact point-triangle distances), and from points spread over every triangle at \
+         most diag/400 apart to the exact surface (projection onto the quadrics, kept where the \
+         solid changes across the projection; else the nearest reference point). The plots in \
+         section 1 draw it on the same axes as qcsg's coverage error; note they are different \
+         measures: the mesh's distance to the surface against the samples' coverage of it.\n\n\
+         The last columns put each mesh beside the quickest qcsg sampling of the sweep whose \
+         coverage error is at most the mesh's Hausdorff distance, and give the ratio of the two \
+         times (the peer's over qcsg's one-thread sampling, same run). \"none of the sweep\" \
+         marks a mesh finer than qcsg's finest sampling (see section 1 for where and why the \
+         sweep stops).\n"
+    );
+    let _ = writeln!(md, "### 2.1 OpenSCAD's CGAL export\n");
     match &peer {
         None => {
             let _ = writeln!(
                 md,
-                "OpenSCAD is not installed (or `--no-openscad` was given): no comparison.\n"
+                "Not measured: OpenSCAD is not installed (or `--no-openscad` was given).\n"
             );
         }
         Some((_, version)) => {
             let _ = writeln!(
                 md,
-                "{version}, `openscad -o scene.stl -D '$fn=N' scene.scad` on the same scene files, \
-                 timed from start to exit (one process per export, 90 s limit). The Hausdorff \
-                 distance of the mesh to the exact surface is measured both ways: from every \
-                 surface reference point to the mesh (exact point-triangle distances), and from \
-                 points spread over every triangle at most diag/400 apart to the exact surface \
-                 (projection onto the quadrics, kept where the solid changes across the \
-                 projection; else the nearest reference point). The plots in section 1 draw it on \
-                 the same axes as qcsg's coverage error; note they are different measures: the \
-                 mesh's distance to the surface against the samples' coverage of it.\n"
-            );
-            let _ = writeln!(
-                md,
-                "The last columns put each mesh beside the quickest qcsg sampling of the sweep \
-                 whose coverage error is at most the mesh's Hausdorff distance, and give the ratio \
-                 of the two times (OpenSCAD's export over qcsg's one-thread sampling, same run).\n"
+                "{version}, `openscad -o scene.stl -D '$fn=N' scene.scad`, timed from start to exit \
+                 (one process per export, {} s limit).\n",
+                args.peer_limit
             );
             for ((scene, list), scene_rows) in scenes.iter().zip(&peer_rows).zip(&rows) {
-                let _ = writeln!(md, "### {}\n", scene.name);
-                let _ = writeln!(
-                    md,
-                    "| $fn | outcome | export ms | triangles | surface → mesh / diag | mesh → surface / diag | Hausdorff / diag | qcsg r / diag | qcsg sampling ms | time ratio |"
+                let _ = writeln!(md, "**{}**\n", scene.name);
+                peers::table(
+                    &mut md, scene, scene_rows, &cfg.radii, list, "$fn", "export",
                 );
-                let _ = writeln!(md, "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|");
-                for p in list {
-                    let hausdorff = p.surface_to_mesh.max(p.mesh_to_surface);
-                    let matched = scene_rows
-                        .iter()
-                        .zip(&cfg.radii)
-                        .filter(|(r, _)| {
-                            r.m.coverage
-                                .max_distance
-                                .max(r.m.edge_coverage.max_distance)
-                                <= hausdorff
-                        })
-                        .min_by(|a, b| a.0.m.time.cmp(&b.0.m.time));
-                    let (qr, qt, ratio) = match matched {
-                        Some((r, rel)) if p.outcome == "ok" => (
-                            rel.to_string(),
-                            ms(r.m.time),
-                            format!("{:.2}", secs(p.time) / secs(r.m.time).max(1e-9)),
-                        ),
-                        _ => ("–".into(), "–".into(), "–".into()),
-                    };
-                    let _ = writeln!(
-                        md,
-                        "| {} | {} | {} | {} | {} | {} | {} | {qr} | {qt} | {ratio} |",
-                        p.fn_value,
-                        p.outcome,
-                        ms(p.time),
-                        p.triangles,
-                        sci(p.surface_to_mesh / scene.diag),
-                        sci(p.mesh_to_surface / scene.diag),
-                        sci(hausdorff / scene.diag)
-                    );
-                }
-                let _ = writeln!(md);
             }
         }
     }
+    let _ = writeln!(md, "### 2.2 Manifold\n");
+    match (&manifold, &manifold_runs) {
+        (Ok(m), Some(runs)) => {
+            let _ = writeln!(
+                md,
+                "{} (Python bindings of the C++ library), `Manifold.sphere/cylinder/cube` with \
+                 `circular_segments = n`, booleans by `batch_boolean`, timed from the first \
+                 primitive to the mesh out (`to_mesh`). Spheres are refined octahedra (n rounded up \
+                 to a multiple of 4).\n",
+                m.version
+            );
+            for ((scene, run), scene_rows) in scenes.iter().zip(runs).zip(&rows) {
+                let _ = writeln!(md, "**{}** (process {} ms)\n", scene.name, ms(run.process));
+                peers::table(
+                    &mut md, scene, scene_rows, &cfg.radii, &run.rows, "segments", "build",
+                );
+            }
+        }
+        _ => {
+            let why = why_missing(&manifold.as_ref().err());
+            let _ = writeln!(md, "Not measured: {why}. {SETUP}\n");
+        }
+    }
+    let _ = writeln!(md, "### 2.3 build123d (OpenCascade)\n");
+    match (&build123d, &build123d_runs) {
+        (Ok(b), Some(runs)) => {
+            let _ = writeln!(
+                md,
+                "{} on OpenCascade: `Sphere`, `Cylinder`, `Box` placed as OpenSCAD places them, \
+                 `fuse`/`cut`/`intersect` with all tools at once; the exact boolean is timed, then \
+                 checked (`is_valid`), then tessellated and written by `export_stl` at each linear \
+                 tolerance (relative to the diagonal; angular tolerance 0.5 rad so that the linear \
+                 one decides). The time column is the tessellation alone; the boolean's time is \
+                 above each table, and the ratio uses boolean + tessellation.\n",
+                b.version
+            );
+            for ((scene, run), scene_rows) in scenes.iter().zip(runs).zip(&rows) {
+                let (exact, valid) = run.exact.map_or_else(
+                    || ("–".to_owned(), "not reached".to_owned()),
+                    |(t, v)| {
+                        (
+                            ms(t),
+                            if v {
+                                "valid".into()
+                            } else {
+                                "**invalid**".into()
+                            },
+                        )
+                    },
+                );
+                let _ = writeln!(
+                    md,
+                    "**{}**: exact boolean {exact} ms, {valid} (process {} ms)\n",
+                    scene.name,
+                    ms(run.process)
+                );
+                let with_boolean: Vec<PeerRow> = run
+                    .rows
+                    .iter()
+                    .map(|r| PeerRow {
+                        setting: r.setting.clone(),
+                        outcome: r.outcome.clone(),
+                        time: r.time + run.exact.map_or(Duration::ZERO, |e| e.0),
+                        triangles: r.triangles,
+                        surface_to_mesh: r.surface_to_mesh,
+                        mesh_to_surface: r.mesh_to_surface,
+                    })
+                    .collect();
+                peers::table(
+                    &mut md,
+                    scene,
+                    scene_rows,
+                    &cfg.radii,
+                    &with_boolean,
+                    "tolerance",
+                    "boolean + tessellation",
+                );
+            }
+        }
+        _ => {
+            let why = why_missing(&build123d.as_ref().err());
+            let _ = writeln!(md, "Not measured: {why}. {SETUP}\n");
+        }
+    }
+
+    // (c), (d) sections.
+    to_image::write(&mut md, &images);
+    plots.extend(families::write(
+        &mut md,
+        &family_list,
+        &family_results,
+        &out_dir,
+        limit,
+    )?);
 
     // (c) throughput.
     throughput(&mut md, &scenes, &rows, &cfg)?;
@@ -578,12 +799,27 @@ fn run(args: &Args) -> Result<(), String> {
 
     // Stability.
     let stable = stability_section(&mut md, &root)?;
-    let summary = summary(&scenes, &rows, &peer_rows, stable);
+    let summary = summary::write(&summary::Inputs {
+        scenes: &scenes,
+        rows: &rows,
+        radii: &cfg.radii,
+        stops: &stops,
+        max_samples: args.max_samples,
+        openscad: &peer_rows,
+        manifold: manifold_runs.as_deref(),
+        build123d: build123d_runs.as_deref(),
+        images: &images,
+        families: &family_list,
+        family_results: &family_results,
+        stable,
+    });
+    let load_end = load_average();
 
     let total = started.elapsed();
     let md = md
         .replace("{TOTAL}", &format!("{:.0} s", secs(total)))
-        .replace("{SUMMARY}\n", &summary);
+        .replace("{SUMMARY}\n", &summary)
+        .replace("{LOAD_END}", &load_end);
     let path = root.join("docs/report.md");
     std::fs::write(&path, md).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     // Plots of earlier runs that this run did not draw would be stale: remove them.
@@ -602,105 +838,6 @@ fn run(args: &Args) -> Result<(), String> {
         secs(total)
     );
     Ok(())
-}
-
-/// The summary at the top of the report, from the measurements.
-fn summary(
-    scenes: &[Scene],
-    rows: &[Vec<Row>],
-    peer_rows: &[Vec<PeerRow>],
-    stable: (usize, usize, usize),
-) -> String {
-    let all = || rows.iter().flatten();
-    let worst_cover = all()
-        .map(|r| r.m.coverage_over_radius())
-        .fold(0.0, f64::max);
-    let worst_on = all().map(|r| r.m.on_surface).fold(0.0, f64::max);
-    let beyond: usize = all()
-        .map(|r| r.m.coverage.beyond_reach + r.m.edge_coverage.beyond_reach)
-        .sum();
-    let wrong: usize = all()
-        .flat_map(|r| r.images.iter())
-        .map(|i| i.agreement.holes + i.agreement.spill + i.agreement.wrong_quadric)
-        .sum();
-    let images = all().map(|r| r.images.len()).sum::<usize>();
-    let unresolved = all()
-        .filter(|r| r.m.sampling.stats.unresolved() > 0)
-        .count();
-    let measurements = all().count();
-    let mut text = String::from("## Summary\n\n");
-    let _ = writeln!(
-        text,
-        "- Coverage: over {measurements} samplings of {} scenes, the farthest reference point \
-         from a sample of its quadric was {worst_cover:.3} r ({beyond} points beyond r); the \
-         largest on-surface error {} of the diagonal.",
-        scenes.len(),
-        sci(worst_on)
-    );
-    let _ = if unresolved == 0 {
-        writeln!(
-            text,
-            "- In none of the {measurements} samplings did the sampler give up a rectangle it \
-             could not prove covered (\"unresolved\")."
-        )
-    } else {
-        writeln!(
-            text,
-            "- In {unresolved} of the {measurements} samplings the sampler gave up rectangles it \
-             could not prove covered (\"unresolved\"), although the reference points found no \
-             hole."
-        )
-    };
-    let _ = writeln!(
-        text,
-        "- Images from the samples (CPU splat model) against the ray tracer: {wrong} differing \
-         pixels over {images} images."
-    );
-    let peer_best: Vec<String> = scenes
-        .iter()
-        .zip(peer_rows)
-        .filter_map(|(s, list)| {
-            let best = list.iter().filter(|p| p.outcome == "ok").min_by(|a, b| {
-                let (x, y) = (
-                    a.surface_to_mesh.max(a.mesh_to_surface),
-                    b.surface_to_mesh.max(b.mesh_to_surface),
-                );
-                x.total_cmp(&y)
-            })?;
-            Some(format!(
-                "{} {} of the diagonal at $fn = {} in {} ms",
-                s.name,
-                sci(best.surface_to_mesh.max(best.mesh_to_surface) / s.diag),
-                best.fn_value,
-                ms(best.time)
-            ))
-        })
-        .collect();
-    if !peer_best.is_empty() {
-        let _ = writeln!(
-            text,
-            "- OpenSCAD's closest meshes (Hausdorff distance to the exact surface): {}.",
-            peer_best.join("; ")
-        );
-    }
-    let _ = writeln!(
-        text,
-        "- Stability: {} cases, {} as their headers expect, {} keeping every guarantee \
-         (the rest are recorded known failures, an expected error or an empty result).\n",
-        stable.0, stable.1, stable.2
-    );
-    text
-}
-
-fn failed_peer(fn_value: u32, time: Duration, why: String) -> PeerRow {
-    PeerRow {
-        fn_value,
-        outcome: why.replace('|', "/"),
-        time,
-        triangles: 0,
-        surface_to_mesh: f64::INFINITY,
-        mesh_to_surface: f64::INFINITY,
-    }
 }
 
 /// Paper 000, Table 2: quadrics, splat size, samples, distance queries, clip indices, sampling
@@ -732,7 +869,7 @@ fn throughput(
     rows: &[Vec<Row>],
     cfg: &Config,
 ) -> Result<(), String> {
-    let _ = writeln!(md, "## 3. Throughput beside paper 000\n");
+    let _ = writeln!(md, "## 5. Throughput beside paper 000\n");
     // Table 1: a single quadric, and the scenes.
     let ball = compile_source("ball.scad", "sphere(1);".into(), &DnfOptions::default());
     let ball = ball.dnf.ok_or("the single ball did not compile")?;
@@ -905,7 +1042,7 @@ fn scaling(
     cfg: &Config,
     scenes: &[Scene],
 ) -> Result<(), String> {
-    let _ = writeln!(md, "## 4. Scaling\n");
+    let _ = writeln!(md, "## 6. Scaling of sampling\n");
     let _ = writeln!(
         md,
         "Time (one thread) and peak heap memory of sampling (measured by a counting global \
@@ -1079,7 +1216,7 @@ fn pruning(
         let dnf = c.dnf.ok_or_else(|| format!("{name}: errors {codes:?}"))?;
         compiled.push((name.clone(), path.clone(), dnf, unpruned));
     }
-    let _ = writeln!(md, "## 5. What pruning left out\n");
+    let _ = writeln!(md, "## 7. What pruning left out\n");
     let _ = writeln!(
         md,
         "The DNF builder prunes while it builds (terms outside an operand's box, empty boxes, \
@@ -1258,7 +1395,7 @@ fn stability_section(md: &mut String, root: &Path) -> Result<(usize, usize, usiz
         .filter(|p| p.extension().is_some_and(|e| e == "qcsg" || e == "scad"))
         .collect();
     files.sort();
-    let _ = writeln!(md, "## 6. Stability cases\n");
+    let _ = writeln!(md, "## 8. Stability cases\n");
     let _ = writeln!(
         md,
         "The {} scenes of `tests/stability/`, as `cargo test -p qcsg-bench --test stability` runs \
