@@ -13,6 +13,8 @@ pub const NO_ROOT: &str = "E0603";
 pub const SAMPLE_LIMIT: &str = "E0604";
 /// Sampling the surface would exceed the limit on distance queries.
 pub const QUERY_LIMIT: &str = "E0605";
+/// Meshing a surface at the requested tolerance would exceed the triangle limit.
+pub const TRIANGLE_LIMIT: &str = "E0606";
 
 /// Every code with a one-line description, for the documentation table.
 pub const ALL: &[(&str, &str)] = &[
@@ -30,5 +32,9 @@ pub const ALL: &[(&str, &str)] = &[
     (
         QUERY_LIMIT,
         "sampling needs more distance queries than the limit (surfaces that nearly coincide)",
+    ),
+    (
+        TRIANGLE_LIMIT,
+        "meshing at the requested tolerance needs more triangles than the limit",
     ),
 ];

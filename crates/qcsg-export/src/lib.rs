@@ -1,0 +1,415 @@
+//! Watertight triangle meshes of a solid in DNF, within a stated distance `T` of its exact
+//! surface both ways, and the files they are written to (`docs/export.md`).
+//!
+//! The method is construction plus check:
+//! 1. every literal of every term is meshed on its own within `T/4` of its quadric
+//!    ([`literal`]: planes exactly, ellipsoids, cylinders and cones as inscribed polyhedra with a
+//!    closed-form deviation bound, the other kinds as a level set), clipped to the term's box;
+//! 2. the terms are intersections of their literals' meshes and the solid is the union of the
+//!    terms, computed by Manifold's exact booleans, which return a 2-manifold, oriented mesh;
+//!    where two surfaces meet, their meshes' intersection is a chain of mesh edges, so a
+//!    drilled hole's rim is a sharp edge of the mesh;
+//! 3. the result is measured against the exact surface both ways ([`deviation`]): from the
+//!    sampler's points, which come within `T/2` of every surface point, to the mesh, and from
+//!    points spread over every triangle to the nearest of those points (an upper bound on the
+//!    distance to the surface). Where the bound exceeds `T` (a sliver the booleans lost between
+//!    nearly tangent surfaces, a level set too coarse), the literals are meshed again at half
+//!    the tolerance, a few times, before the export gives up with the measured distance.
+//!
+//! Coordinates are meshed relative to the scene box's centre and moved back when the mesh is
+//! read out, in f64 throughout; the file formats decide what precision is written
+//! ([`formats`]).
+
+pub mod deviation;
+pub mod formats;
+mod literal;
+pub mod topology;
+
+use manifold_rust::manifold::Manifold;
+use manifold_rust::types::{Error as ManifoldError, OpType};
+use qcsg_csg::{Aabb, Dnf};
+use qcsg_quadric::DVec3;
+use rayon::prelude::*;
+
+pub use deviation::{Deviation, closest_point, measure_deviation};
+pub use topology::{Topology, topology};
+
+/// The default limit on the triangles of the mesh (and of one literal's mesh).
+pub const DEFAULT_MAX_TRIANGLES: u64 = 20_000_000;
+
+/// The default tolerance as a fraction of the scene box's diagonal.
+pub const DEFAULT_TOLERANCE_FRACTION: f64 = 1e-3;
+
+/// How often the literals are meshed again, each time at half the tolerance, when the check
+/// finds the mesh too far from the surface.
+pub const REFINEMENTS: u32 = 3;
+
+/// How to export.
+#[derive(Clone, Debug)]
+pub struct ExportOptions {
+    /// The largest distance allowed between the mesh and the exact surface, both ways.
+    pub tolerance: f64,
+    /// The most triangles the mesh (and one literal's mesh) may have.
+    pub max_triangles: u64,
+    /// Measure the deviation and refine where it fails; off, the mesh relies on the
+    /// construction's bounds alone.
+    pub verify: bool,
+    /// Limits of the sampler that the check uses.
+    pub sample_limits: qcsg_sample::SampleLimits,
+}
+
+impl ExportOptions {
+    /// Options with the given tolerance and default limits, checked.
+    pub fn new(tolerance: f64) -> Self {
+        Self {
+            tolerance,
+            max_triangles: DEFAULT_MAX_TRIANGLES,
+            verify: true,
+            sample_limits: qcsg_sample::SampleLimits::default(),
+        }
+    }
+}
+
+/// An indexed triangle mesh in world coordinates, triangles counter-clockwise seen from outside.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriangleMesh {
+    /// Vertex positions.
+    pub vertices: Vec<DVec3>,
+    /// Triangles as three vertex indices.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl TriangleMesh {
+    /// The triangle's corners.
+    pub fn corners(&self, t: &[u32; 3]) -> [DVec3; 3] {
+        t.map(|i| self.vertices[i as usize])
+    }
+}
+
+/// An exported mesh and what it took.
+#[derive(Clone, Debug)]
+pub struct Export {
+    /// The mesh.
+    pub mesh: TriangleMesh,
+    /// The tolerance each literal was meshed to, in the pass that was kept.
+    pub literal_tolerance: f64,
+    /// The measured two-way deviation, when checked.
+    pub deviation: Option<Deviation>,
+    /// How many passes were made (1 when the first mesh passed the check).
+    pub passes: u32,
+}
+
+/// What stops an export.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ExportError {
+    /// The tolerance is not a positive finite length.
+    InvalidTolerance(f64),
+    /// Some terms are unbounded: there is no finite mesh of them.
+    Unbounded {
+        /// How many terms.
+        terms: usize,
+    },
+    /// A literal's mesh, or the whole mesh, would have more triangles than allowed.
+    TooManyTriangles {
+        /// The quadric (index into [`Dnf::quadrics`]) whose mesh needed them, `u32::MAX` for the
+        /// whole mesh.
+        quadric: u32,
+        /// About how many it would need.
+        needed: u64,
+        /// The limit.
+        limit: u64,
+    },
+    /// Manifold reported an error on a boolean.
+    Boolean(String),
+    /// The check's sampler crossed one of its limits.
+    Sampling(qcsg_sample::SampleError),
+    /// The mesh is still farther than the tolerance from the surface after every refinement.
+    ToleranceNotMet {
+        /// The measured deviation of the last pass.
+        measured: Deviation,
+        /// The tolerance asked for.
+        tolerance: f64,
+    },
+}
+
+impl std::fmt::Display for ExportError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::InvalidTolerance(t) => {
+                write!(f, "the tolerance must be positive and finite, got {t}")
+            }
+            Self::Unbounded { terms } => write!(
+                f,
+                "{terms} terms of the solid are unbounded, so no finite mesh holds them; bound the \
+                 solid (e.g. intersect it with a cube)"
+            ),
+            Self::TooManyTriangles { needed, limit, .. } => write!(
+                f,
+                "the mesh would need about {needed} triangles, more than the limit of {limit}: \
+                 raise the tolerance or `--max-triangles`"
+            ),
+            Self::Boolean(message) => write!(f, "a mesh boolean failed: {message}"),
+            Self::Sampling(error) => write!(f, "checking the mesh: {error}"),
+            Self::ToleranceNotMet {
+                measured,
+                tolerance,
+            } => write!(
+                f,
+                "the mesh is {} from the surface (surface to mesh {}, mesh to surface {}) after \
+                 {REFINEMENTS} refinements, more than the tolerance {tolerance}",
+                measured.hausdorff(),
+                measured.surface_to_mesh,
+                measured.mesh_to_surface
+            ),
+        }
+    }
+}
+
+impl std::error::Error for ExportError {}
+
+/// What the export reports while it works.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Progress {
+    /// A pass starts over this many terms.
+    Pass {
+        /// Terms to mesh.
+        terms: u64,
+    },
+    /// One term is meshed.
+    TermDone,
+    /// The mesh is being checked.
+    Checking,
+}
+
+/// Meshes the solid within `options.tolerance` of its surface.
+pub fn export(
+    dnf: &Dnf,
+    options: &ExportOptions,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Export, ExportError> {
+    let tolerance = options.tolerance;
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(ExportError::InvalidTolerance(tolerance));
+    }
+    let unbounded = dnf.terms.iter().filter(|t| !t.bounds.is_bounded()).count();
+    if unbounded > 0 {
+        return Err(ExportError::Unbounded { terms: unbounded });
+    }
+    if dnf.terms.is_empty() {
+        return Ok(Export {
+            mesh: TriangleMesh::default(),
+            literal_tolerance: tolerance / 4.0,
+            deviation: None,
+            passes: 0,
+        });
+    }
+    let mut literal_tolerance = tolerance / 4.0;
+    let mut passes = 0;
+    // The sampler's points, computed once for every pass.
+    let mut samples = None;
+    loop {
+        passes += 1;
+        progress(Progress::Pass {
+            terms: dnf.terms.len() as u64,
+        });
+        let mesh = mesh_dnf(dnf, literal_tolerance, options.max_triangles, progress)?;
+        if !options.verify {
+            return Ok(Export {
+                mesh,
+                literal_tolerance,
+                deviation: None,
+                passes,
+            });
+        }
+        progress(Progress::Checking);
+        if samples.is_none() {
+            samples = Some(
+                deviation::surface_points(
+                    dnf,
+                    tolerance / 2.0,
+                    options.sample_limits,
+                    tolerance * 1e-4,
+                )
+                .map_err(ExportError::Sampling)?,
+            );
+        }
+        let (points, off_surface) = samples
+            .as_ref()
+            .map(|(p, d)| (p.as_slice(), *d))
+            .unwrap_or_default();
+        let mut measured =
+            measure_deviation(&mesh, points, tolerance / 2.0, tolerance, tolerance / 8.0);
+        measured.points_off_surface = off_surface;
+        if measured.hausdorff() <= tolerance {
+            return Ok(Export {
+                mesh,
+                literal_tolerance,
+                deviation: Some(measured),
+                passes,
+            });
+        }
+        if passes > REFINEMENTS {
+            return Err(ExportError::ToleranceNotMet {
+                measured,
+                tolerance,
+            });
+        }
+        literal_tolerance /= 2.0;
+    }
+}
+
+/// One pass: every term meshed at `literal_tolerance`, then their union.
+fn mesh_dnf(
+    dnf: &Dnf,
+    literal_tolerance: f64,
+    max_triangles: u64,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<TriangleMesh, ExportError> {
+    let origin = dnf.bounds.centre();
+    let scene = Aabb::new(dnf.bounds.min - origin, dnf.bounds.max - origin);
+    let planes = sheet_planes(dnf, origin);
+    let terms: Vec<Manifold> = dnf
+        .terms
+        .par_iter()
+        .map(|term| {
+            let context = TermContext {
+                origin,
+                scene,
+                planes: &planes,
+                tolerance: literal_tolerance,
+                max_triangles,
+            };
+            let result = mesh_term(dnf, term, &context);
+            progress(Progress::TermDone);
+            result
+        })
+        .collect::<Result<_, _>>()?;
+    let solid = Manifold::batch_boolean(&terms, OpType::Add);
+    check_status(&solid)?;
+    if solid.num_tri() as u64 > max_triangles {
+        return Err(ExportError::TooManyTriangles {
+            quadric: u32::MAX,
+            needed: solid.num_tri() as u64,
+            limit: max_triangles,
+        });
+    }
+    let gl = solid.get_mesh_glp::<f64, u32>(-1);
+    let stride = gl.num_prop as usize;
+    let vertices = gl
+        .vert_properties
+        .chunks_exact(stride)
+        .map(|v| DVec3::new(v[0], v[1], v[2]) + origin)
+        .collect();
+    let triangles = gl
+        .tri_verts
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .collect();
+    Ok(TriangleMesh {
+        vertices,
+        triangles,
+    })
+}
+
+/// What every term of a pass shares.
+struct TermContext<'a> {
+    origin: DVec3,
+    scene: Aabb,
+    planes: &'a [(Vec<(DVec3, f64)>, bool)],
+    tolerance: f64,
+    max_triangles: u64,
+}
+
+/// For each quadric whose sheets are planes, the half-space behind each sheet as
+/// `(normal, offset)` (`normal·p ≥ offset`, relative to `origin`), from its surface's
+/// representative, and whether the solid is behind every sheet.
+fn sheet_planes(dnf: &Dnf, origin: DVec3) -> Vec<(Vec<(DVec3, f64)>, bool)> {
+    (0..dnf.quadrics.len() as u32)
+        .map(|i| {
+            let Some(sheets) = dnf.surfaces.of(i) else {
+                return (Vec::new(), true);
+            };
+            let mut planes = Vec::new();
+            let mut one_sided = true;
+            for sheet in sheets {
+                let Some(surface) = dnf.surfaces.surface(sheet.surface) else {
+                    return (Vec::new(), true);
+                };
+                if !surface.planar {
+                    return (Vec::new(), true);
+                }
+                let rep = &surface.quadric;
+                let g = rep.gradient(rep.origin());
+                let n = g.length();
+                if !(n > 0.0 && n.is_finite()) {
+                    return (Vec::new(), true);
+                }
+                // The representative's solid is `ĝ·(p − p₀) ≤ 0`: behind it, `−ĝ·p ≥ −ĝ·p₀`.
+                let normal = -g / n;
+                let offset = normal.dot(rep.centre() - origin);
+                planes.push(if sheet.orientation >= 0 {
+                    (normal, offset)
+                } else {
+                    (-normal, -offset)
+                });
+                one_sided &= sheet.one_sided;
+            }
+            (planes, one_sided)
+        })
+        .collect()
+}
+
+fn check_status(m: &Manifold) -> Result<(), ExportError> {
+    match m.status() {
+        ManifoldError::NoError => Ok(()),
+        other => Err(ExportError::Boolean(format!("{other:?}"))),
+    }
+}
+
+/// One term: its box, cut by each literal in turn (planes first: they are exact and cheap and
+/// shrink what the curved literals' booleans see).
+fn mesh_term(
+    dnf: &Dnf,
+    term: &qcsg_csg::Term,
+    context: &TermContext,
+) -> Result<Manifold, ExportError> {
+    let origin = context.origin;
+    let bounds = Aabb::new(term.bounds.min - origin, term.bounds.max - origin);
+    let size = bounds.max - bounds.min;
+    if size.min_element().is_nan() || size.min_element() <= 0.0 {
+        return Ok(Manifold::empty());
+    }
+    let mut solid = Manifold::cube(
+        manifold_rust::linalg::Vec3::new(size.x, size.y, size.z),
+        false,
+    )
+    .translate(manifold_rust::linalg::Vec3::new(
+        bounds.min.x,
+        bounds.min.y,
+        bounds.min.z,
+    ));
+    let mut literals = term.literals.clone();
+    literals.sort_by_key(|&l| {
+        let kind = dnf.quadrics[l as usize].quadric.kind();
+        (kind != qcsg_quadric::QuadricKind::Plane, l)
+    });
+    for l in literals {
+        let job = literal::LiteralJob {
+            quadric: &dnf.quadrics[l as usize].quadric,
+            index: l,
+            bounds,
+            scene: context.scene,
+            sheets: context.planes[l as usize].0.clone(),
+            one_sided: context.planes[l as usize].1,
+            origin,
+            tolerance: context.tolerance,
+            max_triangles: context.max_triangles,
+        };
+        solid = literal::apply(&solid, &job)?;
+        check_status(&solid)?;
+        if solid.is_empty() {
+            break;
+        }
+    }
+    Ok(solid)
+}
