@@ -44,6 +44,11 @@ fn allowed() -> BTreeMap<&'static str, Vec<&'static str>> {
         ),
         ("qcsg-sample", vec!["qcsg-diag", "qcsg-csg", "qcsg-quadric"]),
         ("qcsg-render", vec!["qcsg-diag", "qcsg-csg", "qcsg-quadric"]),
+        // Meshes checked against the sampler's points.
+        (
+            "qcsg-export",
+            vec!["qcsg-diag", "qcsg-csg", "qcsg-quadric", "qcsg-sample"],
+        ),
         (
             "qcsg-splat",
             vec![
