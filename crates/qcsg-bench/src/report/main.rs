@@ -9,7 +9,10 @@
 
 mod families;
 mod peers;
+mod pruning;
+mod stability_table;
 mod summary;
+mod throughput;
 mod to_image;
 
 use std::fmt::Write as _;
@@ -26,8 +29,6 @@ use qcsg_bench::pipeline::{compile_file, compile_source};
 use qcsg_bench::plot::{Plot, Series, power_law};
 use qcsg_bench::python_peer::{self, Peer};
 use qcsg_bench::reference::diagonal;
-use qcsg_bench::stability::{self, run_case};
-use qcsg_csg::dnf::Pruning;
 use qcsg_csg::{Dnf, DnfOptions};
 use qcsg_render::ImageSize;
 use qcsg_sample::{SampleError, Sampling, sample};
@@ -383,10 +384,7 @@ fn run(args: &Args) -> Result<(), String> {
     };
 
     // (c) Time to an image.
-    let display = match &peer {
-        Some(_) => Some(Display::start()),
-        None => None,
-    };
+    let display = peer.as_ref().map(|_| Display::start());
     let images = to_image::measure(
         &scenes,
         peer.as_ref()
@@ -789,16 +787,16 @@ fn run(args: &Args) -> Result<(), String> {
     )?);
 
     // (c) throughput.
-    throughput(&mut md, &scenes, &rows, &cfg)?;
+    throughput::throughput(&mut md, &scenes, &rows, &cfg)?;
 
     // (d) scaling.
     scaling(&mut md, &mut plots, &out_dir, &cfg, &scenes)?;
 
     // (e) pruning.
-    pruning(&mut md, &scenes, &cfg, &scene_dir)?;
+    pruning::pruning(&mut md, &scenes, &cfg, &scene_dir)?;
 
     // Stability.
-    let stable = stability_section(&mut md, &root)?;
+    let stable = stability_table::stability_section(&mut md, &root)?;
     let summary = summary::write(&summary::Inputs {
         scenes: &scenes,
         rows: &rows,
@@ -837,151 +835,6 @@ fn run(args: &Args) -> Result<(), String> {
         plots.len(),
         secs(total)
     );
-    Ok(())
-}
-
-/// Paper 000, Table 2: quadrics, splat size, samples, distance queries, clip indices, sampling
-/// ms (one 4.8 GHz core), render ms (RTX 2080 Ti, 1920×1080).
-const PAPER_TABLE_2: [(u32, &str, u64, u64, u64, f64, f64); 18] = [
-    (3, "large", 5454, 22372, 2, 1.51, 0.34),
-    (3, "medium", 23452, 47336, 2, 3.39, 0.23),
-    (3, "small", 249014, 100398, 2, 8.51, 0.27),
-    (5, "large", 8112, 103296, 52, 7.63, 0.27),
-    (5, "medium", 35904, 215040, 23, 16.45, 0.18),
-    (5, "small", 329856, 576048, 17, 66.87, 0.26),
-    (5, "large", 9465, 52578, 52, 4.38, 0.31),
-    (5, "medium", 27882, 103908, 31, 8.71, 0.28),
-    (5, "small", 205075, 254592, 25, 23.47, 0.26),
-    (21, "large", 7134, 30802, 78, 6.26, 0.45),
-    (21, "medium", 31940, 85744, 37, 18.01, 0.39),
-    (21, "small", 104972, 171958, 31, 37.91, 0.33),
-    (31, "large", 28432, 196298, 51, 36.63, 0.96),
-    (31, "medium", 91895, 325705, 34, 62.23, 0.87),
-    (31, "small", 184533, 415847, 29, 83.36, 0.69),
-    (80, "large", 10176, 194024, 299, 94.47, 0.32),
-    (80, "medium", 141200, 558582, 244, 292.35, 0.34),
-    (80, "small", 655727, 1182464, 236, 623.92, 0.47),
-];
-
-fn throughput(
-    md: &mut String,
-    scenes: &[Scene],
-    rows: &[Vec<Row>],
-    cfg: &Config,
-) -> Result<(), String> {
-    let _ = writeln!(md, "## 5. Throughput beside paper 000\n");
-    // Table 1: a single quadric, and the scenes.
-    let ball = compile_source("ball.scad", "sphere(1);".into(), &DnfOptions::default());
-    let ball = ball.dnf.ok_or("the single ball did not compile")?;
-    let diag = diagonal(&ball);
-    let mut single = Vec::new();
-    for &rel in &cfg.radii {
-        let (s, t) = one_thread(|| timed_sample(&ball, rel * diag))??;
-        single.push((
-            rel,
-            s.samples.len(),
-            s.stats.subdivision.distance_queries,
-            t,
-        ));
-    }
-    let _ = writeln!(
-        md,
-        "Paper 000 Table 1 (one 4.8 GHz core) beside this run (one thread of this machine). \
-         Throughput is samples per second of sampling time.\n"
-    );
-    let _ = writeln!(md, "| case | paper 000 | qcsg (this run) |");
-    let _ = writeln!(md, "|---|---:|---|");
-    let rate = |n: usize, t: Duration| n as f64 / secs(t).max(1e-9);
-    let span = |v: &[f64]| {
-        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = v.iter().copied().fold(0.0, f64::max);
-        format!("{:.2}–{:.2} M/s", lo / 1e6, hi / 1e6)
-    };
-    let single_rates: Vec<f64> = single.iter().map(|&(_, n, _, t)| rate(n, t)).collect();
-    let _ = writeln!(
-        md,
-        "| single quadric, with subdivision (a ball) | 40–70 M/s (14–25 ns/sample) | {} over r/diag {:?} |",
-        span(&single_rates),
-        cfg.radii
-    );
-    let simple: Vec<f64> = rows
-        .first()
-        .map(|r| {
-            r.iter()
-                .map(|r| rate(r.m.sampling.samples.len(), r.m.time))
-                .collect()
-        })
-        .unwrap_or_default();
-    let _ = writeln!(
-        md,
-        "| simple CSG surface (paper Fig. 9; here three_spheres) | 10–50 M/s (20–100 ns/sample) | {} |",
-        span(&simple)
-    );
-    let complex: Vec<f64> = rows
-        .iter()
-        .skip(1)
-        .flat_map(|r| r.iter().map(|r| rate(r.m.sampling.samples.len(), r.m.time)))
-        .collect();
-    let _ = writeln!(
-        md,
-        "| complex CSG surface (paper Fig. 1; here the other scenes) | 0.5–2 M/s (500–2000 ns/sample) | {} |\n",
-        span(&complex)
-    );
-
-    let _ = writeln!(
-        md,
-        "Paper 000 Table 2 (sampling on one 4.8 GHz core; rendering on an RTX 2080 Ti at \
-         1920×1080) beside this run's scenes at the largest, a middle and the smallest radius of \
-         the sweep. The paper does not give its splat sizes numerically, so rows are matched by \
-         size class only; our \"render\" column is the CPU splat model at the largest resolution \
-         of the sweep, not a GPU time.\n"
-    );
-    let _ = writeln!(
-        md,
-        "| source | quadrics | splat size | samples | dist. queries | clip indices | sampling ms | ns/sample | render ms |"
-    );
-    let _ = writeln!(md, "|---|---:|---|---:|---:|---:|---:|---:|---:|");
-    for p in PAPER_TABLE_2 {
-        let _ = writeln!(
-            md,
-            "| paper 000 | {} | {} | {} | {} | {} | {:.2} | {:.1} | {:.2} (GPU) |",
-            p.0,
-            p.1,
-            p.2,
-            p.3,
-            p.4,
-            p.5,
-            p.5 * 1e6 / p.2 as f64,
-            p.6
-        );
-    }
-    let picks = [0, cfg.radii.len() / 2, cfg.radii.len() - 1];
-    for (scene, scene_rows) in scenes.iter().zip(rows) {
-        for (k, &i) in picks.iter().enumerate() {
-            let Some(row) = scene_rows.get(i) else {
-                continue;
-            };
-            let st = &row.m.sampling.stats;
-            let n = row.m.sampling.samples.len();
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} (r = {} diag) | {} | {} | {} | {} | {:.1} | {} (CPU) |",
-                scene.name,
-                scene.dnf.quadrics.len(),
-                ["large", "medium", "small"][k],
-                cfg.radii[i],
-                n,
-                st.subdivision.distance_queries,
-                st.clip_indices,
-                ms(row.m.time),
-                secs(row.m.time) * 1e9 / n.max(1) as f64,
-                row.images
-                    .last()
-                    .map_or_else(String::new, |img| ms(img.splat)),
-            );
-        }
-    }
-    let _ = writeln!(md);
     Ok(())
 }
 
@@ -1194,270 +1047,4 @@ fn normalised(name: &str, points: &[(f64, f64)]) -> Series {
         name: format!("{name} (k = {})", fit_text(points)),
         points: points.iter().map(|&(x, y)| (x, y / first)).collect(),
     }
-}
-
-fn pruning(
-    md: &mut String,
-    scenes: &[Scene],
-    cfg: &Config,
-    scene_dir: &Path,
-) -> Result<(), String> {
-    // The benchmark scenes, and one made to give the passes work.
-    let mut cases: Vec<(String, PathBuf)> = scenes
-        .iter()
-        .map(|s| (s.name.clone(), s.path.clone()))
-        .collect();
-    cases.push(("pruning".into(), scene_dir.join("pruning.scad")));
-    let mut compiled = Vec::new();
-    for (name, path) in &cases {
-        let c = compile_file(path, &DnfOptions::default())?;
-        let codes = c.error_codes();
-        let unpruned = c.unpruned;
-        let dnf = c.dnf.ok_or_else(|| format!("{name}: errors {codes:?}"))?;
-        compiled.push((name.clone(), path.clone(), dnf, unpruned));
-    }
-    let _ = writeln!(md, "## 7. What pruning left out\n");
-    let _ = writeln!(
-        md,
-        "The DNF builder prunes while it builds (terms outside an operand's box, empty boxes, \
-         terms outside a literal, duplicates and subsumed terms, literals that cannot matter) and \
-         then runs passes over the finished DNF. Per pass, the terms and literals it removed; \
-         then, per scene, the DNF built and sampled at r = {} diag with every rule on, with \
-         each rule turned off alone (`DnfOptions::pruning`, `Pruning::without`), with the \
-         construction rules or the final passes off together, and with all of them off \
-         (`Pruning::none`). Single rules mostly back each other up (what one leaves, another \
-         removes), so a row differs from \"all on\" only where no other rule covers it. The \
-         size of the DNF multiplied out with no pruning at all (De Morgan and distribution over \
-         the evaluated DAG) is counted first, without building it.\n",
-        cfg.radii[cfg.radii.len() / 2]
-    );
-    let _ = writeln!(
-        md,
-        "| scene | multiplied out, no pruning: terms | literals | built: terms | literals | \
-         quadrics |"
-    );
-    let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|");
-    for (name, _, dnf, unpruned) in &compiled {
-        let (t, l) = unpruned.map_or(("–".into(), "–".into()), |u| {
-            (count(u.terms), count(u.literals))
-        });
-        let _ = writeln!(
-            md,
-            "| {name} | {t} | {l} | {} | {} | {} |",
-            dnf.terms.len(),
-            dnf.literal_count(),
-            dnf.quadrics.len()
-        );
-    }
-    let _ = writeln!(md);
-    let _ = writeln!(
-        md,
-        "| scene | dropped while building (outside operand box / empty box / outside a literal / duplicate / subsumed terms; literals inside / duplicate) | peak terms |"
-    );
-    let _ = writeln!(md, "|---|---|---:|");
-    for (name, _, dnf, _) in &compiled {
-        let c = &dnf.stats.construction;
-        let _ = writeln!(
-            md,
-            "| {} | {} / {} / {} / {} / {}; {} / {} | {} |",
-            name,
-            c.terms_outside_operand_bounds,
-            c.terms_empty_bounds,
-            c.terms_outside_literal,
-            c.terms_duplicate,
-            c.terms_subsumed,
-            c.literals_inside,
-            c.literals_duplicate,
-            c.peak_terms
-        );
-    }
-    let _ = writeln!(
-        md,
-        "\n| scene | pass | terms before → after | literals before → after | quadrics before → after |"
-    );
-    let _ = writeln!(md, "|---|---|---|---|---|");
-    for (name, _, dnf, _) in &compiled {
-        for p in &dnf.stats.passes {
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} → {} | {} → {} | {} → {} |",
-                name,
-                p.pass,
-                p.terms_before,
-                p.terms_after,
-                p.literals_before,
-                p.literals_after,
-                p.quadrics_before,
-                p.quadrics_after
-            );
-        }
-    }
-    pruning_switches(md, &compiled, cfg.radii[cfg.radii.len() / 2])?;
-    let _ = writeln!(md);
-    Ok(())
-}
-
-/// Literal occurrences above which a DNF built with some pruning off is not sampled: the
-/// sampler's cost grows with them, and the report must stay quick.
-const SWITCH_SAMPLING_LITERALS: usize = 5_000;
-
-/// Per scene, one row per pruning setting: all on, each rule off alone, all off. A setting
-/// whose DNF equals one already sampled reuses that measurement instead of sampling again.
-fn pruning_switches(
-    md: &mut String,
-    compiled: &[(String, PathBuf, Dnf, Option<qcsg_csg::DnfSize>)],
-    rel: f64,
-) -> Result<(), String> {
-    let mut settings: Vec<(String, Pruning)> = vec![("all on".into(), Pruning::all())];
-    for rule in Pruning::RULES {
-        let off = Pruning::without(rule).ok_or_else(|| format!("no pruning rule {rule}"))?;
-        settings.push((format!("{rule} off"), off));
-    }
-    let mut construction_off = Pruning::none();
-    let mut final_off = Pruning::all();
-    for rule in Pruning::RULES.iter().filter(|r| r.starts_with("final_")) {
-        construction_off.set(rule, true);
-        final_off.set(rule, false);
-    }
-    settings.push(("construction rules off".into(), construction_off));
-    settings.push(("final passes off".into(), final_off));
-    settings.push(("all off".into(), Pruning::none()));
-    let _ = writeln!(
-        md,
-        "\nWith each rule off, at r = {rel} diag of the scene (one thread). A row that builds the \
-         same DNF as an earlier row repeats that row's sampling (marked =); DNFs over {} literal \
-         occurrences are not sampled; \"over the term limit\" is the builder's diagnostic at the \
-         default limit of {} terms.",
-        SWITCH_SAMPLING_LITERALS,
-        qcsg_csg::DEFAULT_TERM_LIMIT
-    );
-    for (name, path, pruned, _) in compiled {
-        let diag = diagonal(pruned);
-        let _ = writeln!(md, "\n**{name}**\n");
-        let _ = writeln!(
-            md,
-            "| pruning | terms | literals | quadrics | samples | distance queries | sampling ms |"
-        );
-        let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---:|");
-        // Built DNFs already sampled, with their sampling cells and the row that sampled them.
-        let mut sampled: Vec<(Dnf, String, String)> = Vec::new();
-        for (label, pruning) in &settings {
-            let options = DnfOptions {
-                pruning: *pruning,
-                ..DnfOptions::default()
-            };
-            let c = compile_file(path, &options)?;
-            let codes = c.error_codes();
-            let Some(dnf) = c.dnf else {
-                if codes.contains(&qcsg_csg::codes::TERM_LIMIT) {
-                    let _ = writeln!(md, "| {label} | over the term limit | – | – | – | – | – |");
-                    continue;
-                }
-                return Err(format!("{name} with {label}: errors {codes:?}"));
-            };
-            let same = sampled
-                .iter()
-                .find(|(d, _, _)| d.terms == dnf.terms && d.quadrics == dnf.quadrics);
-            let cells = if let Some((_, cells, row)) = same {
-                format!("{cells} (= {row})")
-            } else if dnf.literal_count() > SWITCH_SAMPLING_LITERALS {
-                "not sampled | – | –".to_string()
-            } else {
-                let (sampling, t) = one_thread(|| timed_sample(&dnf, rel * diag))??;
-                let cells = format!(
-                    "{} | {} | {}",
-                    sampling.samples.len(),
-                    sampling.stats.subdivision.distance_queries,
-                    ms(t)
-                );
-                sampled.push((dnf.clone(), cells.clone(), label.clone()));
-                cells
-            };
-            let _ = writeln!(
-                md,
-                "| {label} | {} | {} | {} | {cells} |",
-                dnf.terms.len(),
-                dnf.literal_count(),
-                dnf.quadrics.len()
-            );
-        }
-    }
-    Ok(())
-}
-
-/// Writes the stability table; returns (cases, as expected, keeping every guarantee).
-fn stability_section(md: &mut String, root: &Path) -> Result<(usize, usize, usize), String> {
-    let mut counts = (0, 0, 0);
-    let dir = root.join("tests/stability");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .map_err(|e| format!("cannot list {}: {e}", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "qcsg" || e == "scad"))
-        .collect();
-    files.sort();
-    let _ = writeln!(md, "## 8. Stability cases\n");
-    let _ = writeln!(
-        md,
-        "The {} scenes of `tests/stability/`, as `cargo test -p qcsg-bench --test stability` runs \
-         them (the test checks each outcome against the `// expect:` line of its file). Coverage \
-         is over surface and feature-curve reference points, in units of the radius (≤ 1 is \
-         the guarantee); on-surface error relative to the diagonal (limit {:.0e}, plus 8 ulps of the \
-         largest coordinate for scenes far from the origin).\n",
-        files.len(),
-        qcsg_bench::measure::ON_SURFACE_LIMIT
-    );
-    let _ = writeln!(
-        md,
-        "| case | expect | as expected | failed checks | samples | r / diag | coverage / r | on-surface / diag | reference points | sampling ms | stresses |"
-    );
-    let _ = writeln!(md, "|---|---|---|---|---:|---:|---:|---:|---:|---:|---|");
-    for path in &files {
-        let name = path
-            .file_stem()
-            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-        let start = Instant::now();
-        let result = run_case(path)?;
-        eprintln!("stability {name}: {:.2} s", secs(start.elapsed()));
-        let expect = match &result.header.expect {
-            stability::Expect::Ok => "ok".to_owned(),
-            stability::Expect::Empty => "empty".to_owned(),
-            stability::Expect::Error(c) => format!("error {c}"),
-            stability::Expect::KnownFailure(c) => format!("known-failure {}", stability::names(c)),
-        };
-        counts.0 += 1;
-        if result.failed.is_empty() {
-            counts.2 += 1;
-        }
-        let verdict = match result.verdict() {
-            Ok(()) => {
-                counts.1 += 1;
-                "yes".to_owned()
-            }
-            Err(why) => format!("**no**: {}", why.replace('|', "/")),
-        };
-        let (samples, cov, on, time) = match &result.measured {
-            Some(m) => (
-                m.sampling.samples.len().to_string(),
-                format!("{:.3}", m.coverage_over_radius()),
-                sci(m.on_surface),
-                ms(m.time),
-            ),
-            None => ("–".into(), "–".into(), "–".into(), "–".into()),
-        };
-        let _ = writeln!(
-            md,
-            "| {name} | {expect} | {verdict} | {} | {samples} | {} | {cov} | {on} | {} + {} | {time} | {} |",
-            if result.failed.is_empty() {
-                "–".into()
-            } else {
-                stability::names(&result.failed)
-            },
-            result.header.relative_radius,
-            result.reference_counts.0,
-            result.reference_counts.1,
-            result.header.stresses.replace('|', "/")
-        );
-    }
-    let _ = writeln!(md);
-    Ok(counts)
 }
