@@ -77,6 +77,19 @@ pub struct EvalLimitArgs {
     /// Most bytes of one file that `import` reads.
     #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_IMPORT_BYTES)]
     max_import_bytes: u64,
+
+    /// Most distinct points of one 3-D `hull` or convex part of a `minkowski` (64 times as many
+    /// in 2-D).
+    #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_HULL_POINTS)]
+    max_hull_points: usize,
+
+    /// Most distinct faces of one convex part of a `hull` or `minkowski` child.
+    #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_PART_PLANES)]
+    max_part_planes: usize,
+
+    /// Most convex parts of one `minkowski`.
+    #[arg(long, value_name = "N", default_value_t = EvalOptions::DEFAULT_MAX_MINKOWSKI_PARTS)]
+    max_minkowski_parts: usize,
 }
 
 impl EvalLimitArgs {
@@ -91,6 +104,9 @@ impl EvalLimitArgs {
             max_string_len: self.max_string_len,
             max_echo_len: self.max_echo_len,
             max_import_bytes: self.max_import_bytes,
+            max_hull_points: self.max_hull_points,
+            max_part_planes: self.max_part_planes,
+            max_minkowski_parts: self.max_minkowski_parts,
         }
     }
 }

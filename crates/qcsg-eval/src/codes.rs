@@ -48,6 +48,15 @@ pub const IMPORT_UNREADABLE: &str = "E0566";
 pub const IMPORT_MALFORMED: &str = "E0567";
 /// An `import` of a file larger than the import size limit (`--max-import-bytes`).
 pub const IMPORT_SIZE_LIMIT: &str = "E0568";
+/// A `hull` or `minkowski` of more distinct points than the hull point limit
+/// (`--max-hull-points`).
+pub const HULL_POINT_LIMIT: &str = "E0570";
+/// A convex part of a `hull` or `minkowski` with more faces than the part plane limit
+/// (`--max-part-planes`).
+pub const PART_PLANE_LIMIT: &str = "E0571";
+/// A `minkowski` that is a union of more convex parts than the Minkowski part limit
+/// (`--max-minkowski-parts`).
+pub const MINKOWSKI_PART_LIMIT: &str = "E0572";
 /// A `text()` font that cannot be used exactly (cubic CFF outlines) or cannot be read.
 pub const FONT_UNUSABLE: &str = "E0569";
 
@@ -135,6 +144,18 @@ pub const ALL: &[(&str, &str)] = &[
     (
         IMPORT_SIZE_LIMIT,
         "imported file size limit reached (`--max-import-bytes`)",
+    ),
+    (
+        HULL_POINT_LIMIT,
+        "hull point limit reached (`--max-hull-points`)",
+    ),
+    (
+        PART_PLANE_LIMIT,
+        "faces of one convex part of a hull limit reached (`--max-part-planes`)",
+    ),
+    (
+        MINKOWSKI_PART_LIMIT,
+        "Minkowski sum part limit reached (`--max-minkowski-parts`)",
     ),
     (
         FONT_UNUSABLE,

@@ -27,10 +27,16 @@ use qcsg_csg::{Aabb, Dag, Edge, NodeId, NodeKind, Source};
 use qcsg_mesh::{ConvexHull, HullError, convex_hull};
 use qcsg_quadric::Quadric;
 
-/// The most distinct points a hull is computed of (the exact hull is cubic in their number).
-pub const MAX_HULL_POINTS: usize = 400;
-/// The most distinct planes of one convex part whose vertices are enumerated.
-const MAX_PART_PLANES: usize = 96;
+/// The limits of a hull's or a Minkowski sum's size (see [`crate::EvalOptions`]).
+#[derive(Clone, Copy, Debug)]
+pub struct HullLimits {
+    /// The most distinct points a hull (a convex part of a sum) is computed of.
+    pub points: usize,
+    /// The most distinct planes of one convex part whose vertices are enumerated.
+    pub planes: usize,
+    /// The most convex parts of a Minkowski sum.
+    pub parts: usize,
+}
 
 /// What the hull is made of, in world space.
 #[derive(Clone, Copy, Debug)]
@@ -68,8 +74,13 @@ pub enum HullRefusal {
     Part(Source, &'static str),
     /// Two parts of different radii (a point has radius 0): their sources and radii.
     UnequalRadii([(Source, f64); 2]),
-    /// More distinct points or planes than the bound.
-    TooLarge(String),
+    /// Two parts that together make the result non-quadric (each may be fine alone): their
+    /// sources, what they are together, and the exact alternative.
+    Pair([Source; 2], &'static str, &'static str),
+    /// A limit crossed: the limit's diagnostic code and what crossed it.
+    Limit(&'static str, String),
+    /// A point or frame that cannot be represented.
+    Unrepresentable(String),
 }
 
 /// A plane `normal · p ≤ offset` with a unit normal.
@@ -255,17 +266,19 @@ pub struct Collector<'d> {
     pub parts: Vec<usize>,
     next_part: usize,
     seen: HashSet<(NodeId, [u64; 16])>,
+    max_planes: usize,
 }
 
 impl<'d> Collector<'d> {
-    /// A collector over `dag`.
-    pub fn new(dag: &'d Dag) -> Self {
+    /// A collector over `dag`, refusing convex parts of more than `max_planes` faces.
+    pub fn new(dag: &'d Dag, max_planes: usize) -> Self {
         Self {
             dag,
             pieces: Vec::new(),
             parts: Vec::new(),
             next_part: 0,
             seen: HashSet::new(),
+            max_planes,
         }
     }
 
@@ -393,10 +406,14 @@ impl<'d> Collector<'d> {
                 unique.push(p);
             }
         }
-        if unique.len() > MAX_PART_PLANES {
-            return Err(HullRefusal::TooLarge(format!(
-                "a convex part of the hull has more than {MAX_PART_PLANES} faces"
-            )));
+        if unique.len() > self.max_planes {
+            return Err(HullRefusal::Limit(
+                crate::codes::PART_PLANE_LIMIT,
+                format!(
+                    "a convex part has more than {} distinct faces",
+                    self.max_planes
+                ),
+            ));
         }
         for v in vertices(&unique, &bounds) {
             self.push(Piece::Point(v, source));
@@ -490,6 +507,19 @@ fn centre_of(p: &Piece) -> DVec3 {
 pub struct HullBuilder {
     /// The source of the new nodes.
     pub source: Source,
+    /// The most distinct points of the hull.
+    pub max_points: usize,
+}
+
+/// The refusal of a point set over the hull point limit, or not representable.
+pub(crate) fn hull_error(e: HullError) -> HullRefusal {
+    match e {
+        HullError::TooManyPoints(limit) => HullRefusal::Limit(
+            crate::codes::HULL_POINT_LIMIT,
+            format!("the hull has more than {limit} distinct points"),
+        ),
+        HullError::Coordinate(_) => HullRefusal::Unrepresentable(e.to_string()),
+    }
 }
 
 pub(crate) fn padded(min: DVec3, max: DVec3) -> Aabb {
@@ -552,11 +582,7 @@ impl HullBuilder {
     /// The hull of `pieces`, all of radius `r`.
     pub fn build(&self, dag: &mut Dag, pieces: &[Piece], r: f64) -> Result<Edge, HullRefusal> {
         let centres: Vec<DVec3> = pieces.iter().map(centre_of).collect();
-        let hull = convex_hull(&centres, MAX_HULL_POINTS).map_err(|e| match e {
-            HullError::TooManyPoints(_) | HullError::Coordinate(_) => {
-                HullRefusal::TooLarge(e.to_string())
-            }
-        })?;
+        let hull = convex_hull(&centres, self.max_points).map_err(hull_error)?;
         let round = r > 0.0;
         let mut parts: Vec<Edge> = Vec::new();
         let mut corners: Vec<DVec3> = Vec::new();

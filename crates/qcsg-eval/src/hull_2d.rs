@@ -19,7 +19,8 @@ use qcsg_csg::{Dag, Edge, Source};
 use qcsg_mesh::convex_hull_2d;
 use qcsg_quadric::Quadric;
 
-use crate::hull::{Cylinder, HullRefusal, MAX_HULL_POINTS};
+use crate::codes;
+use crate::hull::{Cylinder, HullLimits, HullRefusal};
 use crate::offset::{circle_of, convex_vertices, lines_of};
 use crate::planar::{PlanarExpr, PlanarId, PlanarKind};
 use crate::primitives_2d::column;
@@ -185,6 +186,7 @@ pub fn build(
     pieces: &[Piece2],
     r: f64,
     source: Source,
+    max_points: usize,
 ) -> Result<Edge, HullRefusal> {
     let centres: Vec<DVec2> = pieces
         .iter()
@@ -193,18 +195,21 @@ pub fn build(
         })
         .collect();
     if let Some(bad) = centres.iter().find(|c| !c.is_finite()) {
-        return Err(HullRefusal::TooLarge(format!(
+        return Err(HullRefusal::Unrepresentable(format!(
             "a point of the hull is not finite ({bad})"
         )));
     }
     let mut distinct = centres.clone();
     distinct.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     distinct.dedup();
-    if distinct.len() > MAX_HULL_POINTS * 64 {
-        return Err(HullRefusal::TooLarge(format!(
-            "the hull has more than {} distinct points",
-            MAX_HULL_POINTS * 64
-        )));
+    if distinct.len() > max_points.saturating_mul(64) {
+        return Err(HullRefusal::Limit(
+            codes::HULL_POINT_LIMIT,
+            format!(
+                "the 2-D hull has more than {} distinct points (64 times the limit)",
+                max_points.saturating_mul(64)
+            ),
+        ));
     }
     let k = convex_hull_2d(&distinct);
     let round = r > 0.0;
@@ -246,6 +251,7 @@ pub fn build_prism(
     dag: &mut Dag,
     cylinders: &[Cylinder],
     source: Source,
+    max_points: usize,
 ) -> Result<Edge, HullRefusal> {
     let Some(first) = cylinders.first() else {
         return Ok(dag.empty(source).into());
@@ -257,16 +263,21 @@ pub fn build_prism(
         .fold(0.0f64, f64::max);
     for c in &cylinders[1..] {
         if c.axis.cross(u).length() > 1e-9 {
-            return Err(HullRefusal::Part(
-                c.source,
-                "cylinders whose axes are not parallel",
+            return Err(HullRefusal::Pair(
+                [first.source, c.source],
+                "two cylinders whose axes are not parallel (the hull has ruled surfaces that \
+                 are not quadric)",
+                "turn the cylinders parallel, or unite the hulls of parallel groups where that is \
+                 the same solid",
             ));
         }
         let tol = 1e-9 * scale + 1e-15 * c.low.abs().max(c.high.abs());
         if (c.low - first.low).abs() > tol || (c.high - first.high).abs() > tol {
-            return Err(HullRefusal::Part(
-                c.source,
-                "cylinders whose ends do not lie on the same two planes",
+            return Err(HullRefusal::Pair(
+                [first.source, c.source],
+                "two parallel cylinders whose ends do not lie on the same two planes",
+                "give the cylinders the same height and base, or unite the hull with the taller \
+                 cylinder where that is the same solid",
             ));
         }
     }
@@ -293,7 +304,7 @@ pub fn build_prism(
         })
         .collect();
     let r = common_radius(&pieces)?;
-    let section = build(dag, &pieces, r, source)?;
+    let section = build(dag, &pieces, r, source, max_points)?;
     let (low, high) = (first.low, first.high);
     let mid = 0.5 * (low + high);
     let slab = match Quadric::slab(DVec3::new(0.0, 0.0, mid), DVec3::Z, 0.5 * (high - low)) {
@@ -312,8 +323,9 @@ pub fn build_prism(
         u.extend(0.0),
         DVec4::new(0.0, 0.0, 0.0, 1.0),
     );
-    dag.edge(cut, &frame)
-        .map_err(|_| HullRefusal::TooLarge("the cylinders' frame is not representable".into()))
+    dag.edge(cut, &frame).map_err(|_| {
+        HullRefusal::Unrepresentable("the cylinders' frame is not representable".into())
+    })
 }
 
 /// A convex part of a 2-D Minkowski sum: the hull of `points` grown by `radius`.
@@ -352,21 +364,28 @@ pub fn parts_of(pieces: &[Piece2], numbers: &[usize]) -> Vec<Part2> {
 }
 
 /// The Minkowski sum of two unions of 2-D parts (see [`crate::minkowski`]).
-pub fn sum(a: &[Part2], b: &[Part2]) -> Result<Vec<Part2>, HullRefusal> {
-    if a.len().saturating_mul(b.len()) > crate::minkowski::MAX_SUM_PARTS {
-        return Err(HullRefusal::TooLarge(format!(
-            "the Minkowski sum is a union of more than {} convex parts",
-            crate::minkowski::MAX_SUM_PARTS
-        )));
+pub fn sum(a: &[Part2], b: &[Part2], limits: &HullLimits) -> Result<Vec<Part2>, HullRefusal> {
+    if a.len().saturating_mul(b.len()) > limits.parts {
+        return Err(HullRefusal::Limit(
+            codes::MINKOWSKI_PART_LIMIT,
+            format!(
+                "the Minkowski sum is a union of more than {} convex parts",
+                limits.parts
+            ),
+        ));
     }
     let mut out = Vec::with_capacity(a.len() * b.len());
     for p in a {
         for q in b {
-            if p.points.len().saturating_mul(q.points.len()) > MAX_HULL_POINTS * 64 {
-                return Err(HullRefusal::TooLarge(format!(
-                    "a convex part of the Minkowski sum has more than {} points",
-                    MAX_HULL_POINTS * 64
-                )));
+            if p.points.len().saturating_mul(q.points.len()) > limits.points.saturating_mul(64) {
+                return Err(HullRefusal::Limit(
+                    codes::HULL_POINT_LIMIT,
+                    format!(
+                        "a convex part of the 2-D Minkowski sum has more than {} points (64 times \
+                         the limit)",
+                        limits.points.saturating_mul(64)
+                    ),
+                ));
             }
             let points: Vec<DVec2> = p
                 .points
@@ -383,7 +402,12 @@ pub fn sum(a: &[Part2], b: &[Part2]) -> Result<Vec<Part2>, HullRefusal> {
 }
 
 /// The union of 2-D parts as a z-invariant solid.
-pub fn build_parts(dag: &mut Dag, parts: &[Part2], source: Source) -> Result<Edge, HullRefusal> {
+pub fn build_parts(
+    dag: &mut Dag,
+    parts: &[Part2],
+    source: Source,
+    max_points: usize,
+) -> Result<Edge, HullRefusal> {
     let mut edges = Vec::with_capacity(parts.len());
     for part in parts {
         let pieces: Vec<Piece2> = part
@@ -391,7 +415,7 @@ pub fn build_parts(dag: &mut Dag, parts: &[Part2], source: Source) -> Result<Edg
             .iter()
             .map(|&p| Piece2::Disc(p, part.radius, source))
             .collect();
-        edges.push(build(dag, &pieces, part.radius, source)?);
+        edges.push(build(dag, &pieces, part.radius, source, max_points)?);
     }
     Ok(match edges.len() {
         1 => edges[0],

@@ -26,10 +26,10 @@
 
 use glam::{DVec2, DVec3};
 use qcsg_csg::{Dag, Edge};
-use qcsg_mesh::{ConvexHull, HullError, convex_hull, convex_hull_2d};
+use qcsg_mesh::{ConvexHull, convex_hull, convex_hull_2d};
 use qcsg_quadric::Quadric;
 
-use crate::hull::{HullBuilder, HullRefusal, Piece, box_of, padded};
+use crate::hull::{HullBuilder, HullRefusal, Piece, box_of, hull_error, padded};
 
 /// A ball in coordinates about the configuration's centre.
 #[derive(Clone, Copy, Debug)]
@@ -45,14 +45,9 @@ struct Facet {
     touching: Vec<usize>,
 }
 
-/// The hull of `pieces` (points and balls; no cylinders) with at most `max_points` distinct
-/// centres, as DAG nodes built by `builder`.
-pub fn build(
-    dag: &mut Dag,
-    builder: &HullBuilder,
-    pieces: &[Piece],
-    max_points: usize,
-) -> Result<Edge, HullRefusal> {
+/// The hull of `pieces` (points and balls; no cylinders) with at most `builder.max_points`
+/// distinct centres, as DAG nodes built by `builder`.
+pub fn build(dag: &mut Dag, builder: &HullBuilder, pieces: &[Piece]) -> Result<Edge, HullRefusal> {
     let world: Vec<(DVec3, f64)> = pieces
         .iter()
         .filter_map(|p| match *p {
@@ -86,7 +81,7 @@ pub fn build(
         return Ok(dag.empty(builder.source).into());
     }
     let tol = 1e-9 * scale;
-    balls = prune(balls, tol, max_points)?;
+    balls = prune(balls, tol, builder.max_points)?;
     let facets = facets(&balls, tol);
     let edges = edges(&balls, &facets, tol);
 
@@ -149,7 +144,7 @@ fn prune(mut balls: Vec<Ball>, tol: f64, max_points: usize) -> Result<Vec<Ball>,
         }
     }
     let centres: Vec<DVec3> = kept.iter().map(|b| b.centre).collect();
-    let corners: Vec<DVec3> = match convex_hull(&centres, max_points).map_err(too_large)? {
+    let corners: Vec<DVec3> = match convex_hull(&centres, max_points).map_err(hull_error)? {
         ConvexHull::Empty => Vec::new(),
         ConvexHull::Point(p) => vec![p],
         ConvexHull::Segment(a, b) => vec![a, b],
@@ -159,10 +154,6 @@ fn prune(mut balls: Vec<Ball>, tol: f64, max_points: usize) -> Result<Vec<Ball>,
     // The hull's vertices are input points, so they compare equal.
     kept.retain(|b| b.radius > 0.0 || corners.contains(&(b.centre + DVec3::ZERO)));
     Ok(kept)
-}
-
-fn too_large(e: HullError) -> HullRefusal {
-    HullRefusal::TooLarge(e.to_string())
 }
 
 /// How far ball `m` reaches beyond the plane with normal `u` through the far point of ball `i`.
@@ -296,7 +287,7 @@ fn polytope(
     points: &[DVec3],
     origin: DVec3,
 ) -> Result<Option<Edge>, HullRefusal> {
-    let ConvexHull::Solid(faces) = convex_hull(points, usize::MAX).map_err(too_large)? else {
+    let ConvexHull::Solid(faces) = convex_hull(points, usize::MAX).map_err(hull_error)? else {
         return Ok(None);
     };
     let cells: Vec<Edge> = faces

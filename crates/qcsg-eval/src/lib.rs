@@ -95,6 +95,13 @@ pub struct EvalOptions {
     pub max_echo_len: u64,
     /// The most bytes of one file that `import` reads.
     pub max_import_bytes: u64,
+    /// The most distinct points (corners and centres) a 3-D `hull` or one convex part of a
+    /// `minkowski` is computed of (64 times as many in 2-D, where the hull costs less).
+    pub max_hull_points: usize,
+    /// The most distinct faces of one convex part of a `hull` or `minkowski` child.
+    pub max_part_planes: usize,
+    /// The most convex parts a `minkowski` is a union of.
+    pub max_minkowski_parts: usize,
 }
 
 impl EvalOptions {
@@ -118,6 +125,14 @@ impl EvalOptions {
     /// cells of the default vector-length limit make affordable, while bounding what a mistaken
     /// `import` of a huge file holds in memory.
     pub const DEFAULT_MAX_IMPORT_BYTES: u64 = 256 << 20;
+    /// Default hull point limit: the exact 3-D hull is quartic in the number of points, and 400
+    /// take a fraction of a second.
+    pub const DEFAULT_MAX_HULL_POINTS: usize = 400;
+    /// Default limit on the faces of one convex part: its corners are found from every triple of
+    /// planes, cubic in their number.
+    pub const DEFAULT_MAX_PART_PLANES: usize = 96;
+    /// Default Minkowski part limit: the sum of two unions is one part per pair.
+    pub const DEFAULT_MAX_MINKOWSKI_PARTS: usize = 4096;
 }
 
 impl Default for EvalOptions {
@@ -131,6 +146,9 @@ impl Default for EvalOptions {
             max_string_len: Self::DEFAULT_MAX_STRING_LEN,
             max_echo_len: Self::DEFAULT_MAX_ECHO_LEN,
             max_import_bytes: Self::DEFAULT_MAX_IMPORT_BYTES,
+            max_hull_points: Self::DEFAULT_MAX_HULL_POINTS,
+            max_part_planes: Self::DEFAULT_MAX_PART_PLANES,
+            max_minkowski_parts: Self::DEFAULT_MAX_MINKOWSKI_PARTS,
         }
     }
 }

@@ -13,10 +13,8 @@ use glam::DVec3;
 use qcsg_csg::{Dag, Edge, Source};
 use qcsg_mesh::{ConvexHull, convex_hull};
 
-use crate::hull::{HullBuilder, HullRefusal, MAX_HULL_POINTS, Piece};
-
-/// The most convex parts the sum is a union of (the product of the children's part counts).
-pub const MAX_SUM_PARTS: usize = 4096;
+use crate::codes;
+use crate::hull::{HullBuilder, HullLimits, HullRefusal, Piece, hull_error};
 
 /// A convex part: the hull of `points` grown by `radius`.
 #[derive(Clone, Debug)]
@@ -30,7 +28,11 @@ pub struct Part {
 }
 
 /// The convex parts of one child from its collected pieces and their part numbers.
-pub fn parts_of(pieces: &[Piece], numbers: &[usize]) -> Result<Vec<Part>, HullRefusal> {
+pub fn parts_of(
+    pieces: &[Piece],
+    numbers: &[usize],
+    limits: &HullLimits,
+) -> Result<Vec<Part>, HullRefusal> {
     let mut parts: Vec<Part> = Vec::new();
     let mut last = None;
     for (piece, &n) in pieces.iter().zip(numbers) {
@@ -56,14 +58,15 @@ pub fn parts_of(pieces: &[Piece], numbers: &[usize]) -> Result<Vec<Part>, HullRe
             part.points.push(point);
         }
     }
-    parts.iter_mut().try_for_each(reduce)?;
+    parts
+        .iter_mut()
+        .try_for_each(|p| reduce(p, limits.points))?;
     Ok(parts)
 }
 
 /// Keeps only the corners of the part's hull.
-fn reduce(part: &mut Part) -> Result<(), HullRefusal> {
-    let hull = convex_hull(&part.points, MAX_HULL_POINTS)
-        .map_err(|e| HullRefusal::TooLarge(e.to_string()))?;
+fn reduce(part: &mut Part, max_points: usize) -> Result<(), HullRefusal> {
+    let hull = convex_hull(&part.points, max_points).map_err(hull_error)?;
     part.points = match hull {
         ConvexHull::Empty => Vec::new(),
         ConvexHull::Point(p) => vec![p],
@@ -84,20 +87,31 @@ fn reduce(part: &mut Part) -> Result<(), HullRefusal> {
 }
 
 /// The Minkowski sum of two unions of parts.
-pub fn sum(a: &[Part], b: &[Part]) -> Result<Vec<Part>, HullRefusal> {
-    if a.len().saturating_mul(b.len()) > MAX_SUM_PARTS {
-        return Err(HullRefusal::TooLarge(format!(
-            "the Minkowski sum is a union of more than {MAX_SUM_PARTS} convex parts"
-        )));
+pub fn sum(a: &[Part], b: &[Part], limits: &HullLimits) -> Result<Vec<Part>, HullRefusal> {
+    if a.len().saturating_mul(b.len()) > limits.parts {
+        return Err(HullRefusal::Limit(
+            codes::MINKOWSKI_PART_LIMIT,
+            format!(
+                "the Minkowski sum is a union of more than {} convex parts",
+                limits.parts
+            ),
+        ));
     }
     let mut out = Vec::with_capacity(a.len() * b.len());
     for p in a {
         for q in b {
-            if p.points.len().saturating_mul(q.points.len()) > MAX_HULL_POINTS * MAX_HULL_POINTS {
-                return Err(HullRefusal::TooLarge(format!(
-                    "a convex part of the Minkowski sum has more than {} points",
-                    MAX_HULL_POINTS * MAX_HULL_POINTS
-                )));
+            // The pairwise sums are reduced to their hull's corners, at most `limits.points`.
+            if p.points.len().saturating_mul(q.points.len())
+                > limits.points.saturating_mul(limits.points)
+            {
+                return Err(HullRefusal::Limit(
+                    codes::HULL_POINT_LIMIT,
+                    format!(
+                        "a convex part of the Minkowski sum has more than {} points before its \
+                         hull is taken",
+                        limits.points.saturating_mul(limits.points)
+                    ),
+                ));
             }
             let mut part = Part {
                 points: p
@@ -108,7 +122,7 @@ pub fn sum(a: &[Part], b: &[Part]) -> Result<Vec<Part>, HullRefusal> {
                 radius: p.radius + q.radius,
                 source: p.source,
             };
-            reduce(&mut part)?;
+            reduce(&mut part, limits.points)?;
             out.push(part);
         }
     }
@@ -116,8 +130,13 @@ pub fn sum(a: &[Part], b: &[Part]) -> Result<Vec<Part>, HullRefusal> {
 }
 
 /// The union of the parts as DAG nodes.
-pub fn build(dag: &mut Dag, parts: &[Part], source: Source) -> Result<Edge, HullRefusal> {
-    let builder = HullBuilder { source };
+pub fn build(
+    dag: &mut Dag,
+    parts: &[Part],
+    source: Source,
+    max_points: usize,
+) -> Result<Edge, HullRefusal> {
+    let builder = HullBuilder { source, max_points };
     let mut edges = Vec::with_capacity(parts.len());
     for part in parts {
         let pieces: Vec<Piece> = part

@@ -342,3 +342,95 @@ fn parallel_cylinders_of_one_height_are_their_discs_hull_extruded() {
         assert_eq!(e.dag.contains(q), inside, "far plate at {p}");
     }
 }
+
+#[test]
+fn hull_and_minkowski_sizes_are_limits_with_their_flags() {
+    use common::eval_with;
+    use qcsg_eval::EvalOptions;
+    let cases = [
+        (
+            "hull() for (i = [0:9]) translate([i, i * i, i * i * i]) cube(0.1);",
+            EvalOptions {
+                max_hull_points: 20,
+                ..EvalOptions::default()
+            },
+            "E0570",
+            "--max-hull-points",
+        ),
+        (
+            "hull() { sphere(1); translate([3, 1, 0]) sphere(2); cube(1); }",
+            EvalOptions {
+                max_hull_points: 3,
+                ..EvalOptions::default()
+            },
+            "E0570",
+            "--max-hull-points",
+        ),
+        (
+            "hull() cube(1);",
+            EvalOptions {
+                max_part_planes: 4,
+                ..EvalOptions::default()
+            },
+            "E0571",
+            "--max-part-planes",
+        ),
+        (
+            "minkowski() { union() { cube(1); translate([3, 0, 0]) cube(1); } \
+             union() { sphere(1); translate([0, 5, 0]) sphere(1); } }",
+            EvalOptions {
+                max_minkowski_parts: 3,
+                ..EvalOptions::default()
+            },
+            "E0572",
+            "--max-minkowski-parts",
+        ),
+    ];
+    for (text, options, code, flag) in cases {
+        let e = eval_with(text, &options);
+        assert_eq!(codes(&e), vec![code], "{text}: {:?}", e.diagnostics);
+        let d = &e.diagnostics[0];
+        assert!(
+            d.help.as_deref().is_some_and(|h| h.contains(flag)),
+            "{text}: {:?}",
+            d.help
+        );
+        // Within the default limits the same program evaluates.
+        let e = eval(text);
+        assert!(!e.has_errors(), "{text}: {:?}", e.diagnostics);
+    }
+}
+
+#[test]
+fn a_pair_that_is_not_quadric_together_is_named_at_both_parts() {
+    for (text, first, second) in [
+        (
+            "hull() { cylinder(h = 1, r = 1); rotate([0, 90, 0]) cylinder(h = 2, r = 1); }",
+            "cylinder(h = 1, r = 1)",
+            "cylinder(h = 2, r = 1)",
+        ),
+        (
+            "hull() { cylinder(h = 1, r = 1); translate([3, 0, 0]) cylinder(h = 2, r = 1); }",
+            "cylinder(h = 1, r = 1)",
+            "cylinder(h = 2, r = 1)",
+        ),
+        (
+            "hull() { cylinder(h = 1, r = 1); translate([3, 0, 0]) sphere(1); }",
+            "sphere(1)",
+            "cylinder(h = 1, r = 1)",
+        ),
+    ] {
+        let e = eval(text);
+        assert_eq!(codes(&e), vec!["E0301"], "{text}: {:?}", e.diagnostics);
+        let d = &e.diagnostics[0];
+        let labels: Vec<&str> = d
+            .labels
+            .iter()
+            .map(|l| &text[l.span.start as usize..l.span.end as usize])
+            .collect();
+        assert_eq!(labels.len(), 2, "{text}: {labels:?}");
+        assert!(labels[0].starts_with(first), "{text}: {labels:?}");
+        assert!(labels[1].starts_with(second), "{text}: {labels:?}");
+        assert!(d.help.is_some(), "{text}");
+    }
+}

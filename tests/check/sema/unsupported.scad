@@ -1,7 +1,7 @@
 // OpenSCAD constructs that no quadric represents exactly are errors with a reason and, where
 // there is one, an alternative.
 
-// (`hull` is evaluated exactly for convex polytopes and balls of one radius; its refusals are
+// (`hull` is evaluated exactly for convex polytopes and balls of any radii; its refusals are
 // runtime errors, tested in qcsg-eval.)
 // (`minkowski` is evaluated exactly for unions of convex polytopes and balls; its refusals are
 // runtime errors too. `surface` builds OpenSCAD's mesh of its height map: its failures are runtime

@@ -100,6 +100,9 @@ fn limit_flag(code: &str) -> Option<&'static str> {
         codes::STRING_LIMIT => Some("--max-string-len"),
         codes::INSTANCE_LIMIT => Some("--max-instances"),
         codes::IMPORT_SIZE_LIMIT => Some("--max-import-bytes"),
+        codes::HULL_POINT_LIMIT => Some("--max-hull-points"),
+        codes::PART_PLANE_LIMIT => Some("--max-part-planes"),
+        codes::MINKOWSKI_PART_LIMIT => Some("--max-minkowski-parts"),
         _ => None,
     }
 }

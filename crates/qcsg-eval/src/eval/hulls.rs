@@ -8,7 +8,7 @@ use qcsg_diag::{Diagnostic, FileId, Span};
 
 use crate::codes;
 use crate::hull::{
-    Collector, Cylinder, HullBuilder, HullRefusal, MAX_HULL_POINTS, Piece, common_radius,
+    Collector, Cylinder, HullBuilder, HullLimits, HullRefusal, Piece, common_radius,
 };
 use crate::hull_2d::{self, Collector2};
 use crate::hull_balls;
@@ -78,22 +78,38 @@ impl<'a> Evaluator<'a> {
         }
     }
 
+    /// The size limits of hulls and sums.
+    fn hull_limits(&self) -> HullLimits {
+        HullLimits {
+            points: self.options.max_hull_points,
+            planes: self.options.max_part_planes,
+            parts: self.options.max_minkowski_parts,
+        }
+    }
+
     fn minkowski_3d(&mut self, edges: &[Edge], source: Source) -> Result<Edge, HullRefusal> {
+        let limits = self.hull_limits();
         let mut total: Option<Vec<minkowski::Part>> = None;
         for e in edges {
-            let mut collector = Collector::new(&self.dag);
+            let mut collector = Collector::new(&self.dag, limits.planes);
             collector.add(*e, &DMat4::IDENTITY)?;
-            let parts = minkowski::parts_of(&collector.pieces, &collector.parts)?;
+            let parts = minkowski::parts_of(&collector.pieces, &collector.parts, &limits)?;
             total = Some(match total {
                 None => parts,
-                Some(sum) => minkowski::sum(&sum, &parts)?,
+                Some(sum) => minkowski::sum(&sum, &parts, &limits)?,
             });
         }
-        minkowski::build(&mut self.dag, &total.unwrap_or_default(), source)
+        minkowski::build(
+            &mut self.dag,
+            &total.unwrap_or_default(),
+            source,
+            limits.points,
+        )
     }
 
     fn hull_3d(&mut self, edges: &[Edge], source: Source) -> Result<Edge, HullRefusal> {
-        let mut collector = Collector::new(&self.dag);
+        let limits = self.hull_limits();
+        let mut collector = Collector::new(&self.dag, limits.planes);
         for e in edges {
             collector.add(*e, &DMat4::IDENTITY)?;
         }
@@ -106,11 +122,14 @@ impl<'a> Evaluator<'a> {
             })
             .collect();
         if cylinders.is_empty() {
-            let builder = HullBuilder { source };
+            let builder = HullBuilder {
+                source,
+                max_points: limits.points,
+            };
             return match common_radius(&pieces) {
                 Ok(r) => builder.build(&mut self.dag, &pieces, r),
                 Err(HullRefusal::UnequalRadii(_)) => {
-                    hull_balls::build(&mut self.dag, &builder, &pieces, MAX_HULL_POINTS)
+                    hull_balls::build(&mut self.dag, &builder, &pieces)
                 }
                 Err(refusal) => Err(refusal),
             };
@@ -119,16 +138,20 @@ impl<'a> Evaluator<'a> {
             Piece::Point(_, s) | Piece::Ball(_, _, s) => Some(s),
             Piece::Cylinder(_) => None,
         }) {
-            return Err(HullRefusal::Part(
-                at,
-                "a ball or a polytope together with cylinders",
+            return Err(HullRefusal::Pair(
+                [at, cylinders[0].source],
+                "a ball or a polytope together with a cylinder (the hull of a ball and a disc in \
+                 general has a developable surface that is not quadric)",
+                "hull the cylinders alone and unite the result with the other parts, where that \
+                 is the same solid",
             ));
         }
-        hull_2d::build_prism(&mut self.dag, &cylinders, source)
+        hull_2d::build_prism(&mut self.dag, &cylinders, source, limits.points)
     }
 
     fn minkowski_2d(&mut self, edges: &[Edge], source: Source) -> R<Result<Edge, HullRefusal>> {
         let limit = usize::try_from(self.options.max_instances).unwrap_or(usize::MAX);
+        let limits = self.hull_limits();
         let mut total: Option<Vec<hull_2d::Part2>> = None;
         for e in edges {
             let expr = match planar_expression(&self.dag, *e, limit) {
@@ -155,7 +178,7 @@ impl<'a> Evaluator<'a> {
             let parts = hull_2d::parts_of(&collector.pieces, &collector.parts);
             total = Some(match total {
                 None => parts,
-                Some(sum) => match hull_2d::sum(&sum, &parts) {
+                Some(sum) => match hull_2d::sum(&sum, &parts, &limits) {
                     Ok(sum) => sum,
                     Err(refusal) => return Ok(Err(refusal)),
                 },
@@ -165,6 +188,7 @@ impl<'a> Evaluator<'a> {
             &mut self.dag,
             &total.unwrap_or_default(),
             source,
+            limits.points,
         ))
     }
 
@@ -195,8 +219,9 @@ impl<'a> Evaluator<'a> {
             return Ok(Err(refusal));
         }
         let pieces = collector.pieces;
+        let max_points = self.options.max_hull_points;
         Ok(hull_2d::common_radius(&pieces)
-            .and_then(|r| hull_2d::build(&mut self.dag, &pieces, r, source)))
+            .and_then(|r| hull_2d::build(&mut self.dag, &pieces, r, source, max_points)))
     }
 
     fn hull_refused(
@@ -218,7 +243,7 @@ impl<'a> Evaluator<'a> {
                 if op == "hull" {
                     format!(
                         "`hull` of {what} is not supported: qcsg computes hulls of convex \
-                         polytopes and {ball}s of one radius, whose hulls are bounded by quadrics"
+                         polytopes and {ball}s, whose hulls are bounded by quadrics"
                     )
                 } else {
                     format!(
@@ -236,8 +261,8 @@ impl<'a> Evaluator<'a> {
             } else if planar {
                 "use squares, polygons and circles of one radius as the hull's children"
             } else {
-                "use cubes, polyhedra and spheres of one radius as the hull's children; an \
-                 ellipsoid's or a cylinder's hull can be modelled with intersections and unions"
+                "use cubes, polyhedra and spheres as the hull's children; an ellipsoid's or a \
+                 cylinder's hull can be modelled with intersections and unions"
             }),
             HullRefusal::UnequalRadii([(s1, r1), (s2, r2)]) => {
                 let name = |r: f64| {
@@ -263,13 +288,25 @@ impl<'a> Evaluator<'a> {
                      box's rounding radius), or write the tapered part explicitly"
                 ))
             }
-            HullRefusal::TooLarge(message) => Diagnostic::error(
+            HullRefusal::Pair([a, b], what, help) => Diagnostic::error(
+                qcsg_sema::codes::UNSUPPORTED_MODULE,
+                format!("`{op}` of {what} is not supported: the result is not bounded by quadrics"),
+                file,
+                span,
+            )
+            .with_label(a.file, a.span, "this part")
+            .with_label(b.file, b.span, "with this part")
+            .with_help(help),
+            HullRefusal::Limit(code, message) => {
+                return self.error(code, format!("`{op}` is too large: {message}"), file, span);
+            }
+            HullRefusal::Unrepresentable(message) => Diagnostic::error(
                 qcsg_sema::codes::UNSUPPORTED_MODULE,
                 format!("`{op}` is not supported here: {message}"),
                 file,
                 span,
             )
-            .with_help("split the hull into hulls of fewer parts and unite them where that is the same solid"),
+            .with_help("bring the parts nearer the origin or to a size qcsg can represent"),
         };
         self.error_diagnostic(diagnostic)
     }
