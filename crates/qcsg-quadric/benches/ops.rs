@@ -9,33 +9,13 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use qcsg_quadric::{DMat4, DVec3, Heightfield, Quadric};
+use qcsg_testkit::Rng;
 
 const BATCH: usize = 1024;
 
-/// SplitMix64 for reproducible inputs.
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    fn point(&mut self, centre: DVec3, extent: f64) -> DVec3 {
-        centre
-            + DVec3::new(
-                self.range(-extent, extent),
-                self.range(-extent, extent),
-                self.range(-extent, extent),
-            )
-    }
+/// A point uniform in the cube of half-side `extent` about `centre`.
+fn point(rng: &mut Rng, centre: DVec3, extent: f64) -> DVec3 {
+    centre + rng.in_box(DVec3::splat(-extent), DVec3::splat(extent))
 }
 
 struct Inputs {
@@ -52,11 +32,11 @@ fn inputs() -> Inputs {
         * DMat4::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
     let quadric = ellipsoid.transformed(&m).expect("invertible");
     let heightfield = quadric.frame().heightfield(2);
-    let mut rng = Rng(42);
+    let mut rng = Rng::new(42);
     let centre = quadric.origin();
-    let points = (0..BATCH).map(|_| rng.point(centre, 4.0)).collect();
+    let points = (0..BATCH).map(|_| point(&mut rng, centre, 4.0)).collect();
     let directions = (0..BATCH)
-        .map(|_| rng.point(DVec3::ZERO, 1.0).normalize_or(DVec3::X))
+        .map(|_| point(&mut rng, DVec3::ZERO, 1.0).normalize_or(DVec3::X))
         .collect();
     let plane = (0..BATCH)
         .map(|_| (rng.range(-0.5, 0.5), rng.range(-1.0, 1.0)))

@@ -3,63 +3,9 @@
 
 #![allow(dead_code, clippy::needless_range_loop)]
 
-use qcsg_quadric::{DMat4, DVec3, Quadric, QuadricKind};
+use qcsg_quadric::{DVec3, Quadric, QuadricKind};
 
-/// SplitMix64: small, deterministic, good enough for test inputs.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Self(seed)
-    }
-
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    /// Uniform on the unit sphere.
-    pub fn direction(&mut self) -> DVec3 {
-        loop {
-            let v = DVec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            let l = v.length();
-            if l > 0.1 && l <= 1.0 {
-                return v / l;
-            }
-        }
-    }
-
-    /// A random rotation matrix.
-    pub fn rotation(&mut self) -> DMat4 {
-        let axis = self.direction();
-        let angle = self.range(0.0, std::f64::consts::TAU);
-        DMat4::from_axis_angle(axis, angle)
-    }
-
-    /// A random similarity: rotation, uniform scale in `[1/scale, scale]`, translation up to
-    /// `translation`.
-    pub fn similarity(&mut self, scale: f64, translation: f64) -> DMat4 {
-        let s = scale.powf(self.range(-1.0, 1.0));
-        let t = self.direction() * translation * self.unit();
-        DMat4::from_translation(t) * self.rotation() * DMat4::from_scale(DVec3::splat(s))
-    }
-}
+pub use qcsg_testkit::Rng;
 
 /// One catalogue entry: a quadric built about the origin, its kind and a length scale.
 pub struct Case {
