@@ -304,6 +304,10 @@ pub fn curved_cells(
             }
             match segment {
                 Segment::Line(a, b) if a != b => edges.push(line(a, b)),
+                // A control point on the chord's line, or within rounding of it, makes a flat
+                // arc: its parabola degenerates to the chord's line doubled, whose sides no
+                // rounded value can tell, so it is the straight edge it draws.
+                Segment::Quad(a, c, b) if a != b && nearly_flat(a, c, b) => edges.push(line(a, b)),
                 Segment::Quad(a, c, b) if a != b => match orient2d(a, b, c) {
                     0 => edges.push(line(a, b)),
                     sign => edges.push(Edge {
@@ -618,6 +622,14 @@ impl Partition<'_> {
             }
         })
     }
+}
+
+/// Whether the control point `c` lies within rounding of the chord `a b`'s line: the arc bulges
+/// by half of `c`'s distance from the chord, here below about 1e-12 of its size.
+fn nearly_flat(a: DVec2, c: DVec2, b: DVec2) -> bool {
+    let chord = b - a;
+    let scale = chord.length() * ((c - a).length() + (c - b).length());
+    (c - a).perp_dot(chord).abs() <= 1e-12 * scale
 }
 
 /// Whether `p` lies in the closed triangle `a b c` (either orientation).

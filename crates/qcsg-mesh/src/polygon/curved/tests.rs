@@ -1,6 +1,7 @@
 //! The curved decomposition against winding numbers of finely flattened outlines.
 
 use super::*;
+use qcsg_testkit::Rng;
 
 fn p(x: f64, y: f64) -> DVec2 {
     DVec2::new(x, y)
@@ -71,24 +72,12 @@ fn distance(contours: &[Vec<Segment>], q: DVec2, n: usize) -> f64 {
     d
 }
 
-/// A deterministic generator (splitmix64).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 fn check_against_flattening(contours: &[Vec<Segment>], rule: FillRule, seed: u64) {
     let region = curved_cells(contours, rule).unwrap();
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut checked = 0;
     for _ in 0..800 {
-        let q = p(rng.next() * 12.0 - 1.0, rng.next() * 12.0 - 1.0);
+        let q = p(rng.unit() * 12.0 - 1.0, rng.unit() * 12.0 - 1.0);
         // Flattening with 1024 chords moves the curve by far less than this margin.
         if distance(contours, q, 64) < 2e-3 {
             continue;
@@ -187,19 +176,19 @@ fn overlapping_contours_follow_the_fill_rule() {
 
 #[test]
 fn random_curved_outlines_match_their_winding_numbers() {
-    let mut rng = Rng(99);
+    let mut rng = Rng::new(99);
     for round in 0..12 {
         let mut contours = Vec::new();
         for _ in 0..2 {
-            let n = 3 + (rng.next() * 6.0) as usize;
+            let n = 3 + (rng.unit() * 6.0) as usize;
             let pts: Vec<DVec2> = (0..n)
-                .map(|_| p(rng.next() * 10.0, rng.next() * 10.0))
+                .map(|_| p(rng.unit() * 10.0, rng.unit() * 10.0))
                 .collect();
             let contour = (0..n)
                 .map(|k| {
                     let (a, b) = (pts[k], pts[(k + 1) % n]);
-                    if rng.next() < 0.6 {
-                        let mid = (a + b) * 0.5 + p(rng.next() - 0.5, rng.next() - 0.5) * 6.0;
+                    if rng.unit() < 0.6 {
+                        let mid = (a + b) * 0.5 + p(rng.unit() - 0.5, rng.unit() - 0.5) * 6.0;
                         Segment::Quad(a, mid, b)
                     } else {
                         Segment::Line(a, b)
@@ -241,4 +230,24 @@ fn the_conic_is_the_arc_value_scaled() {
     for q in [p(0.0, 0.0), p(5.0, 9.0), p(-3.0, 4.0)] {
         assert!((conic(q) / arc.value(q) - ratio).abs() < 1e-9 * ratio);
     }
+}
+
+#[test]
+fn a_flat_arc_is_its_chord() {
+    // The control point at the chord's midpoint up to rounding: the arc is a straight edge.
+    let (a, b) = (
+        p(7.414277394612631, -0.32503339979383683),
+        p(7.561439938015409, -0.752279493543837),
+    );
+    let c = p(7.48785866631402, -0.5386564466688368);
+    let contour = vec![
+        Segment::Line(p(0.0, 0.0), a),
+        Segment::Quad(a, c, b),
+        Segment::Line(b, p(9.0, -3.0)),
+        Segment::Line(p(9.0, -3.0), p(9.0, 3.0)),
+        Segment::Line(p(9.0, 3.0), p(0.0, 0.0)),
+    ];
+    let region = curved_cells(std::slice::from_ref(&contour), FillRule::NonZero).unwrap();
+    assert!(region.arcs.is_empty());
+    check_against_flattening(&[contour], FillRule::NonZero, 5);
 }
