@@ -3,7 +3,9 @@
 //!
 //! A literal `j` of the sample's term enters the list unless its conservative distance (eqs.
 //! 10-12, a lower bound of the true distance) exceeds the radius at the sample: then no point of
-//! `Q_j` lies within the radius, and nothing inside the splat can be cut by it. The test is
+//! `Q_j` lies within the radius, and nothing inside the splat can be cut by it. Nor does a
+//! literal whose every sheet lies on a surface of the sampled quadric, as the compiler found
+//! them (`on_its_surface`): it cuts no splat of that quadric. The test is
 //! conservative: a quadric whose surface does reach into the splat is never left out.
 //!
 //! The work goes by spans, the boxes the first pass keeps around runs of consecutive samples of
@@ -126,6 +128,7 @@ impl RawClipLists {
                             continue;
                         };
                         if literal != span.quadric
+                            && !on_its_surface(dnf, literal, span.quadric)
                             && !stays_away(&entry.quadric, (span.low, span.high, radius), anchor)
                         {
                             close.push(literal);
@@ -194,6 +197,23 @@ impl RawClipLists {
             self.lengths.push(unique as u32);
         }
     }
+}
+
+/// Whether every sheet of `literal` lies on a surface of `quadric`, as the compiler found them
+/// ([`Dnf::surfaces`]): a literal that is the sampled quadric written again (a face of a part
+/// flush with a face of another, turned or moved so that its coefficients differ in their last
+/// bits). On a sheet they share it is zero, and on another sheet of the sampled quadric it
+/// holds wherever the term has samples, so it cuts no splat; on the GPU its value on the shared
+/// sheet would be rounding noise in `f32`, and would cut pixels out of the splats at random.
+fn on_its_surface(dnf: &Dnf, literal: u32, quadric: u32) -> bool {
+    let surfaces = &dnf.surfaces;
+    if surfaces.quadric_count() != dnf.quadrics.len() {
+        return false;
+    }
+    let (Some(own), Some(other)) = (surfaces.of(quadric), surfaces.of(literal)) else {
+        return false;
+    };
+    !other.is_empty() && (other.iter()).all(|sheet| own.iter().any(|s| s.surface == sheet.surface))
 }
 
 /// Whether the surface of `quadric` provably stays farther than `radius` from every point of

@@ -6,8 +6,10 @@ use std::sync::{Arc, Mutex};
 
 use crate::SplatError;
 
-/// The colour target that receives each pixel's ray parameter.
-pub(crate) const DEPTH_T_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// The colour target that receives each pixel's ray parameter, as the bits of an `f32`: an
+/// integer format every backend can render to (OpenGL ES renders to `R32Float` only with an
+/// extension, which Mesa's llvmpipe lacks through GL).
+pub(crate) const DEPTH_T_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// The colour target that receives each pixel's quadric and term.
 pub(crate) const IDS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 /// The depth buffer.

@@ -117,8 +117,10 @@ fn inside_clip_list(p: vec3<f32>, first: u32, count: u32) -> bool {
     return true;
 }
 
+// The ray parameter goes out as the bits of an f32 (`DEPTH_T_FORMAT` is an integer format,
+// which every backend can render to).
 struct Target {
-    @location(0) t: f32,
+    @location(0) t: u32,
     @location(1) ids: vec2<u32>,
     @builtin(frag_depth) depth: f32,
 }
@@ -184,7 +186,7 @@ fn fs_main(in: Varyings) -> Target {
     }
     let t = t_fragment + u;
     var out: Target;
-    out.t = t;
+    out.t = bitcast<u32>(t);
     out.ids = in.ids.xy;
     out.depth = clamp((t - view.depth.x) * view.depth.z, 0.0, 1.0);
     return out;
