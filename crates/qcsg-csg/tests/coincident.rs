@@ -11,6 +11,7 @@ use qcsg_csg::coincident::{MAX_CANDIDATES_PER_CELL, has_coincident_pair};
 use qcsg_csg::dnf::Pruning;
 use qcsg_csg::{Dag, Dnf, DnfOptions, Rounding, Sheet, Surfaces, build_dnf, find_surfaces};
 use qcsg_quadric::{DMat4, DVec3, Quadric};
+use qcsg_testkit::Rng;
 
 /// `q` placed by `m`, with the rounding the DNF would record for it.
 fn placed(q: &Quadric, m: &DMat4) -> (Quadric, Rounding) {
@@ -402,36 +403,23 @@ fn the_dnf_json_lists_each_quadrics_sheets() {
     }
 }
 
-/// splitmix64, for scattered placements.
-fn scatter(seed: &mut u64) -> f64 {
-    *seed = seed.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    let mut z = *seed;
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-}
-
 #[test]
 fn finding_surfaces_stays_near_linear() {
     // 3,000 balls, each with a turned copy, and 3,000 cubes with a turned z-slab and a half-space
     // on its top, scattered over a block: 18,000 quadrics.
-    let mut seed = 7;
+    let mut rng = Rng::new(7);
     let mut quadrics = Vec::new();
     for i in 0..6_000 {
-        let centre = DVec3::new(
-            1e3 * scatter(&mut seed),
-            1e3 * scatter(&mut seed),
-            1e3 * scatter(&mut seed),
-        );
+        let centre = DVec3::new(1e3 * rng.unit(), 1e3 * rng.unit(), 1e3 * rng.unit());
         let turn = DMat4::from_translation(centre)
-            * DMat4::from_rotation_z(scatter(&mut seed))
+            * DMat4::from_rotation_z(rng.unit())
             * DMat4::from_translation(-centre);
         if i % 2 == 0 {
-            let ball = Quadric::sphere(centre, 0.5 + scatter(&mut seed)).unwrap();
+            let ball = Quadric::sphere(centre, 0.5 + rng.unit()).unwrap();
             quadrics.push((ball, Rounding::default()));
             quadrics.push(placed(&ball, &turn));
         } else {
-            let half = 0.5 + scatter(&mut seed);
+            let half = 0.5 + rng.unit();
             let slab = |n: DVec3| Quadric::slab(centre, n, half).unwrap();
             for n in [DVec3::X, DVec3::Y] {
                 quadrics.push((slab(n), Rounding::default()));

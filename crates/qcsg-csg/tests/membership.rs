@@ -11,6 +11,7 @@ use proptest::test_runner::{Config, RngSeed};
 use qcsg_csg::dnf::Pruning;
 use qcsg_csg::{Aabb, Dag, DnfOptions, Edge, NodeId, build_dnf};
 use qcsg_quadric::{DMat4, DVec3, Quadric};
+use qcsg_testkit::Rng;
 
 fn config(cases: u32) -> Config {
     Config {
@@ -21,34 +22,14 @@ fn config(cases: u32) -> Config {
     }
 }
 
-/// splitmix64: a tiny deterministic generator for scene shapes.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-    fn vec(&mut self, lo: f64, hi: f64) -> DVec3 {
-        DVec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
-    }
+/// A point uniform in the cube `[lo, hi]³`.
+fn vec(rng: &mut Rng, lo: f64, hi: f64) -> DVec3 {
+    rng.in_box(DVec3::splat(lo), DVec3::splat(hi))
 }
 
 /// A random placement: translation, rotation (sometimes by exact quarter turns), scale.
 fn placement(rng: &mut Rng) -> DMat4 {
-    let translation = DMat4::from_translation(rng.vec(-3.0, 3.0));
+    let translation = DMat4::from_translation(vec(rng, -3.0, 3.0));
     let rotation = match rng.below(3) {
         0 => DMat4::IDENTITY,
         1 => {
@@ -68,7 +49,7 @@ fn placement(rng: &mut Rng) -> DMat4 {
         }
     };
     let scale = if rng.below(3) == 0 {
-        DMat4::from_scale(rng.vec(0.5, 2.0))
+        DMat4::from_scale(vec(rng, 0.5, 2.0))
     } else {
         DMat4::IDENTITY
     };
@@ -88,17 +69,17 @@ fn random_solid(
     if leaf_choice {
         // Sometimes reuse an earlier node (exercises sharing).
         if !pool.is_empty() && rng.below(4) == 0 {
-            let (node, local) = pool[rng.below(pool.len() as u64) as usize].clone();
+            let (node, local) = pool[rng.below(pool.len())].clone();
             leaves.extend(local.iter().filter_map(|q| q.transformed(&world)));
             return node;
         }
         let before = dag.len();
         let node = match rng.below(4) {
             0 => sphere(dag, rng.range(0.5, 2.5), 0),
-            1 => cube(dag, rng.vec(0.5, 3.0), 1),
+            1 => cube(dag, vec(rng, 0.5, 3.0), 1),
             2 => cylinder(dag, rng.range(0.3, 1.5), rng.range(0.5, 3.0), 2),
             _ => {
-                let q = Quadric::half_space(rng.vec(-1.0, 1.0), rng.vec(-1.0, 1.0)).unwrap();
+                let q = Quadric::half_space(vec(rng, -1.0, 1.0), vec(rng, -1.0, 1.0)).unwrap();
                 dag.leaf(q, src(3))
             }
         };
@@ -113,7 +94,7 @@ fn random_solid(
         pool.push((node, local));
         return node;
     }
-    let count = 1 + rng.below(3) as usize;
+    let count = 1 + rng.below(3);
     let mut children: Vec<Edge> = Vec::new();
     for _ in 0..count {
         let m = placement(rng);
@@ -142,7 +123,7 @@ fn random_solid(
 
 /// Builds a scene cut to a box (so complements and half-spaces stay bounded) and compares.
 fn check_scene(seed: u64, points: usize, options: &DnfOptions) -> Result<(), TestCaseError> {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut dag = Dag::new();
     let mut leaves = Vec::new();
     let mut pool = Vec::new();
@@ -179,7 +160,7 @@ fn check_scene(seed: u64, points: usize, options: &DnfOptions) -> Result<(), Tes
     for _ in 0..points {
         let p = match options.region {
             Some(r) => r.min + (r.max - r.min) * DVec3::new(rng.unit(), rng.unit(), rng.unit()),
-            None => rng.vec(-9.0, 9.0),
+            None => vec(&mut rng, -9.0, 9.0),
         };
         let near = leaves
             .iter()
