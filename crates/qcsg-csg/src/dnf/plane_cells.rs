@@ -151,10 +151,10 @@ pub(super) struct Attempt {
 
 /// Terms a plain expansion may form per plane of the part before cells take over, summed over
 /// the nodes it visits.
-const WORK_PER_PLANE: usize = 64;
+const WORK_PER_PLANE: usize = 16;
 
 /// Terms a plain expansion may hold at once per plane of the part before cells take over.
-const TERMS_PER_PLANE: usize = 4;
+const TERMS_PER_PLANE: usize = 2;
 
 impl Builder<'_> {
     /// Whether the node `id`, complemented or not, is made of planes and its plain expansion
@@ -201,14 +201,19 @@ impl Builder<'_> {
         let tried = self.expand(acc.clone(), id, ctx);
         self.term_limit = limit;
         self.attempt = None;
-        match tried {
+        // Where the plain expansion crossed the term limit, if it did: the part a diagnostic
+        // points at when the cells cross it too.
+        let crossed = match tried {
             Ok(terms) => return Ok(terms),
-            Err(Abort::TermLimit(_) | Abort::OverBudget) => {}
-        }
+            Err(Abort::TermLimit(at)) => Some(at),
+            Err(Abort::OverBudget) => None,
+        };
         let source = self.dag.node(id).map(|n| n.source).unwrap_or_default();
-        match self.plane_cells(acc, id, source, ctx, enclosing)? {
-            Cells::Done(terms) => Ok(terms),
-            Cells::Skip(acc) => self.expand(acc, id, ctx),
+        match self.plane_cells(acc, id, source, ctx, enclosing) {
+            Ok(Cells::Done(terms)) => Ok(terms),
+            Ok(Cells::Skip(acc)) => self.expand(acc, id, ctx),
+            Err(Abort::TermLimit(at)) => Err(Abort::TermLimit(crossed.unwrap_or(at))),
+            Err(other) => Err(other),
         }
     }
 }

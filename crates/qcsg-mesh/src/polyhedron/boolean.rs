@@ -33,8 +33,8 @@ use glam::DVec3;
 use super::region::Polytope;
 use super::{Cell3, Plane};
 
-/// A region whose expression still holds more distinct half-spaces than this is halved by an
-/// axis-parallel plane first.
+/// A region whose expression still holds more half-spaces than this is halved by an
+/// axis-parallel plane first, where that separates them.
 const SPATIAL_LITERALS: usize = 24;
 
 /// A region with more faces than this is halved by an axis-parallel plane first.
@@ -308,26 +308,24 @@ impl Partition<'_> {
         })
     }
 
-    /// The distinct planes of the reduced expression (up to `cap` + 1 of them) and the one of
-    /// least priority.
-    fn literals(&self, expr: &Reduced, cap: usize) -> (usize, u32) {
-        let mut seen: Vec<u32> = Vec::new();
+    /// How many half-spaces the reduced expression holds (counted once per occurrence) and
+    /// the plane of least priority among them.
+    fn literals(&self, expr: &Reduced) -> (usize, u32) {
+        let mut count = 0;
         let mut best: Option<u32> = None;
         let mut stack = vec![expr];
         while let Some(e) = stack.pop() {
             match e {
                 Reduced::Literal(p) => {
+                    count += 1;
                     if best.is_none_or(|b| priority(*p) < priority(b)) {
                         best = Some(*p);
-                    }
-                    if seen.len() <= cap && !seen.contains(p) {
-                        seen.push(*p);
                     }
                 }
                 Reduced::All(_, c) | Reduced::Any(_, c) => stack.extend(c.iter()),
             }
         }
-        (seen.len(), best.unwrap_or(0))
+        (count, best.unwrap_or(0))
     }
 
     fn emit(&mut self, polytope: Polytope) -> Result<(), BooleanError> {
@@ -377,18 +375,31 @@ impl Partition<'_> {
             if self.regions > self.limits.max_regions {
                 return Err(BooleanError::TooManyRegions);
             }
-            let (count, splitter) = self.literals(&region.expr, SPATIAL_LITERALS);
-            let mut halves = None;
-            if (count > SPATIAL_LITERALS || region.polytope.face_count() > MAX_FACES)
+            let (count, splitter) = self.literals(&region.expr);
+            let many_faces = region.polytope.face_count() > MAX_FACES;
+            if (count > SPATIAL_LITERALS || many_faces)
                 && let Some(plane) = self.halving_plane(&region.polytope)
+                && let Some((low, high)) = region.polytope.split(plane, self.tolerance(&plane))
             {
-                halves = region.polytope.split(plane, self.tolerance(&plane));
+                let parts = [low, high].map(|p| {
+                    let value = self.reduce(&region.expr, &p);
+                    (p, value)
+                });
+                // Kept where it separates the planes (or the region had too many faces):
+                // planes through one point (a fan) reach both halves however small.
+                let fewer = |v: &Value| match v {
+                    Value::Constant(_) => true,
+                    Value::Expr(e) => self.literals(e).0 < count,
+                };
+                if many_faces || parts.iter().all(|(_, v)| fewer(v)) {
+                    for (polytope, value) in parts {
+                        self.settle(polytope, value, &mut stack)?;
+                    }
+                    continue;
+                }
             }
-            if halves.is_none() {
-                let plane = self.planes[splitter as usize];
-                halves = region.polytope.split(plane, self.tolerance(&plane));
-            }
-            let Some((low, high)) = halves else {
+            let plane = self.planes[splitter as usize];
+            let Some((low, high)) = region.polytope.split(plane, self.tolerance(&plane)) else {
                 // Every remaining plane is within rounding of the region: decide it by its
                 // centre (a sliver below the rounding of the corners).
                 let centre = region.polytope.interior_point();
@@ -398,15 +409,27 @@ impl Partition<'_> {
                 continue;
             };
             for polytope in [low, high] {
-                match self.reduce(&region.expr, &polytope) {
-                    Value::Constant(value) => {
-                        if value == self.want {
-                            self.emit(polytope)?;
-                        }
-                    }
-                    Value::Expr(expr) => stack.push(Region { polytope, expr }),
+                let value = self.reduce(&region.expr, &polytope);
+                self.settle(polytope, value, &mut stack)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// A cell where the reduced expression is constant, else a region to split further.
+    fn settle(
+        &mut self,
+        polytope: Polytope,
+        value: Value,
+        stack: &mut Vec<Region>,
+    ) -> Result<(), BooleanError> {
+        match value {
+            Value::Constant(value) => {
+                if value == self.want {
+                    self.emit(polytope)?;
                 }
             }
+            Value::Expr(expr) => stack.push(Region { polytope, expr }),
         }
         Ok(())
     }
