@@ -5,6 +5,7 @@
 
 mod check;
 mod compile;
+mod export;
 mod fmt;
 mod human;
 mod json;
@@ -55,6 +56,8 @@ enum Command {
     Render(render::RenderArgs),
     /// Sample the solid's surface: points on it, each surface point within R of one (PLY).
     Sample(sample::SampleArgs),
+    /// Export a watertight mesh within a tolerance of the exact surface (STL, OBJ, OFF, 3MF).
+    Export(export::ExportArgs),
     /// Format files in place (`-`: standard input to standard output); `--check` only reports.
     Fmt(fmt::FmtArgs),
     /// Run the language server on standard input and output.
@@ -145,6 +148,7 @@ fn main() -> ExitCode {
         Command::Compile(args) => compile::run(args),
         Command::Render(args) => render::run(args),
         Command::Sample(args) => sample::run(args),
+        Command::Export(args) => export::run(args),
         Command::Fmt(args) => fmt::run(args),
         Command::Lsp(args) => lsp::run(args),
         Command::View(args) => view::run(args),

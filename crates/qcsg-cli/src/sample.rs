@@ -250,7 +250,7 @@ pub fn run(args: SampleArgs) -> u8 {
 }
 
 /// The diagnostic of a crossed sampling limit, at the source of the quadric being sampled.
-fn limit_diagnostic(dnf: &Dnf, error: &SampleError) -> Option<Diagnostic> {
+pub(crate) fn limit_diagnostic(dnf: &Dnf, error: &SampleError) -> Option<Diagnostic> {
     let (code, what, limit, quadric, help) = match *error {
         SampleError::TooManySamples { limit, quadric } => (
             codes::SAMPLE_LIMIT,
@@ -357,7 +357,7 @@ pub fn ply_ascii(sampling: &Sampling) -> Vec<u8> {
 }
 
 /// Writes `bytes` to standard output (`-`) or atomically to a file.
-fn write_output(target: &str, bytes: &[u8]) -> Result<(), String> {
+pub(crate) fn write_output(target: &str, bytes: &[u8]) -> Result<(), String> {
     if target == "-" {
         let mut stdout = std::io::stdout().lock();
         return stdout

@@ -374,7 +374,14 @@ fn mesh_term(
     context: &TermContext,
 ) -> Result<Manifold, ExportError> {
     let origin = context.origin;
-    let bounds = Aabb::new(term.bounds.min - origin, term.bounds.max - origin);
+    // The box only bounds the term: widened a little, the literals' own surfaces make every
+    // face, so a face that the box's rounding would have put 10⁻¹⁴ inside a neighbour's face
+    // (a mirrored part flush with another) is the literal's plane, merged by the union.
+    let margin = 1e-9 * context.scene.half_diagonal();
+    let bounds = Aabb::new(
+        term.bounds.min - origin - DVec3::splat(margin),
+        term.bounds.max - origin + DVec3::splat(margin),
+    );
     let size = bounds.max - bounds.min;
     if size.min_element().is_nan() || size.min_element() <= 0.0 {
         return Ok(Manifold::empty());
