@@ -15,7 +15,7 @@ syntax keyword qcsgConstant undef PI
 syntax keyword qcsgSpecialForm assert echo
 
 syntax keyword qcsgBuiltinModule cube sphere cylinder ellipsoid paraboloid hyperboloid cone
-      \ halfspace quadric square circle polygon polyhedron import import_stl import_off
+      \ halfspace quadric square circle polygon text polyhedron import import_stl import_off
       \ import_dxf surface linear_extrude rotate_extrude dxf_linear_extrude dxf_rotate_extrude
       \ projection hull minkowski offset translate rotate scale mirror multmatrix resize color
       \ group union intersection difference complement intersection_for render children child
