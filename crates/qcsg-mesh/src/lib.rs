@@ -10,7 +10,9 @@
 //! region [`drawing_region`] builds from cells, discs and circular segments, and computes exact
 //! convex hulls of point sets ([`convex_hull`], [`convex_hull_2d`]). [`boolean_cells`] cuts any
 //! boolean of half-spaces, or its complement, within a box into convex cells.
+//! [`closest_point_on_triangle`] is the distance query that checks of meshes are built on.
 
+mod closest;
 mod drawing;
 mod exact;
 mod formats;
@@ -18,6 +20,7 @@ mod hull;
 mod polygon;
 mod polyhedron;
 
+pub use closest::closest_point_on_triangle;
 pub use drawing::{CurvedPiece, DrawingRegion, Op, RegionError, Step, drawing_region};
 pub use formats::{
     Arc, Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingLimits, DrawingOptions,
