@@ -12,7 +12,8 @@
 //! box of four vertical cylinders.
 //!
 //! Discs of different radii (a point is a disc of radius 0) have lines tangent to two circles
-//! in their hull and are refused, like ellipses, differences and complements.
+//! in their hull, built by [`crate::hull_discs`]; ellipses, differences and complements are
+//! refused.
 
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use qcsg_csg::{Dag, Edge, Source};
@@ -147,21 +148,21 @@ pub fn common_radius(pieces: &[Piece2]) -> Result<f64, HullRefusal> {
     Ok(first.1)
 }
 
-fn boxed(dag: &mut Dag, edge: Edge, points: &[DVec2], r: f64) -> Edge {
+pub(crate) fn boxed(dag: &mut Dag, edge: Edge, points: &[DVec2], r: f64) -> Edge {
     let min = points.iter().fold(DVec2::INFINITY, |m, p| m.min(*p)) - r;
     let max = points.iter().fold(DVec2::NEG_INFINITY, |m, p| m.max(*p)) + r;
     let pad = 1e-9 * (max - min).max_element() + 1e-15 * max.abs().max(min.abs()).max_element();
     dag.bounded(edge.child, column(min - pad, max + pad)).into()
 }
 
-fn leaf(dag: &mut Dag, q: Option<Quadric>, source: Source) -> Edge {
+pub(crate) fn leaf(dag: &mut Dag, q: Option<Quadric>, source: Source) -> Edge {
     match q {
         Some(q) => dag.leaf(q, source).into(),
         None => dag.empty(source).into(),
     }
 }
 
-fn disc(dag: &mut Dag, c: DVec2, r: f64, source: Source) -> Edge {
+pub(crate) fn disc(dag: &mut Dag, c: DVec2, r: f64, source: Source) -> Edge {
     let q = Quadric::cylinder(c.extend(0.0), DVec3::Z, r);
     let e = leaf(dag, q, source);
     boxed(dag, e, &[c], r)
@@ -246,7 +247,7 @@ pub fn build(
     Ok(boxed(dag, union.into(), &k, r))
 }
 
-/// The hull of `cylinders`: parallel axes, the same two end planes, one radius (else refused).
+/// The hull of `cylinders`: parallel axes and the same two end planes (else refused), any radii.
 pub fn build_prism(
     dag: &mut Dag,
     cylinders: &[Cylinder],
@@ -303,8 +304,13 @@ pub fn build_prism(
             )
         })
         .collect();
-    let r = common_radius(&pieces)?;
-    let section = build(dag, &pieces, r, source, max_points)?;
+    let section = match common_radius(&pieces) {
+        Ok(r) => build(dag, &pieces, r, source, max_points)?,
+        Err(HullRefusal::UnequalRadii(_)) => {
+            crate::hull_discs::build(dag, &pieces, source, max_points)?
+        }
+        Err(refusal) => return Err(refusal),
+    };
     let (low, high) = (first.low, first.high);
     let mid = 0.5 * (low + high);
     let slab = match Quadric::slab(DVec3::new(0.0, 0.0, mid), DVec3::Z, 0.5 * (high - low)) {

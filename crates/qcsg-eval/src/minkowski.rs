@@ -6,8 +6,13 @@
 //!
 //! with P + Q the pairwise sums, so the sum of the children is the union, over one part of each
 //! child, of the hull of balls of one radius that [`crate::hull::HullBuilder`] builds exactly (a
-//! box with a ball: the rounded box; a box with a box: a box). Cylinders, ellipsoids, differences
-//! and other curved parts are refused like in `hull`.
+//! box with a ball: the rounded box; a box with a box: a box).
+//!
+//! A circular cylinder cut square across its axis is its axis segment grown by a disc square to
+//! the axis; discs about parallel axes add their radii, and a part with a disc but no ball is
+//! built by [`crate::minkowski_disc`] (a box with a cylinder: the plate with rounded vertical
+//! edges). A disc with a ball (toroidal edges) or with a disc about another axis is refused at
+//! both parts, and ellipsoids, differences and other curved parts are refused like in `hull`.
 
 use glam::DVec3;
 use qcsg_csg::{Dag, Edge, Source};
@@ -16,14 +21,27 @@ use qcsg_mesh::{ConvexHull, convex_hull};
 use crate::codes;
 use crate::hull::{HullBuilder, HullLimits, HullRefusal, Piece, hull_error};
 
-/// A convex part: the hull of `points` grown by `radius`.
+/// A convex part: the hull of `points` grown by a ball of `radius` and by `disc`.
 #[derive(Clone, Debug)]
 pub struct Part {
     /// The points (reduced to the corners of their hull once summed).
     pub points: Vec<DVec3>,
     /// The radius.
     pub radius: f64,
+    /// The disc square to an axis that the part is grown by, if any.
+    pub disc: Option<Disc>,
     /// The source of the part, for errors.
+    pub source: Source,
+}
+
+/// A disc of `radius` square to the unit `axis`, from the cylinder at `source`.
+#[derive(Clone, Copy, Debug)]
+pub struct Disc {
+    /// The unit axis.
+    pub axis: DVec3,
+    /// The radius.
+    pub radius: f64,
+    /// The cylinder it comes from.
     pub source: Source,
 }
 
@@ -36,26 +54,36 @@ pub fn parts_of(
     let mut parts: Vec<Part> = Vec::new();
     let mut last = None;
     for (piece, &n) in pieces.iter().zip(numbers) {
-        let (point, radius, source) = match *piece {
-            Piece::Point(p, s) => (p, 0.0, s),
-            Piece::Ball(c, r, s) => (c, r, s),
+        let (ends, radius, disc, source) = match *piece {
+            Piece::Point(p, s) => ([Some(p), None], 0.0, None, s),
+            Piece::Ball(c, r, s) => ([Some(c), None], r, None, s),
             Piece::Cylinder(c) => {
-                return Err(HullRefusal::Part(
+                // The axis segment: the centre moved along the axis to each end plane.
+                let at = |h: f64| c.centre + (h - c.axis.dot(c.centre)) * c.axis;
+                let disc = Disc {
+                    axis: c.axis,
+                    radius: c.radius,
+                    source: c.source,
+                };
+                (
+                    [Some(at(c.low)), Some(at(c.high))],
+                    0.0,
+                    Some(disc),
                     c.source,
-                    "a cylinder (its sum with a ball has toroidal edges)",
-                ));
+                )
             }
         };
         if last != Some(n) {
             parts.push(Part {
                 points: Vec::new(),
                 radius,
+                disc,
                 source,
             });
             last = Some(n);
         }
         if let Some(part) = parts.last_mut() {
-            part.points.push(point);
+            part.points.extend(ends.into_iter().flatten());
         }
     }
     parts
@@ -120,6 +148,7 @@ pub fn sum(a: &[Part], b: &[Part], limits: &HullLimits) -> Result<Vec<Part>, Hul
                     .flat_map(|x| q.points.iter().map(move |y| *x + *y))
                     .collect(),
                 radius: p.radius + q.radius,
+                disc: sum_discs(p, q)?,
                 source: p.source,
             };
             reduce(&mut part, limits.points)?;
@@ -127,6 +156,41 @@ pub fn sum(a: &[Part], b: &[Part], limits: &HullLimits) -> Result<Vec<Part>, Hul
         }
     }
     Ok(out)
+}
+
+/// The disc of the sum of two parts: discs about one axis add their radii; discs about
+/// different axes, or a disc with a ball, give surfaces that are not quadric.
+fn sum_discs(p: &Part, q: &Part) -> Result<Option<Disc>, HullRefusal> {
+    let disc = match (p.disc, q.disc) {
+        (None, d) | (d, None) => d,
+        (Some(a), Some(b)) => {
+            if a.axis.cross(b.axis).length() > 1e-9 {
+                return Err(HullRefusal::Pair(
+                    [a.source, b.source],
+                    "two cylinders whose axes are not parallel (the sum has surfaces that are \
+                     not quadric)",
+                    "turn the cylinders parallel, or sum each with the other parts separately \
+                     where that is the same solid",
+                ));
+            }
+            Some(Disc {
+                radius: a.radius + b.radius,
+                ..a
+            })
+        }
+    };
+    if let Some(d) = disc
+        && p.radius + q.radius > 0.0
+    {
+        let ball = if p.radius > 0.0 { p.source } else { q.source };
+        return Err(HullRefusal::Pair(
+            [ball, d.source],
+            "a ball together with a cylinder (the sum has toroidal edges)",
+            "sum the box with the ball and unite the cylinder's part, or use a cylinder with \
+             balls at its ends (a capsule) where that is the same solid",
+        ));
+    }
+    Ok(disc)
 }
 
 /// The union of the parts as DAG nodes.
@@ -139,6 +203,16 @@ pub fn build(
     let builder = HullBuilder { source, max_points };
     let mut edges = Vec::with_capacity(parts.len());
     for part in parts {
+        if let Some(disc) = part.disc {
+            edges.push(crate::minkowski_disc::build(
+                dag,
+                &builder,
+                &part.points,
+                disc.axis,
+                disc.radius,
+            )?);
+            continue;
+        }
         let pieces: Vec<Piece> = part
             .points
             .iter()

@@ -123,7 +123,7 @@ fn sums_of_boxes_and_balls() {
 fn sums_not_bounded_by_quadrics_are_refused_at_their_parts() {
     for (text, part) in [
         (
-            "minkowski() { cube(1); cylinder(h = 1, r = 1); }",
+            "minkowski() { cube(1); sphere(1); cylinder(h = 1, r = 1); }",
             "cylinder",
         ),
         (

@@ -12,6 +12,7 @@ use crate::hull::{
 };
 use crate::hull_2d::{self, Collector2};
 use crate::hull_balls;
+use crate::hull_discs;
 use crate::minkowski;
 use crate::planar::{PlanarError, planar_expression};
 
@@ -220,8 +221,13 @@ impl<'a> Evaluator<'a> {
         }
         let pieces = collector.pieces;
         let max_points = self.options.max_hull_points;
-        Ok(hull_2d::common_radius(&pieces)
-            .and_then(|r| hull_2d::build(&mut self.dag, &pieces, r, source, max_points)))
+        Ok(match hull_2d::common_radius(&pieces) {
+            Ok(r) => hull_2d::build(&mut self.dag, &pieces, r, source, max_points),
+            Err(HullRefusal::UnequalRadii(_)) => {
+                hull_discs::build(&mut self.dag, &pieces, source, max_points)
+            }
+            Err(refusal) => Err(refusal),
+        })
     }
 
     fn hull_refused(
