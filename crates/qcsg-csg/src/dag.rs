@@ -196,6 +196,9 @@ pub struct Dag {
     transform_index: HashMap<[u64; 16], TransformId>,
     root: Option<Edge>,
     backgrounds: Vec<Edge>,
+    /// For some nodes, another node that is exactly their complement in the same frame, built
+    /// to expand into few terms where the node is subtracted ([`Dag::set_complement`]).
+    complements: HashMap<NodeId, NodeId>,
 }
 
 impl Default for Dag {
@@ -217,6 +220,7 @@ impl Dag {
             transform_index,
             root: None,
             backgrounds: Vec::new(),
+            complements: HashMap::new(),
         }
     }
 
@@ -286,6 +290,22 @@ impl Dag {
     /// `child` marked for highlighting (`#`); still part of the solid.
     pub fn highlight(&mut self, child: Edge, source: Source) -> NodeId {
         self.intern(NodeKind::Highlight(child), source, None)
+    }
+
+    /// Records that `complement` is exactly the set of points outside `node`, in the same frame:
+    /// the DNF expands it where `node` is subtracted, instead of multiplying out the complements
+    /// of `node`'s parts (a glyph's unfilled cells instead of the product of its filled cells'
+    /// complements). The caller guarantees the two are complements; membership queries and the
+    /// emitted forms keep using `node` itself. Ignored for handles this DAG does not hold.
+    pub fn set_complement(&mut self, node: NodeId, complement: NodeId) {
+        if self.node(node).is_some() && self.node(complement).is_some() && node != complement {
+            self.complements.insert(node, complement);
+        }
+    }
+
+    /// The node recorded as `node`'s exact complement, if any ([`Dag::set_complement`]).
+    pub fn complement_of(&self, node: NodeId) -> Option<NodeId> {
+        self.complements.get(&node).copied()
     }
 
     /// The same node with a declared box (in its local frame) that contains its solid, e.g.

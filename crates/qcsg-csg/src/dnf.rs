@@ -503,6 +503,18 @@ impl<'a> Builder<'a> {
             return Ok(if ctx.negated { acc } else { Vec::new() });
         };
         let negated = ctx.negated;
+        if negated
+            && self.pruning.plane_cells
+            && let Some(complement) = self.dag.complement_of(id)
+        {
+            // A part that knows its complement as cells (a glyph's unfilled cells): those,
+            // instead of the product of its own cells' complements.
+            let positive = Context {
+                negated: false,
+                ..ctx.clone()
+            };
+            return self.expand(acc, complement, &positive);
+        }
         let mut child_ctx = ctx.clone();
         Ok(match &node.kind {
             NodeKind::Leaf(q) => self.add_leaf(acc, id, q, node.source, &child_ctx),

@@ -49,7 +49,9 @@ pub struct Pruning {
     /// Construction: terms of a union that contain another term's literals are dropped.
     pub subsumed_terms: bool,
     /// Construction: a part made of planes only whose expansion outgrows a budget near-linear
-    /// in its planes is cut into convex cells instead ([`crate::dnf`]'s `plane_cells`).
+    /// in its planes is cut into convex cells instead ([`crate::dnf`]'s `plane_cells`); and a
+    /// subtracted part that records its complement as cells ([`crate::Dag::set_complement`],
+    /// e.g. text) expands those instead of the product of its own cells' complements.
     pub plane_cells: bool,
     /// Final pass `empty_bounds`.
     pub final_empty_bounds: bool,

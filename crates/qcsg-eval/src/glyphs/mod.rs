@@ -5,8 +5,10 @@
 //! Fonts are found by fontconfig-style names ([`fonts`]); glyphs are shaped and placed with
 //! OpenSCAD 2021.01's metrics ([`layout`]). Each glyph is filled with the non-zero rule, as
 //! OpenSCAD's Clipper union of the glyph outlines does, and the glyphs are united. Every glyph and
-//! every cell declares its box, so pruning leaves a far glyph out of every query.
+//! every cell declares its box, so pruning leaves a far glyph out of every query. The text also
+//! records its exact complement as cells ([`complement`]), for engraving.
 
+mod complement;
 pub mod fonts;
 pub mod layout;
 
@@ -282,11 +284,26 @@ pub fn text(
             Some(dag.bounded(union, column(min, max)))
         }
     };
+    if let Some(node) = node {
+        // Where the text is subtracted, its unfilled cells stand for its complement.
+        let outlines: Vec<&[Vec<qcsg_mesh::curved::Segment>]> =
+            glyphs.iter().map(|g| g.contours.as_slice()).collect();
+        if let Some(complement) = complement::complement_node(dag, &outlines, source) {
+            dag.set_complement(node, complement);
+        }
+    }
     Ok(BuiltText { node, warnings })
 }
 
 /// The z-invariant solid `Q ≤ 0` of one side of an arc's parabola.
 fn parabola_side(arc: &qcsg_mesh::curved::BezierArc, inside: bool) -> Option<Quadric> {
+    // The parabola does not depend on the arc's direction; its ends in a fixed order give the
+    // same coefficients, bit for bit, to an arc and its reverse (the text's complement may trace
+    // a glyph backwards).
+    let mut arc = *arc;
+    if (arc.p2.x, arc.p2.y) < (arc.p0.x, arc.p0.y) {
+        std::mem::swap(&mut arc.p0, &mut arc.p2);
+    }
     let origin = (arc.p0 + arc.p1 + arc.p2) / 3.0;
     let [xx, yy, xy, x, y, c] = arc.conic(origin);
     let s = if inside { 1.0 } else { -1.0 };

@@ -273,6 +273,37 @@ pub fn curved_cells(
     contours: &[Vec<Segment>],
     rule: FillRule,
 ) -> Result<CurvedRegion, CurvedError> {
+    let edges = outline_edges(contours)?;
+    Ok(decompose(&edges, rule, false)?.0)
+}
+
+/// The complement of an outline's region: everything outside the box `min..max` (which holds
+/// every point and control point of the outline), and within it the cells `rule` leaves
+/// unfilled. Its cells come from the same partition as [`curved_cells`]' and share its lines
+/// and parabolas, with the opposite sides.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurvedComplement {
+    /// The unfilled cells within the box (`region.min`/`region.max` bound those cells only).
+    pub region: CurvedRegion,
+    /// The lower corner of the partitioned box.
+    pub min: DVec2,
+    /// The upper corner of the partitioned box.
+    pub max: DVec2,
+}
+
+/// The complement of the region enclosed by `contours` under `rule` ([`CurvedComplement`]);
+/// `None` when the outline encloses nothing (its complement is the whole plane).
+pub fn curved_complement_cells(
+    contours: &[Vec<Segment>],
+    rule: FillRule,
+) -> Result<Option<CurvedComplement>, CurvedError> {
+    let edges = outline_edges(contours)?;
+    let (region, partitioned) = decompose(&edges, rule, true)?;
+    Ok(partitioned.map(|(min, max)| CurvedComplement { region, min, max }))
+}
+
+/// The outline's edges: contours closed, flat arcs made straight, empty pieces dropped.
+fn outline_edges(contours: &[Vec<Segment>]) -> Result<Vec<Edge>, CurvedError> {
     let mut edges: Vec<Edge> = Vec::new();
     let line = |a: DVec2, b: DVec2| Edge {
         a,
@@ -322,13 +353,15 @@ pub fn curved_cells(
             }
         }
     }
-    decompose(&edges, rule)
+    Ok(edges)
 }
 
 /// The partition's state.
 struct Partition<'a> {
     edges: &'a [Edge],
     rule: FillRule,
+    /// Whether the cells wanted are the unfilled ones.
+    complement: bool,
     magnitude: f64,
     min: DVec2,
     max: DVec2,
@@ -338,7 +371,13 @@ struct Partition<'a> {
     cells: Vec<CurvedCell>,
 }
 
-fn decompose(edges: &[Edge], rule: FillRule) -> Result<CurvedRegion, CurvedError> {
+/// The cells of the outline `edges` under `rule` (the unfilled ones if `complement`), and the box
+/// partitioned (`None` when the outline has no area, so that nothing is filled).
+fn decompose(
+    edges: &[Edge],
+    rule: FillRule,
+    complement: bool,
+) -> Result<(CurvedRegion, Option<(DVec2, DVec2)>), CurvedError> {
     let empty = CurvedRegion {
         arcs: Vec::new(),
         cells: Vec::new(),
@@ -346,7 +385,7 @@ fn decompose(edges: &[Edge], rule: FillRule) -> Result<CurvedRegion, CurvedError
         max: DVec2::ZERO,
     };
     if edges.is_empty() {
-        return Ok(empty);
+        return Ok((empty, None));
     }
     let (min, max) = edges.iter().fold(
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
@@ -356,11 +395,12 @@ fn decompose(edges: &[Edge], rule: FillRule) -> Result<CurvedRegion, CurvedError
         },
     );
     if min.x == max.x || min.y == max.y {
-        return Ok(empty);
+        return Ok((empty, None));
     }
     let mut partition = Partition {
         edges,
         rule,
+        complement,
         magnitude: min.abs().max(max.abs()).max_element(),
         min,
         max,
@@ -389,12 +429,16 @@ fn decompose(edges: &[Edge], rule: FillRule) -> Result<CurvedRegion, CurvedError
             |(lo, hi), c| (lo.min(c.min), hi.max(c.max)),
         )
     };
-    Ok(CurvedRegion {
-        arcs: partition.arcs,
-        cells,
-        min,
-        max,
-    })
+    let partitioned = (partition.min, partition.max);
+    Ok((
+        CurvedRegion {
+            arcs: partition.arcs,
+            cells,
+            min,
+            max,
+        },
+        Some(partitioned),
+    ))
 }
 
 /// The order in which edges split: a fixed scramble of their indices.
@@ -411,11 +455,13 @@ impl Partition<'_> {
             * ((line.normal.x.abs() + line.normal.y.abs()) * self.magnitude + line.offset.abs())
     }
 
+    /// Whether a winding number makes a wanted cell: filled, or unfilled for the complement.
     fn filled(&self, winding: i32) -> bool {
-        match self.rule {
+        let filled = match self.rule {
             FillRule::EvenOdd => winding % 2 != 0,
             FillRule::NonZero => winding != 0,
-        }
+        };
+        filled != self.complement
     }
 
     /// The change of winding number from `p` to `q` over the edges in `list` (the segment must

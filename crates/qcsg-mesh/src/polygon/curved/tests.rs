@@ -251,3 +251,69 @@ fn a_flat_arc_is_its_chord() {
     assert!(region.arcs.is_empty());
     check_against_flattening(&[contour], FillRule::NonZero, 5);
 }
+
+/// The complement's cells hold exactly the points of its box the flattened outline leaves
+/// unfilled, and points outside the box are never filled.
+fn check_complement(contours: &[Vec<Segment>], rule: FillRule, seed: u64) {
+    let complement = curved_complement_cells(contours, rule)
+        .unwrap()
+        .expect("an outline with area");
+    let region = curved_cells(contours, rule).unwrap();
+    let mut rng = Rng::new(seed);
+    let mut checked = 0;
+    for _ in 0..800 {
+        let q = p(rng.unit() * 14.0 - 2.0, rng.unit() * 14.0 - 2.0);
+        if distance(contours, q, 64) < 2e-3 {
+            continue;
+        }
+        let w = flattened_winding(contours, q, 1024);
+        let filled = match rule {
+            FillRule::EvenOdd => w % 2 != 0,
+            FillRule::NonZero => w != 0,
+        };
+        let in_box = q.cmpge(complement.min).all() && q.cmple(complement.max).all();
+        let unfilled = !in_box || complement.region.contains(q);
+        assert_eq!(unfilled, !filled, "at {q} (winding {w})");
+        // The cells on both sides come from one partition: never both.
+        assert!(
+            !(region.contains(q) && complement.region.contains(q)),
+            "at {q}"
+        );
+        checked += 1;
+    }
+    assert!(checked > 500);
+}
+
+#[test]
+fn the_complement_holds_the_unfilled_points() {
+    let bulging = vec![
+        Segment::Line(p(0.0, 0.0), p(8.0, 0.0)),
+        Segment::Quad(p(8.0, 0.0), p(12.0, 4.0), p(8.0, 8.0)),
+        Segment::Quad(p(8.0, 8.0), p(4.0, 3.0), p(0.0, 8.0)),
+        Segment::Line(p(0.0, 8.0), p(0.0, 0.0)),
+    ];
+    for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+        check_complement(std::slice::from_ref(&bulging), rule, 5);
+    }
+    let mut rng = Rng::new(7);
+    let mut checked = 0;
+    for round in 0..12 {
+        let n = 3 + (rng.unit() * 6.0) as usize;
+        let pts: Vec<DVec2> = (0..n)
+            .map(|_| p(rng.unit() * 10.0, rng.unit() * 10.0))
+            .collect();
+        let contour: Vec<Segment> = (0..n)
+            .map(|k| {
+                let (a, b) = (pts[k], pts[(k + 1) % n]);
+                let mid = (a + b) * 0.5 + p(rng.unit() - 0.5, rng.unit() - 0.5) * 6.0;
+                Segment::Quad(a, mid, b)
+            })
+            .collect();
+        if curved_cells(std::slice::from_ref(&contour), FillRule::NonZero).is_ok() {
+            check_complement(std::slice::from_ref(&contour), FillRule::NonZero, round);
+            checked += 1;
+        }
+    }
+    assert!(checked > 6);
+    assert_eq!(curved_complement_cells(&[], FillRule::NonZero), Ok(None));
+}
