@@ -163,7 +163,7 @@ enum Emit {
 enum OutputFormat {
     /// Readable text.
     Text,
-    /// JSON (the formats of CLI.md).
+    /// JSON (the formats of docs/cli.md).
     Json,
 }
 

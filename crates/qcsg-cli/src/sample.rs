@@ -283,7 +283,7 @@ pub(crate) fn limit_diagnostic(dnf: &Dnf, error: &SampleError) -> Option<Diagnos
     )
 }
 
-/// The stats JSON of CLI.md: the documented keys first, then the sampler's other counters.
+/// The stats JSON of docs/cli.md: the documented keys first, then the sampler's other counters.
 pub fn stats_json(
     sampling: &Sampling,
     dnf: &Dnf,

@@ -1,4 +1,4 @@
-//! End-to-end tests of `qcsg compile`: the DAG and DNF formats of CLI.md, the text forms, `-D`,
+//! End-to-end tests of `qcsg compile`: the DAG and DNF formats of docs/cli.md, the text forms, `-D`,
 //! the limit flags and the diagnostics at the span that crossed a limit, and exit codes. Programs
 //! come on standard input (named `<stdin>` in diagnostics).
 

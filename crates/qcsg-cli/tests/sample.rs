@@ -1,6 +1,6 @@
 //! End-to-end tests of `qcsg sample`: the PLY read back (every point on its quadric, per the DNF
 //! JSON of `qcsg compile`, and on the solid's surface), text and binary PLY agreeing, the stats
-//! JSON, byte-identical output for any thread count, and the exit codes of CLI.md (bad radius:
+//! JSON, byte-identical output for any thread count, and the exit codes of docs/cli.md (bad radius:
 //! usage error; errors in the program: 1), with no file left behind by a failed run.
 
 use std::io::Write;
@@ -57,7 +57,7 @@ struct Vertex {
     term: u32,
 }
 
-/// The PLY properties CLI.md specifies, in order.
+/// The PLY properties docs/cli.md specifies, in order.
 const PROPERTIES: [&str; 9] = [
     "property double x",
     "property double y",

@@ -1,5 +1,5 @@
 //! JSON output of the DAG (`--emit dag --format json`) and the DNF (`--emit dnf --format
-//! json`), in the formats of `CLI.md`.
+//! json`), in the formats of `docs/cli.md`.
 //!
 //! Output is deterministic: structs serialise their fields in declaration order, lists follow
 //! the arena's and the DNF's own order, and no hash map is iterated. Non-finite numbers (an

@@ -1,4 +1,4 @@
-//! JSON and text output: the formats of CLI.md, sharing, determinism.
+//! JSON and text output: the formats of docs/cli.md, sharing, determinism.
 
 mod common;
 

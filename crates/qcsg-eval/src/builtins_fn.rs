@@ -1,4 +1,5 @@
-//! The built-in functions of LANGUAGE.md §4 with OpenSCAD 2021.01's results.
+//! The built-in functions (docs/language.md, "Built-in functions") with OpenSCAD 2021.01's
+//! results.
 //!
 //! Arguments arrive evaluated and in positional order (named arguments already placed by the
 //! caller). Where OpenSCAD returns `undef` with a warning, these return an error message, which

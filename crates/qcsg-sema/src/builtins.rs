@@ -1,4 +1,4 @@
-//! Signatures of the built-in modules, functions and variables (LANGUAGE.md §4-§5), and the
+//! Signatures of the built-in modules, functions and variables (docs/language.md), and the
 //! OpenSCAD constructs the language rejects because no quadric represents them exactly.
 //!
 //! Parameter names and positional order follow OpenSCAD 2021.01 (`cylinder(h, r1, r2, center)`,

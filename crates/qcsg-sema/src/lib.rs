@@ -1,4 +1,5 @@
-//! Name resolution, include/use loading and static checking of qcsg programs (LANGUAGE.md §6).
+//! Name resolution, include/use loading and static checking of qcsg programs (docs/language.md,
+//! "Static checking").
 //!
 //! [`check_file`] is the entry point: it parses the main file, loads what it includes or uses
 //! through a [`FileLoader`], resolves every name and reports static errors and warnings. The

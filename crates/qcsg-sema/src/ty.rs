@@ -1,4 +1,4 @@
-//! The static types of LANGUAGE.md §6 and the small inference rules checking relies on.
+//! The static types (docs/language.md, "Static checking") and the small inference rules checking relies on.
 //!
 //! Inference is deliberately partial: whatever is not certain is [`Ty::Any`], and checks only
 //! report a mismatch between two *known* types, so a correct program never gets a type error.

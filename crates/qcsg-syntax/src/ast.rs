@@ -78,7 +78,7 @@ pub struct Stmt {
     pub doc: Option<Doc>,
 }
 
-/// The statement forms of LANGUAGE.md §3.
+/// The statement forms (docs/language.md, "Statements").
 #[derive(Clone, Debug, PartialEq)]
 pub enum StmtKind {
     /// A lone `;`.
@@ -238,7 +238,7 @@ pub struct Expr {
     pub span: Span,
 }
 
-/// The expression forms of LANGUAGE.md §3.
+/// The expression forms (docs/language.md, "Expressions").
 #[derive(Clone, Debug, PartialEq)]
 pub enum ExprKind {
     /// A number literal.

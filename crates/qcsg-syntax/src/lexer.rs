@@ -1,4 +1,4 @@
-//! The lexer (LANGUAGE.md §2): source text to a vector of spanned tokens plus the comments.
+//! The lexer (docs/language.md, "Lexical structure"): source text to a vector of spanned tokens plus the comments.
 //!
 //! Built on logos. Comments are not tokens for the parser: they are collected into
 //! [`Lexed::comments`] so that the tree keeps them (formatting, folding, doc comments). Bad input

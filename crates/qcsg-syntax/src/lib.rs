@@ -1,4 +1,4 @@
-//! Lexer, recovering parser and span-carrying AST of the qcsg language (LANGUAGE.md §2-§3).
+//! Lexer, recovering parser and span-carrying AST of the qcsg language (docs/language.md).
 //!
 //! [`parse`] never fails: it returns a tree for everything it could read plus a diagnostic for
 //! every error it recovered from. This crate knows nothing of evaluation or of editors.

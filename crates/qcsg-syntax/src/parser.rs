@@ -1,4 +1,5 @@
-//! The recovering parser (LANGUAGE.md §3): tokens to [`SourceFile`] statements, built on chumsky.
+//! The recovering parser (docs/language.md, "Statements", "Expressions"): tokens to
+//! [`SourceFile`] statements, built on chumsky.
 //!
 //! The grammar follows `grammar/qcsg.ebnf`. Expressions use chumsky's Pratt parser for the binary
 //! and prefix operators; everything else is recursive descent written so that no alternative
