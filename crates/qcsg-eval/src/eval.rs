@@ -120,6 +120,8 @@ pub(crate) struct Evaluator<'a> {
     surfaces: HashMap<(std::path::PathBuf, bool, bool), Rc<crate::polyhedron::MeshShape>>,
     /// The triangles of each mesh node (polyhedron, import, surface), for its shadow.
     mesh_faces: HashMap<NodeId, Rc<crate::mesh_shadow::MeshFaces>>,
+    /// The fonts registered with `use <file.ttf>`.
+    pub fonts: crate::glyphs::fonts::RegisteredFonts,
 }
 
 impl<'a> Evaluator<'a> {
@@ -159,6 +161,7 @@ impl<'a> Evaluator<'a> {
             imported_meshes: HashMap::new(),
             surfaces: HashMap::new(),
             mesh_faces: HashMap::new(),
+            fonts: Default::default(),
         }
     }
 }

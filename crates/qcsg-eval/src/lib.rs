@@ -236,6 +236,7 @@ pub fn evaluate(analysis: &Analysis, options: &EvalOptions) -> Evaluation {
             &defines,
             DEFINE_FILE,
         );
+        evaluator.fonts = register_fonts(&analysis.fonts, &mut evaluator.diagnostics);
         let outcome = evaluator.run_main(analysis.main);
         let mut dag = std::mem::take(&mut evaluator.dag);
         if outcome.is_err() || dag.root().is_none() {
@@ -293,4 +294,28 @@ fn parse_define(name: &str, text: &str) -> Option<Expr> {
         StmtKind::Assign { value, .. } => Some(value),
         _ => None,
     }
+}
+
+/// The faces of the font files named by `use <file.ttf>`, as OpenSCAD 2021.01 registers them
+/// for `text(font = …)`; a file that cannot be read, is no font or draws with cubic curves is
+/// error E0569 at its `<path>`.
+fn register_fonts(
+    uses: &[qcsg_sema::FontUse],
+    diagnostics: &mut Vec<Diagnostic>,
+) -> glyphs::fonts::RegisteredFonts {
+    let mut fonts = glyphs::fonts::RegisteredFonts::default();
+    for font in uses {
+        if let Err(e) = fonts.register(&font.path) {
+            diagnostics.push(Diagnostic::error(
+                codes::FONT_UNUSABLE,
+                format!(
+                    "the font file `{}` named by `use` cannot be used: {e}",
+                    font.path.display()
+                ),
+                font.file,
+                font.span,
+            ));
+        }
+    }
+    fonts
 }

@@ -45,7 +45,7 @@ use std::path::{Path, PathBuf};
 
 use qcsg_diag::{Diagnostic, FileId, SourceMap, Span};
 
-pub use loader::{FileLink, LinkKind, STDIN_NAME};
+pub use loader::{FileLink, FontUse, LinkKind, STDIN_NAME, is_font_path};
 pub use read::{
     InvalidUtf8, MAX_SOURCE_BYTES, SourceError, SourceText, load_source, read_bytes_with_limit,
     read_source, read_source_from, read_source_with_limit,
@@ -194,6 +194,8 @@ pub struct Analysis {
     pub trees: Vec<qcsg_syntax::SourceFile>,
     /// Every `include` / `use` statement and the file it resolved to.
     pub links: Vec<FileLink>,
+    /// The font files named by `use <file.ttf>`, found; the evaluator registers their faces.
+    pub fonts: Vec<FontUse>,
     /// Every definition, indexed by [`DefId`].
     pub definitions: Vec<Definition>,
     /// Every resolved name reference (a definition's own name is not a reference).
@@ -275,7 +277,10 @@ pub fn check_source(
     qcsg_diag::sort_diagnostics(&mut diagnostics);
     diagnostics.dedup();
     let loader::Loaded {
-        trees, link_list, ..
+        trees,
+        link_list,
+        fonts,
+        ..
     } = loaded;
     Analysis {
         sources,
@@ -283,6 +288,7 @@ pub fn check_source(
         diagnostics,
         trees,
         links: link_list,
+        fonts,
         definitions: resolved.definitions,
         references: resolved.references,
     }

@@ -44,8 +44,32 @@ pub struct FileLink {
     pub target: Option<FileId>,
 }
 
+/// A `use <file.ttf>` (or `.otf`): as in OpenSCAD 2021.01, a font file named by `use` is not a
+/// library but registers its faces for `text(font = …)`. The checker only finds the file; the
+/// evaluator reads it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FontUse {
+    /// The file the statement is in.
+    pub file: FileId,
+    /// The span of `<path>`.
+    pub span: Span,
+    /// The font file found.
+    pub path: PathBuf,
+}
+
+/// Whether `use <path>` names a font file: its extension is `.ttf` or `.otf`, in any case, as
+/// OpenSCAD tells them.
+pub fn is_font_path(path: &str) -> bool {
+    Path::new(path).extension().is_some_and(|e| {
+        let e = e.to_string_lossy();
+        e.eq_ignore_ascii_case("ttf") || e.eq_ignore_ascii_case("otf")
+    })
+}
+
 /// Every file of a program, parsed, with the links between them.
 pub(crate) struct Loaded {
+    /// The font files named by `use`, in the order found.
+    pub fonts: Vec<FontUse>,
     /// The tree of each file, indexed by `FileId`.
     pub trees: Vec<SourceFile>,
     /// Where each `include` / `use` leads, keyed by (file, start of the `<path>` span).
@@ -165,6 +189,7 @@ pub(crate) fn load_program(
     diagnostics: &mut Vec<Diagnostic>,
 ) -> Loaded {
     let mut loaded = Loaded {
+        fonts: Vec::new(),
         trees: Vec::new(),
         links: HashMap::new(),
         link_list: Vec::new(),
@@ -205,6 +230,17 @@ pub(crate) fn load_program(
         let tree = parse.file;
         let dir = base_dir(&sources.get(file).name);
         for (kind, path) in link_statements(&tree) {
+            if kind == LinkKind::Use && is_font_path(&path.path) {
+                match find_font_file(&dir, &path.path, options) {
+                    Ok(found) => loaded.fonts.push(FontUse {
+                        file,
+                        span: path.span,
+                        path: found,
+                    }),
+                    Err(error) => diagnostics.push(error.diagnostic(&path.path, file, path.span)),
+                }
+                continue;
+            }
             let keyword = if kind == LinkKind::Include {
                 "include"
             } else {
@@ -323,17 +359,7 @@ fn resolve_link(
     options: &CheckOptions,
     loader: &dyn FileLoader,
 ) -> Result<FileId, LinkError> {
-    let written = Path::new(path);
-    let candidates: Vec<PathBuf> = if path.is_empty() {
-        Vec::new()
-    } else if written.is_absolute() {
-        vec![normalize(written)]
-    } else {
-        std::iter::once(dir)
-            .chain(options.search_path.iter().map(PathBuf::as_path))
-            .map(|base| normalize(&base.join(written)))
-            .collect()
-    };
+    let candidates = candidates(dir, path, options);
     for candidate in &candidates {
         if let Some(&known) = by_path.get(candidate) {
             return Ok(known);
@@ -357,6 +383,76 @@ fn resolve_link(
         return Ok(id);
     }
     Err(LinkError::NotFound(candidates))
+}
+
+/// The places a link's `path` may name: relative to `dir`, then to each search directory.
+fn candidates(dir: &Path, path: &str, options: &CheckOptions) -> Vec<PathBuf> {
+    let written = Path::new(path);
+    if path.is_empty() {
+        Vec::new()
+    } else if written.is_absolute() {
+        vec![normalize(written)]
+    } else {
+        std::iter::once(dir)
+            .chain(options.search_path.iter().map(PathBuf::as_path))
+            .map(|base| normalize(&base.join(written)))
+            .collect()
+    }
+}
+
+/// Why a font file named by `use` was not found.
+enum FontFileError {
+    /// No candidate exists; these are the places searched.
+    NotFound(Vec<PathBuf>),
+    /// The candidate exists but is not a regular file.
+    NotAFile(PathBuf),
+}
+
+impl FontFileError {
+    fn diagnostic(&self, written: &str, file: FileId, span: Span) -> Diagnostic {
+        match self {
+            Self::NotFound(searched) => Diagnostic::error(
+                codes::FILE_NOT_FOUND,
+                format!("cannot find the font file `{written}` named by `use`"),
+                file,
+                span,
+            )
+            .with_help(format!(
+                "searched {}; set QCSG_PATH to add library directories",
+                searched
+                    .iter()
+                    .map(|p| format!("`{}`", p.display()))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+            Self::NotAFile(path) => Diagnostic::error(
+                codes::NOT_A_FILE,
+                format!(
+                    "cannot read the font `{}` named by `use`: it is not a regular file",
+                    path.display()
+                ),
+                file,
+                span,
+            ),
+        }
+    }
+}
+
+/// The font file `path` names, looked for where a library would be.
+fn find_font_file(
+    dir: &Path,
+    path: &str,
+    options: &CheckOptions,
+) -> Result<PathBuf, FontFileError> {
+    let candidates = candidates(dir, path, options);
+    for candidate in &candidates {
+        match std::fs::metadata(candidate) {
+            Ok(meta) if meta.is_file() => return Ok(candidate.clone()),
+            Ok(_) => return Err(FontFileError::NotAFile(candidate.clone())),
+            Err(_) => continue,
+        }
+    }
+    Err(FontFileError::NotFound(candidates))
 }
 
 #[cfg(test)]

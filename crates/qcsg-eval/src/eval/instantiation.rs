@@ -333,7 +333,7 @@ impl<'a> Evaluator<'a> {
         let source = Source::new(file, span);
         let max_glyphs = usize::try_from(self.options.max_vector_len).unwrap_or(usize::MAX);
         let at = |name: &str| super::meshes::arg_span(params, args, name).unwrap_or(span);
-        match crate::glyphs::text(&mut self.dag, named, max_glyphs, source) {
+        match crate::glyphs::text(&mut self.dag, named, max_glyphs, &self.fonts, source) {
             Ok(built) => {
                 for w in built.warnings {
                     let code = match w.kind {

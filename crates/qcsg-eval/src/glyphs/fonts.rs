@@ -35,6 +35,7 @@ pub struct FoundFont {
 }
 
 /// One face of the scan.
+#[derive(Clone)]
 struct Entry {
     path: Option<PathBuf>,
     index: u32,
@@ -178,6 +179,82 @@ fn collect_files(folder: &Path, depth: usize, files: &mut Vec<PathBuf>) {
     }
 }
 
+/// The faces of the font files a program registered with `use <file.ttf>`, searched before the
+/// system's, as OpenSCAD adds such files to fontconfig's application fonts.
+#[derive(Clone, Default)]
+pub struct RegisteredFonts {
+    faces: Vec<(Entry, Arc<Vec<u8>>)>,
+}
+
+/// Why a font file named by `use` cannot be registered.
+#[derive(Debug)]
+pub enum FontFileError {
+    /// Reading it failed.
+    Unreadable(std::io::Error),
+    /// It is larger than the most bytes read of a font file.
+    TooLarge,
+    /// No face of it parses as a TrueType or OpenType font.
+    NotAFont(String),
+    /// Its faces draw with cubic (CFF) curves, which are not quadrics.
+    Cubic(String),
+}
+
+impl std::fmt::Display for FontFileError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Unreadable(e) => write!(f, "it cannot be read: {e}"),
+            Self::TooLarge => write!(f, "it is larger than {} MiB", MAX_FONT_BYTES >> 20),
+            Self::NotAFont(e) => write!(f, "it is not a TrueType or OpenType font ({e})"),
+            Self::Cubic(family) => write!(
+                f,
+                "its font {family} draws its glyphs with cubic (CFF) curves, which are not \
+                 quadrics; use a TrueType (.ttf) font"
+            ),
+        }
+    }
+}
+
+impl RegisteredFonts {
+    /// Reads the font file at `path` and registers its faces; the family names registered.
+    pub fn register(&mut self, path: &Path) -> Result<Vec<String>, FontFileError> {
+        let size = std::fs::metadata(path)
+            .map_err(FontFileError::Unreadable)?
+            .len();
+        if size > MAX_FONT_BYTES {
+            return Err(FontFileError::TooLarge);
+        }
+        let data = Arc::new(read_font(path).map_err(FontFileError::Unreadable)?);
+        let count = ttf_parser::fonts_in_collection(&data).unwrap_or(1);
+        let mut faces = Vec::new();
+        let mut cubic = None;
+        for index in 0..count.min(64) {
+            let face = ttf_parser::Face::parse(&data, index)
+                .map_err(|e| FontFileError::NotAFont(e.to_string()))?;
+            let (family, style) = face_names(&face);
+            if super::layout::is_cubic(&face) {
+                cubic = Some(format!("{family} {style}"));
+                continue;
+            }
+            faces.push(Entry {
+                path: Some(path.to_path_buf()),
+                index,
+                family,
+                style,
+            });
+        }
+        if faces.is_empty() {
+            return Err(match cubic {
+                Some(name) => FontFileError::Cubic(name),
+                None => FontFileError::NotAFont("it holds no face".into()),
+            });
+        }
+        let families = faces.iter().map(|e| e.family.clone()).collect();
+        self.faces
+            .extend(faces.into_iter().map(|e| (e, Arc::clone(&data))));
+        Ok(families)
+    }
+}
+
 /// Whether a style name is a face's regular one.
 fn is_regular(style: &str) -> bool {
     matches!(
@@ -189,6 +266,58 @@ fn is_regular(style: &str) -> bool {
 /// The face `name` asks for, or `None` when no installed or bundled face has its family (the
 /// caller falls back to the default font with a warning).
 pub fn find(name: &FontName) -> Option<FoundFont> {
+    find_with(name, &RegisteredFonts::default())
+}
+
+/// [`find`], searching the `registered` faces first.
+pub fn find_with(name: &FontName, registered: &RegisteredFonts) -> Option<FoundFont> {
+    let families: Vec<String> = if name.families.is_empty() {
+        vec![DEFAULT_FAMILY.into()]
+    } else {
+        name.families.clone()
+    };
+    for family in &families {
+        let entries = registered.faces.iter().map(|(e, _)| e);
+        if let Some(chosen) = choose(entries, family, name.style.as_deref()) {
+            let data = registered
+                .faces
+                .iter()
+                .find(|(e, _)| std::ptr::eq(e, chosen))
+                .map(|(_, d)| Arc::clone(d))?;
+            return Some(FoundFont {
+                data,
+                index: chosen.index,
+                family: chosen.family.clone(),
+                style: chosen.style.clone(),
+            });
+        }
+    }
+    find_installed(name)
+}
+
+/// The face of `family` among `entries` with `style`, else its regular face, else its first.
+fn choose<'e>(
+    entries: impl Iterator<Item = &'e Entry>,
+    family: &str,
+    style: Option<&str>,
+) -> Option<&'e Entry> {
+    let family = folded(family);
+    let of_family: Vec<&Entry> = entries.filter(|e| folded(&e.family) == family).collect();
+    match style {
+        Some(style) => {
+            let style = folded(style);
+            of_family
+                .iter()
+                .find(|e| folded(&e.style) == style)
+                .or_else(|| of_family.iter().find(|e| is_regular(&e.style)))
+        }
+        None => of_family.iter().find(|e| is_regular(&e.style)),
+    }
+    .or(of_family.first())
+    .copied()
+}
+
+fn find_installed(name: &FontName) -> Option<FoundFont> {
     let entries = catalogue();
     let families: Vec<String> = if name.families.is_empty() {
         vec![DEFAULT_FAMILY.into()]

@@ -73,11 +73,12 @@ fn string_arg<'v>(args: &'v Value<'_>) -> Option<&'v str> {
 }
 
 /// `text(text, size, font, halign, valign, spacing, direction, language, script)`, with at most
-/// `max_glyphs` glyphs.
+/// `max_glyphs` glyphs; `font` is looked for among the `registered` fonts first.
 pub fn text(
     dag: &mut Dag,
     args: &dyn ArgLookup<'_>,
     max_glyphs: usize,
+    registered: &fonts::RegisteredFonts,
     source: Source,
 ) -> Result<BuiltText, TextFailure> {
     let mut warnings = Vec::new();
@@ -202,7 +203,7 @@ pub fn text(
     }
 
     let name = fonts::parse_name(font_name);
-    let font = match fonts::find(&name) {
+    let font = match fonts::find_with(&name, registered) {
         Some(found) => found,
         None => {
             warnings.push(TextWarning {
