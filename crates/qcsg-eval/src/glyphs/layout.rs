@@ -169,14 +169,26 @@ pub fn layout(
     );
     let shaped = rustybuzz::shape(&face, &[], buffer);
     let infos = shaped.glyph_infos();
-    let positions = shaped.glyph_positions();
+    let mut positions: Vec<Position> = shaped
+        .glyph_positions()
+        .iter()
+        .map(|p| Position {
+            x_advance: f64::from(p.x_advance),
+            y_advance: f64::from(p.y_advance),
+            x_offset: f64::from(p.x_offset),
+            y_offset: f64::from(p.y_offset),
+        })
+        .collect();
+    if !horizontal {
+        freetype_vertical_metrics(&face, infos, &mut positions);
+    }
 
     // The extents OpenSCAD aligns by: advances and the glyphs' control boxes, at 1000/1024.
     let (mut width, mut ascend, mut descend) = (0.0_f64, 0.0_f64, 0.0_f64);
-    for (info, pos) in infos.iter().zip(positions) {
+    for (info, pos) in infos.iter().zip(&positions) {
         let bbox = face.glyph_bounding_box(ttf_parser::GlyphId(info.glyph_id as u16));
         if horizontal {
-            width += f64::from(pos.x_advance) * advance_scale * params.spacing;
+            width += pos.x_advance * advance_scale * params.spacing;
             if let Some(b) = bbox {
                 ascend = ascend.max(f64::from(b.y_max) * advance_scale);
                 descend = descend.max(-f64::from(b.y_min) * advance_scale);
@@ -185,7 +197,7 @@ pub fn layout(
             if let Some(b) = bbox {
                 width = width.max(f64::from(b.x_max - b.x_min) * advance_scale);
             }
-            ascend += f64::from(pos.y_advance) * advance_scale * params.spacing;
+            ascend += pos.y_advance * advance_scale * params.spacing;
         }
     }
     let x_offset = match params.halign {
@@ -202,10 +214,10 @@ pub fn layout(
 
     let mut placed = Vec::with_capacity(infos.len());
     let mut advance = DVec2::ZERO;
-    for (info, pos) in infos.iter().zip(positions) {
+    for (info, pos) in infos.iter().zip(&positions) {
         let offset = DVec2::new(
-            x_offset + f64::from(pos.x_offset) * advance_scale,
-            y_offset + f64::from(pos.y_offset) * advance_scale,
+            x_offset + pos.x_offset * advance_scale,
+            y_offset + pos.y_offset * advance_scale,
         ) + advance;
         let mut outline = Outline {
             scale,
@@ -218,9 +230,7 @@ pub fn layout(
         if outline.cubic {
             return Err(LayoutError::Cubic);
         }
-        advance += DVec2::new(f64::from(pos.x_advance), f64::from(pos.y_advance))
-            * advance_scale
-            * params.spacing;
+        advance += DVec2::new(pos.x_advance, pos.y_advance) * advance_scale * params.spacing;
         outline.contours.retain(|c| !c.is_empty());
         if !outline.contours.is_empty() {
             placed.push(PlacedGlyph {
@@ -230,4 +240,51 @@ pub fn layout(
         }
     }
     Ok(placed)
+}
+
+/// A glyph's advance and offset from shaping, in font units.
+struct Position {
+    x_advance: f64,
+    y_advance: f64,
+    x_offset: f64,
+    y_offset: f64,
+}
+
+/// Vertical text as OpenSCAD's HarfBuzz places it through FreeType, for a font with no vertical
+/// metrics table (most Latin fonts): FreeType makes up an advance of `sTypoAscender −
+/// sTypoDescender` (hhea's ascender and descender without an OS/2 table) for every glyph and
+/// centres the glyph's box within it, and HarfBuzz puts the glyph's vertical origin half its
+/// horizontal advance left of it and that far above its top. HarfBuzz's own vertical metrics
+/// (rustybuzz's) take hhea's values and the ascender as origin instead, a few tenths of an em
+/// away; a font with a `vmtx` table keeps them, as FreeType then reads the same table.
+fn freetype_vertical_metrics(
+    face: &ttf_parser::Face<'_>,
+    infos: &[rustybuzz::GlyphInfo],
+    positions: &mut [Position],
+) {
+    if face.tables().vmtx.is_some() {
+        return;
+    }
+    let (ascender, descender) = match (face.typographic_ascender(), face.typographic_descender()) {
+        (Some(a), Some(d)) => (i32::from(a), i32::from(d)),
+        _ => (
+            i32::from(face.tables().hhea.ascender),
+            i32::from(face.tables().hhea.descender),
+        ),
+    };
+    let advance = (ascender - descender).abs();
+    for (info, pos) in infos.iter().zip(positions.iter_mut()) {
+        let glyph = ttf_parser::GlyphId(info.glyph_id as u16);
+        let horizontal = i32::from(face.glyph_hor_advance(glyph).unwrap_or(0));
+        let (top, height) = face.glyph_bounding_box(glyph).map_or((0, 0), |b| {
+            (i32::from(b.y_max), i32::from(b.y_max) - i32::from(b.y_min))
+        });
+        // FreeType's top side bearing: half the room the box leaves in the advance, in whole
+        // font units (C's division, towards zero); the horizontal half is taken after scaling.
+        let bearing = (advance - height) / 2;
+        pos.x_offset = -f64::from(horizontal) / 2.0;
+        pos.y_offset = -f64::from(top + bearing);
+        pos.x_advance = 0.0;
+        pos.y_advance = -f64::from(advance);
+    }
 }
