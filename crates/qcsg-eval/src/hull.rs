@@ -13,12 +13,14 @@
 //!
 //! Circular cylinders (cut square across their axes) whose axes are parallel and whose ends lie
 //! on the same two planes have the hull of their discs in one plane, extruded between the two
-//! ([`crate::hull_2d::build_prism`]).
+//! ([`crate::hull_2d::build_prism`]); cylinders and cones with parallel axes otherwise, also with
+//! points, are the hull of their end discs ([`crate::hull_frusta`]).
 //!
 //! Balls of different radii (a point being a ball of radius 0) have cones and planes tangent to
 //! several balls in their hull, built by [`crate::hull_balls`] when [`common_radius`] finds two
-//! radii ([`HullRefusal::UnequalRadii`]). Parts that are neither balls nor convex polytopes (an
-//! ellipsoid, a cylinder beside a ball, a difference) are refused ([`HullRefusal::Part`]).
+//! radii ([`HullRefusal::UnequalRadii`]). Parts that are none of these (an ellipsoid, a
+//! difference) are refused ([`HullRefusal::Part`]), and so are pairs that are not quadric
+//! together (a cylinder beside a ball: [`HullRefusal::Pair`]).
 
 use std::collections::{HashMap, HashSet};
 
@@ -49,16 +51,19 @@ pub enum Piece {
     Cylinder(Cylinder),
 }
 
-/// A circular cylinder between two planes across its unit axis `axis`: the points `p` with
-/// `|p − centre|` off the axis at most `radius` and `axis · p` in `[low, high]`.
+/// A circular cylinder or cone between two planes across its unit axis `axis`: the points `p`
+/// with `axis · p` in `[low, high]` and `|p − centre|` off the axis at most the radius there,
+/// which goes linearly from `radius` at `low` to `radius_high` at `high`.
 #[derive(Clone, Copy, Debug)]
 pub struct Cylinder {
     /// A point of the axis.
     pub centre: DVec3,
     /// The unit axis.
     pub axis: DVec3,
-    /// The radius.
+    /// The radius at `low`.
     pub radius: f64,
+    /// The radius at `high` (`radius` for a cylinder).
+    pub radius_high: f64,
     /// The extent along the axis, as `axis · p`.
     pub low: f64,
     /// See `low`.
@@ -148,6 +153,87 @@ fn cylinder_of(q: &Quadric) -> Option<(DVec3, DVec3, Option<f64>)> {
     let centre = q.origin() - l / lambda;
     let r2 = l.length_squared() / (lambda * lambda) - q.constant() / lambda;
     Some((u, centre, (r2 > 0.0 && r2.is_finite()).then(|| r2.sqrt())))
+}
+
+/// The eigenvalues of a symmetric 3 × 3 matrix, ascending (the trigonometric closed form).
+fn eigenvalues(a: &[[f64; 3]; 3]) -> [f64; 3] {
+    let off = a[0][1].powi(2) + a[0][2].powi(2) + a[1][2].powi(2);
+    let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
+    let p2 = (a[0][0] - q).powi(2) + (a[1][1] - q).powi(2) + (a[2][2] - q).powi(2) + 2.0 * off;
+    if p2 == 0.0 {
+        return [q; 3];
+    }
+    let p = (p2 / 6.0).sqrt();
+    let b = DMat3::from_cols_array_2d(a) - DMat3::from_diagonal(DVec3::splat(q));
+    let r = (b.determinant() / (p * p * p) / 2.0).clamp(-1.0, 1.0);
+    let phi = r.acos() / 3.0;
+    let high = q + 2.0 * p * phi.cos();
+    let low = q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos();
+    [low, 3.0 * q - high - low, high]
+}
+
+/// A circular cone `q` as its unit axis u, a point a of the axis and the radius `α + k s` at
+/// `s = u · (x − a)` along it (both nappes: the solid is `|x⊥| ≤ |α + k s|`).
+fn cone_of(q: &Quadric) -> Option<(DVec3, DVec3, f64, f64)> {
+    let a = q.matrix_a();
+    let [mut e0, e1, e2] = eigenvalues(&a);
+    // The closed form is a few ulps off a simple root, and ~√ε off a double one: polish the
+    // simple one by Newton on det(A − t I), and take the double one from the trace.
+    let m = DMat3::from_cols_array_2d(&a);
+    for _ in 0..3 {
+        let b = m - DMat3::from_diagonal(DVec3::splat(e0));
+        let minors = b.x_axis.x * b.y_axis.y - b.x_axis.y * b.y_axis.x + b.x_axis.x * b.z_axis.z
+            - b.x_axis.z * b.z_axis.x
+            + b.y_axis.y * b.z_axis.z
+            - b.y_axis.z * b.z_axis.y;
+        if minors == 0.0 {
+            break;
+        }
+        // d/dt det(A − t I) = −(the sum of the principal 2 × 2 minors).
+        e0 += b.determinant() / minors;
+    }
+    // A = λ (I − u uᵀ) − λ k² u uᵀ: λ twice, −λ k² along the axis.
+    let trace = a[0][0] + a[1][1] + a[2][2];
+    let lambda = 0.5 * (trace - e0);
+    if !(lambda > 0.0 && e0 <= 0.0 && (e2 - e1) <= 1e-6 * lambda) {
+        return None;
+    }
+    let rows = a.map(DVec3::from_array);
+    let u = (0..3)
+        .map(|i| rows[i] - lambda * DVec3::AXES[i])
+        .max_by(|x, y| x.length_squared().total_cmp(&y.length_squared()))?
+        .try_normalize()?;
+    // uᵀ A u is −λ k² without the cancellation of the eigenvalue's (exact for an axis-aligned
+    // cone, whose radii may be nearly equal: k tiny).
+    let e0 = u.dot(DMat3::from_cols_array_2d(&a) * u);
+    let lambda = 0.5 * (trace - e0);
+    if !(e0 < 0.0 && lambda > 0.0) {
+        return None;
+    }
+    let k2 = -e0 / lambda;
+    let ua = u.to_array();
+    for (r, row) in a.iter().enumerate() {
+        for (c, &x) in row.iter().enumerate() {
+            let expected = lambda * (f64::from(u8::from(r == c)) - (1.0 + k2) * ua[r] * ua[c]);
+            if (x - expected).abs() > 1e-9 * lambda {
+                return None;
+            }
+        }
+    }
+    // About a point a of the axis with u · (o − a) = 0, d = o − a:
+    // l = λ (d − k α u) and j = λ (|d|² − α²).
+    let l = q.linear();
+    let k = k2.sqrt();
+    let d = (l - l.dot(u) * u) / lambda;
+    let alpha = -l.dot(u) / (lambda * k);
+    let j = lambda * (d.length_squared() - alpha * alpha);
+    let size = lambda * (d.length_squared() + alpha * alpha);
+    if (q.constant() - j).abs() > 1e-9 * size + f64::MIN_POSITIVE
+        || !(alpha.is_finite() && k.is_finite() && d.is_finite())
+    {
+        return None;
+    }
+    Some((u, q.origin() - d, alpha, k))
 }
 
 /// Whether `q` is positive definite (an ellipsoid or nothing).
@@ -359,7 +445,11 @@ impl<'d> Collector<'d> {
                         (Some(found), _) => planes.extend(found),
                         (None, Some((_, _, None))) => return Ok(()),
                         (None, Some((axis, centre, Some(radius)))) if cylinder.is_none() => {
-                            cylinder = Some((axis, centre, radius, node.source));
+                            cylinder = Some((axis, centre, radius, 0.0, node.source));
+                        }
+                        (None, None) if cylinder.is_none() && cone_of(&q).is_some() => {
+                            cylinder = cone_of(&q)
+                                .map(|(axis, at, alpha, k)| (axis, at, alpha, k, node.source));
                         }
                         _ => {
                             return Err(HullRefusal::Part(
@@ -388,8 +478,8 @@ impl<'d> Collector<'d> {
         if bounds.is_empty() {
             return Ok(());
         }
-        if let Some((axis, centre, radius, at)) = cylinder {
-            return self.cylinder(axis, centre, radius, &planes, source, at);
+        if let Some((axis, centre, alpha, k, at)) = cylinder {
+            return self.cylinder(axis, centre, (alpha, k), &planes, source, at);
         }
         if !bounds.is_bounded() {
             return Err(HullRefusal::Part(source, "an unbounded part"));
@@ -429,21 +519,22 @@ impl Collector<'_> {
         self.parts.push(self.next_part);
     }
 
-    /// A cylinder about `axis` cut by `planes`, which must all be square to the axis.
+    /// A cylinder or cone about `axis` through `centre`, of radius `α + k s` at
+    /// `s = axis · (x − centre)`, cut by `planes`, which must all be square to the axis.
     fn cylinder(
         &mut self,
         axis: DVec3,
         centre: DVec3,
-        radius: f64,
+        (alpha, k): (f64, f64),
         planes: &[Plane],
         source: Source,
         at: Source,
     ) -> Result<(), HullRefusal> {
         // One sign for the axis whatever the transform: its largest component positive.
-        let axis = if axis.abs().max_element() == axis.max_element() {
-            axis
+        let (axis, k) = if axis.abs().max_element() == axis.max_element() {
+            (axis, k)
         } else {
-            -axis
+            (-axis, -k)
         };
         let (mut low, mut high) = (f64::NEG_INFINITY, f64::INFINITY);
         for p in planes {
@@ -461,11 +552,26 @@ impl Collector<'_> {
         if !(low.is_finite() && high.is_finite()) {
             return Err(HullRefusal::Part(source, "an unbounded part"));
         }
+        let radius_at = |h: f64| alpha + k * (h - axis.dot(centre));
+        let (mut radius, mut radius_high) = (radius_at(low), radius_at(high));
+        if radius < 0.0 && radius_high < 0.0 || radius + radius_high < 0.0 {
+            (radius, radius_high) = (-radius, -radius_high);
+        }
+        // An apex within the cut (beyond the rounding of the radii) holds both nappes.
+        let tiny = 1e-9 * radius.abs().max(radius_high.abs());
+        if radius < -tiny || radius_high < -tiny {
+            return Err(HullRefusal::Part(
+                at,
+                "a double cone (its apex between the cuts)",
+            ));
+        }
+        let (radius, radius_high) = (radius.max(0.0), radius_high.max(0.0));
         if low < high {
             self.push(Piece::Cylinder(Cylinder {
                 centre,
                 axis,
                 radius,
+                radius_high,
                 low,
                 high,
                 source,

@@ -47,6 +47,7 @@ pub mod hull;
 pub mod hull_2d;
 pub mod hull_balls;
 pub mod hull_discs;
+pub mod hull_frusta;
 pub mod import;
 pub mod math;
 pub mod mesh_shadow;

@@ -8,11 +8,13 @@
 //! child, of the hull of balls of one radius that [`crate::hull::HullBuilder`] builds exactly (a
 //! box with a ball: the rounded box; a box with a box: a box).
 //!
-//! A circular cylinder cut square across its axis is its axis segment grown by a disc square to
-//! the axis; discs about parallel axes add their radii, and a part with a disc but no ball is
-//! built by [`crate::minkowski_disc`] (a box with a cylinder: the plate with rounded vertical
-//! edges). A disc with a ball (toroidal edges) or with a disc about another axis is refused at
-//! both parts, and ellipsoids, differences and other curved parts are refused like in `hull`.
+//! A circular cylinder or cone cut square across its axis is the hull of its two end discs;
+//! sums of discs square to one axis are discs (centres and radii add), so a part is then the
+//! hull of discs: of one radius, the hull of their centres grown by that disc, built by
+//! [`crate::minkowski_disc`] (a box with a cylinder: the plate with rounded vertical edges); of
+//! several radii, built by [`crate::hull_frusta`] (a box with a cone). A disc with a ball
+//! (toroidal edges) or with a disc about another axis is refused at both parts, and ellipsoids,
+//! differences and other curved parts are refused like in `hull`.
 
 use glam::DVec3;
 use qcsg_csg::{Dag, Edge, Source};
@@ -20,6 +22,7 @@ use qcsg_mesh::{ConvexHull, convex_hull};
 
 use crate::codes;
 use crate::hull::{HullBuilder, HullLimits, HullRefusal, Piece, hull_error};
+use crate::hull_frusta::AxialDisc;
 
 /// A convex part: the hull of `points` grown by a ball of `radius` and by `disc`.
 #[derive(Clone, Debug)]
@@ -28,20 +31,21 @@ pub struct Part {
     pub points: Vec<DVec3>,
     /// The radius.
     pub radius: f64,
-    /// The disc square to an axis that the part is grown by, if any.
+    /// The axis of the discs the part is the hull of, if any: then point i is the centre of a
+    /// disc square to it of radius `widths[i]`.
     pub disc: Option<Disc>,
+    /// The discs' radii, one per point (empty without `disc`).
+    pub widths: Vec<f64>,
     /// The source of the part, for errors.
     pub source: Source,
 }
 
-/// A disc of `radius` square to the unit `axis`, from the cylinder at `source`.
+/// The axis of discs, from the cylinder or cone at `source`.
 #[derive(Clone, Copy, Debug)]
 pub struct Disc {
     /// The unit axis.
     pub axis: DVec3,
-    /// The radius.
-    pub radius: f64,
-    /// The cylinder it comes from.
+    /// The cylinder or cone it comes from.
     pub source: Source,
 }
 
@@ -54,19 +58,19 @@ pub fn parts_of(
     let mut parts: Vec<Part> = Vec::new();
     let mut last = None;
     for (piece, &n) in pieces.iter().zip(numbers) {
-        let (ends, radius, disc, source) = match *piece {
-            Piece::Point(p, s) => ([Some(p), None], 0.0, None, s),
-            Piece::Ball(c, r, s) => ([Some(c), None], r, None, s),
+        let (ends, widths, radius, disc, source) = match *piece {
+            Piece::Point(p, s) => ([Some(p), None], [0.0; 2], 0.0, None, s),
+            Piece::Ball(c, r, s) => ([Some(c), None], [0.0; 2], r, None, s),
             Piece::Cylinder(c) => {
-                // The axis segment: the centre moved along the axis to each end plane.
+                // The end discs: the centre moved along the axis to each end plane.
                 let at = |h: f64| c.centre + (h - c.axis.dot(c.centre)) * c.axis;
                 let disc = Disc {
                     axis: c.axis,
-                    radius: c.radius,
                     source: c.source,
                 };
                 (
                     [Some(at(c.low)), Some(at(c.high))],
+                    [c.radius, c.radius_high],
                     0.0,
                     Some(disc),
                     c.source,
@@ -78,12 +82,20 @@ pub fn parts_of(
                 points: Vec::new(),
                 radius,
                 disc,
+                widths: Vec::new(),
                 source,
             });
             last = Some(n);
         }
         if let Some(part) = parts.last_mut() {
-            part.points.extend(ends.into_iter().flatten());
+            for (end, width) in ends.into_iter().zip(widths) {
+                if let Some(end) = end {
+                    part.points.push(end);
+                    if part.disc.is_some() {
+                        part.widths.push(width);
+                    }
+                }
+            }
         }
     }
     parts
@@ -92,8 +104,19 @@ pub fn parts_of(
     Ok(parts)
 }
 
-/// Keeps only the corners of the part's hull.
+/// Keeps only the corners of the part's hull (of its discs' centres where the discs are of one
+/// radius; discs of different radii are kept for [`crate::hull_frusta`], which prunes them).
 fn reduce(part: &mut Part, max_points: usize) -> Result<(), HullRefusal> {
+    let width = part.widths.first().copied().unwrap_or(0.0);
+    if part.widths.iter().any(|w| *w != width) {
+        if part.points.len() > max_points {
+            return Err(HullRefusal::Limit(
+                codes::HULL_POINT_LIMIT,
+                format!("a convex part of the Minkowski sum has more than {max_points} discs"),
+            ));
+        }
+        return Ok(());
+    }
     let hull = convex_hull(&part.points, max_points).map_err(hull_error)?;
     part.points = match hull {
         ConvexHull::Empty => Vec::new(),
@@ -111,6 +134,9 @@ fn reduce(part: &mut Part, max_points: usize) -> Result<(), HullRefusal> {
             v
         }
     };
+    if part.disc.is_some() {
+        part.widths = vec![width; part.points.len()];
+    }
     Ok(())
 }
 
@@ -149,8 +175,16 @@ pub fn sum(a: &[Part], b: &[Part], limits: &HullLimits) -> Result<Vec<Part>, Hul
                     .collect(),
                 radius: p.radius + q.radius,
                 disc: sum_discs(p, q)?,
+                widths: Vec::new(),
                 source: p.source,
             };
+            if part.disc.is_some() {
+                let width = |part: &Part, i: usize| part.widths.get(i).copied().unwrap_or(0.0);
+                part.widths = (0..p.points.len())
+                    .flat_map(|i| (0..q.points.len()).map(move |j| (i, j)))
+                    .map(|(i, j)| width(p, i) + width(q, j))
+                    .collect();
+            }
             reduce(&mut part, limits.points)?;
             out.push(part);
         }
@@ -173,10 +207,7 @@ fn sum_discs(p: &Part, q: &Part) -> Result<Option<Disc>, HullRefusal> {
                      where that is the same solid",
                 ));
             }
-            Some(Disc {
-                radius: a.radius + b.radius,
-                ..a
-            })
+            Some(a)
         }
     };
     if let Some(d) = disc
@@ -204,13 +235,18 @@ pub fn build(
     let mut edges = Vec::with_capacity(parts.len());
     for part in parts {
         if let Some(disc) = part.disc {
-            edges.push(crate::minkowski_disc::build(
-                dag,
-                &builder,
-                &part.points,
-                disc.axis,
-                disc.radius,
-            )?);
+            let width = part.widths.first().copied().unwrap_or(0.0);
+            edges.push(if part.widths.iter().all(|w| *w == width) {
+                crate::minkowski_disc::build(dag, &builder, &part.points, disc.axis, width)?
+            } else {
+                let discs: Vec<AxialDisc> = part
+                    .points
+                    .iter()
+                    .zip(&part.widths)
+                    .map(|(&centre, &radius)| AxialDisc { centre, radius })
+                    .collect();
+                crate::hull_frusta::build(dag, &builder, &discs, disc.axis)?
+            });
             continue;
         }
         let pieces: Vec<Piece> = part

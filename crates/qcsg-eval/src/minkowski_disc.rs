@@ -20,6 +20,7 @@ use qcsg_mesh::{ConvexHull, convex_hull};
 use qcsg_quadric::Quadric;
 
 use crate::hull::{HullBuilder, HullRefusal, box_of, hull_error};
+use crate::hull_frusta::frame_of;
 
 /// The sum of the polytope spanned by `points` with the disc of `radius` square to the unit
 /// `axis`, as DAG nodes.
@@ -50,21 +51,6 @@ pub fn build(
     dag.transformed(edge, &frame).map_err(|_| {
         HullRefusal::Unrepresentable("the cylinder's frame is not representable".into())
     })
-}
-
-/// A right-handed frame (e1, e2, axis), the coordinate axes themselves where the axis is one.
-fn frame_of(u: DVec3) -> (DVec3, DVec3) {
-    if u == DVec3::Z {
-        (DVec3::X, DVec3::Y)
-    } else if u == DVec3::X {
-        (DVec3::Y, DVec3::Z)
-    } else if u == DVec3::Y {
-        (DVec3::Z, DVec3::X)
-    } else {
-        let helper = if u.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
-        let e1 = u.cross(helper).normalize();
-        (e1, u.cross(e1))
-    }
 }
 
 /// The sum in the frame where the axis is z, or `None` when it has no volume.

@@ -280,7 +280,7 @@ fn parallel_cylinders_of_different_radii_are_their_discs_hull_extruded() {
 fn refusals_that_remain() {
     for text in [
         "linear_extrude(1) hull() { scale([1, 2]) circle(1); translate([3, 0]) circle(2); }",
-        "hull() { cylinder(h = 1, r = 1); translate([3, 0, 0]) cylinder(h = 2, r = 2); }",
+        "hull() { cylinder(h = 1, r = 1); translate([3, 0, 0]) rotate([0, 90, 0]) cylinder(h = 1, r = 2); }",
     ] {
         let e = eval(text);
         assert_eq!(codes(&e), vec!["E0301"], "{text}: {:?}", e.diagnostics);

@@ -1,110 +1,17 @@
-//! `minkowski()` of convex polytopes (and unions of them) with circular cylinders, checked against
+//! `minkowski()` of convex polytopes (and unions of them) with circular cylinders and cones,
+//! checked against
 //! an independent sum: the support function of each convex part of the sum (the sum of the
 //! parts' support functions: corners, balls, discs) sampled in many directions, which is the
 //! hull of the brute-force sum of the parts' sampled points, with the sampling error bounded so
 //! that only points too close to the surface to tell are skipped.
 
 mod common;
+mod support;
 
 use common::{codes, eval};
 use glam::{DMat4, DVec3, EulerRot};
-use qcsg_csg::{DnfOptions, build_dnf};
 use qcsg_testkit::Rng;
-
-/// Directions sampled on the sphere (Fibonacci lattices): a coarse one that settles most points
-/// and a fine one for the rest.
-const DIRECTIONS: [usize; 2] = [1_000, 20_000];
-
-/// `n` directions and a bound on the distance from any unit vector to the nearest.
-fn directions(n: usize) -> (Vec<DVec3>, f64) {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    let count = n as f64;
-    let dirs = (0..n)
-        .map(|k| {
-            let z = 1.0 - (2.0 * k as f64 + 1.0) / count;
-            let rho = (1.0 - z * z).sqrt();
-            let phi = golden * k as f64;
-            DVec3::new(rho * phi.cos(), rho * phi.sin(), z)
-        })
-        .collect();
-    // Each lattice point holds an area 4π/n; the cells are nearly hexagonal (covering radius
-    // 0.62 √area), and 1.5 √area bounds them with room (checked by `the_lattices_cover_the_sphere`).
-    (dirs, 1.5 * (4.0 * std::f64::consts::PI / count).sqrt())
-}
-
-/// A convex part: the hull of `points` grown by a ball of `ball` and a disc of `disc` square to
-/// z.
-#[derive(Clone)]
-struct Part {
-    points: Vec<DVec3>,
-    ball: f64,
-    disc: f64,
-}
-
-impl Part {
-    fn sum(&self, other: &Part) -> Part {
-        Part {
-            points: self
-                .points
-                .iter()
-                .flat_map(|a| other.points.iter().map(move |b| *a + *b))
-                .collect(),
-            ball: self.ball + other.ball,
-            disc: self.disc + other.disc,
-        }
-    }
-
-    /// The sampled `max over v of (v · p − h(v))` and its error bound.
-    fn signed(&self, p: DVec3, dirs: &[DVec3], delta: f64) -> (f64, f64) {
-        let o = self.points.iter().copied().sum::<DVec3>() / self.points.len() as f64;
-        let q = p - o;
-        let mut best = f64::NEG_INFINITY;
-        for v in dirs {
-            let h = self
-                .points
-                .iter()
-                .map(|x| (*x - o).dot(*v))
-                .fold(f64::NEG_INFINITY, f64::max)
-                + self.ball
-                + self.disc * v.truncate().length();
-            best = best.max(v.dot(q) - h);
-        }
-        let reach = self
-            .points
-            .iter()
-            .map(|x| (*x - o).length())
-            .fold(0.0, f64::max);
-        // v ↦ v·q − h(v) is Lipschitz with constant |q| + reach + ball + disc.
-        (best, (q.length() + reach + self.ball + self.disc) * delta)
-    }
-}
-
-/// `Some(inside)` where every part tells, `None` near the surface.
-fn oracle(p: DVec3, parts: &[Part], lattices: &[(Vec<DVec3>, f64)], margin: f64) -> Option<bool> {
-    let mut all_out = true;
-    for part in parts {
-        // A sampled value above 0 is a lower bound of a positive distance; one below minus its
-        // error bound is an upper bound of a negative one; else the finer lattice decides.
-        let mut told = None;
-        for (dirs, delta) in lattices {
-            let (f, error) = part.signed(p, dirs, *delta);
-            if f > margin {
-                told = Some(false);
-                break;
-            }
-            if f < -(error + margin) {
-                told = Some(true);
-                break;
-            }
-        }
-        match told {
-            Some(true) => return Some(true),
-            Some(false) => {}
-            None => all_out = false,
-        }
-    }
-    all_out.then_some(false)
-}
+use support::{Convex, DIRECTIONS, directions};
 
 /// A box `[0, size]` turned by `angles` (OpenSCAD's `rotate`) and moved by `at`.
 struct Box3 {
@@ -147,10 +54,10 @@ impl Box3 {
         )
     }
 
-    fn part(&self) -> Part {
+    fn part(&self) -> Convex {
         let r = self.angles * std::f64::consts::PI / 180.0;
         let m = DMat4::from_translation(self.at) * DMat4::from_euler(EulerRot::ZYX, r.z, r.y, r.x);
-        let points = (0..8)
+        let points: Vec<DVec3> = (0..8)
             .map(|k| {
                 let c = DVec3::new(
                     f64::from(k & 1),
@@ -160,35 +67,27 @@ impl Box3 {
                 m.transform_point3(c * self.size)
             })
             .collect();
-        Part {
-            points,
-            ball: 0.0,
-            disc: 0.0,
-        }
+        Convex::points(&points)
     }
 }
 
 /// A cylinder of radius `r` from height `z0` to `z0 + h` about the vertical line through `at`.
-fn cylinder(at: DVec3, r: f64, h: f64) -> (String, Part) {
+fn cylinder(at: DVec3, r: f64, h: f64) -> (String, Convex) {
     (
         format!(
             "translate([{:e}, {:e}, {:e}]) cylinder(h = {:e}, r = {:e});",
             at.x, at.y, at.z, h, r
         ),
-        Part {
-            points: vec![at, at + DVec3::Z * h],
+        Convex {
+            discs: vec![(at, r), (at + DVec3::Z * h, r)],
             ball: 0.0,
-            disc: r,
         },
     )
 }
 
-/// Compares the sum of `children` (each a union of parts) with the oracle at random points,
-/// seen through `frame`; returns how many were inside and outside.
-fn compare(text: &str, children: &[Vec<Part>], frame: DMat4, rng: &mut Rng) -> (usize, usize) {
-    let e = eval(text);
-    assert!(!e.has_errors(), "{text}: {:?}", e.diagnostics);
-    let dnf = build_dnf(&e.dag, &DnfOptions::default()).expect("a solid");
+/// Compares the sum of `children` (each a union of convex parts) with the oracle at random
+/// points, seen through `frame`; returns how many were inside and outside.
+fn compare(text: &str, children: &[Vec<Convex>], frame: DMat4, rng: &mut Rng) -> (usize, usize) {
     let mut parts = children[0].clone();
     for child in &children[1..] {
         parts = parts
@@ -196,36 +95,7 @@ fn compare(text: &str, children: &[Vec<Part>], frame: DMat4, rng: &mut Rng) -> (
             .flat_map(|a| child.iter().map(move |b| a.sum(b)))
             .collect();
     }
-    let lattices: Vec<(Vec<DVec3>, f64)> = DIRECTIONS.iter().map(|&n| directions(n)).collect();
-    let grow = parts.iter().map(|p| p.ball + p.disc).fold(0.0, f64::max);
-    let lo = parts
-        .iter()
-        .flat_map(|p| p.points.iter())
-        .fold(DVec3::INFINITY, |m, x| m.min(*x))
-        - (grow + 0.5);
-    let hi = parts
-        .iter()
-        .flat_map(|p| p.points.iter())
-        .fold(DVec3::NEG_INFINITY, |m, x| m.max(*x))
-        + (grow + 0.5);
-    let (mut inside, mut outside) = (0, 0);
-    // The rounding of qcsg's coefficients, of the size of the scene and of its distance.
-    let margin = 1e-9 * (hi - lo).max_element() + 1e-8;
-    for _ in 0..150 {
-        let p = rng.in_box(lo, hi);
-        let Some(expected) = oracle(p, &parts, &lattices, margin) else {
-            continue;
-        };
-        let q = frame.transform_point3(p);
-        assert_eq!(e.dag.contains(q), expected, "{text} at {p}");
-        assert_eq!(dnf.contains(q), expected, "DNF of {text} at {p}");
-        if expected {
-            inside += 1;
-        } else {
-            outside += 1;
-        }
-    }
-    (inside, outside)
+    support::compare(text, &parts, frame, rng)
 }
 
 #[test]
@@ -307,6 +177,70 @@ fn non_convex_children_and_parallel_cylinders_match_the_sampled_sum() {
             &mut rng,
         );
     }
+}
+
+/// A cone from radius `r1` at height `at.z` to `r2` at `at.z + h` about the vertical line
+/// through `at`.
+fn cone(at: DVec3, r1: f64, r2: f64, h: f64) -> (String, Convex) {
+    (
+        format!(
+            "translate([{:e}, {:e}, {:e}]) cylinder(h = {:e}, r1 = {:e}, r2 = {:e});",
+            at.x, at.y, at.z, h, r1, r2
+        ),
+        Convex {
+            discs: vec![(at, r1), (at + DVec3::Z * h, r2)],
+            ball: 0.0,
+        },
+    )
+}
+
+#[test]
+fn boxes_with_a_cone_match_the_sampled_sum() {
+    let mut rng = Rng::new(41);
+    let (mut inside, mut outside) = (0, 0);
+    for case in 0..8 {
+        let b = Box3::random(&mut rng, case % 2 == 1);
+        let at = DVec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        );
+        // A frustum either way up, and a cone to a point.
+        let (r1, r2) = match case % 3 {
+            0 => (rng.range(0.3, 1.5), rng.range(0.1, 0.3)),
+            1 => (rng.range(0.1, 0.5), rng.range(0.6, 1.5)),
+            _ => (rng.range(0.3, 1.5), 0.0),
+        };
+        let (c, part) = cone(at, r1, r2, rng.range(0.3, 2.0));
+        let text = format!("minkowski() {{ {} {c} }}", b.scad());
+        let (i, o) = compare(
+            &text,
+            &[vec![b.part()], vec![part]],
+            DMat4::IDENTITY,
+            &mut rng,
+        );
+        inside += i;
+        outside += o;
+    }
+    // A non-convex child with a cone and a cylinder one after the other.
+    let (a, b) = (Box3::random(&mut rng, false), Box3::random(&mut rng, true));
+    let (c1, p1) = cone(DVec3::ZERO, 1.0, 0.25, 1.0);
+    let (c2, p2) = cylinder(DVec3::new(0.0, 0.5, 0.0), 0.5, 0.5);
+    let text = format!(
+        "minkowski() {{ union() {{ {} {} }} {c1} {c2} }}",
+        a.scad(),
+        b.scad()
+    );
+    compare(
+        &text,
+        &[vec![a.part(), b.part()], vec![p1], vec![p2]],
+        DMat4::IDENTITY,
+        &mut rng,
+    );
+    assert!(
+        inside > 100 && outside > 100,
+        "{inside} inside, {outside} outside"
+    );
 }
 
 #[test]

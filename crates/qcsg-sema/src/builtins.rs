@@ -405,14 +405,14 @@ pub const MODULES: &[BuiltinModule] = &[
         params: &[],
         variadic: false,
         kind: ModuleKind::Other,
-        doc: "hull(): the convex hull of the children, exactly, for convex polytopes (cubes, polyhedra, polygons, squares) and balls or circles of one radius (the rounded box of eight spheres, the capsule of two)",
+        doc: "hull(): the convex hull of the children, exactly, for convex polytopes (cubes, polyhedra, polygons, squares) with balls or circles of any radii (the rounded box of eight spheres, the tapered capsule of two), or with cylinders and cones of parallel axes (the rounded plate of four cylinders)",
     },
     BuiltinModule {
         name: "minkowski",
         params: &[named("convexity", P::Number)],
         variadic: false,
         kind: ModuleKind::Other,
-        doc: "minkowski(): the Minkowski sum of the children, exactly, for unions of convex polytopes and balls (a box with a sphere: the box with rounded edges and corners)",
+        doc: "minkowski(): the Minkowski sum of the children, exactly, for unions of convex polytopes with balls, or with cylinders and cones of parallel axes (a box with a sphere: the box with rounded edges and corners; with a cylinder: the plate with rounded vertical edges)",
     },
     BuiltinModule {
         name: "offset",

@@ -13,6 +13,7 @@ use crate::hull::{
 use crate::hull_2d::{self, Collector2};
 use crate::hull_balls;
 use crate::hull_discs;
+use crate::hull_frusta::{self, AxialDisc};
 use crate::minkowski;
 use crate::planar::{PlanarError, planar_expression};
 
@@ -136,18 +137,69 @@ impl<'a> Evaluator<'a> {
             };
         }
         if let Some(at) = pieces.iter().find_map(|p| match *p {
-            Piece::Point(_, s) | Piece::Ball(_, _, s) => Some(s),
-            Piece::Cylinder(_) => None,
+            Piece::Ball(_, _, s) => Some(s),
+            Piece::Point(..) | Piece::Cylinder(_) => None,
         }) {
             return Err(HullRefusal::Pair(
                 [at, cylinders[0].source],
-                "a ball or a polytope together with a cylinder (the hull of a ball and a disc in \
+                "a ball together with a cylinder or cone (the hull of a ball and a disc in \
                  general has a developable surface that is not quadric)",
                 "hull the cylinders alone and unite the result with the other parts, where that \
                  is the same solid",
             ));
         }
-        hull_2d::build_prism(&mut self.dag, &cylinders, source, limits.points)
+        let first = cylinders[0];
+        if let Some(c) = cylinders
+            .iter()
+            .find(|c| c.axis.cross(first.axis).length() > 1e-9)
+        {
+            return Err(HullRefusal::Pair(
+                [first.source, c.source],
+                "two cylinders whose axes are not parallel (the hull has ruled surfaces that \
+                 are not quadric)",
+                "turn the cylinders parallel, or unite the hulls of parallel groups where that is \
+                 the same solid",
+            ));
+        }
+        let prism = cylinders.len() == pieces.len()
+            && cylinders.iter().all(|c| {
+                let tol = 1e-9 * (c.high - c.low + c.radius);
+                c.radius == c.radius_high
+                    && (c.low - first.low).abs() <= tol
+                    && (c.high - first.high).abs() <= tol
+            });
+        if prism {
+            // Cylinders between the same two planes: their discs' hull extruded.
+            return hull_2d::build_prism(&mut self.dag, &cylinders, source, limits.points);
+        }
+        let builder = HullBuilder {
+            source,
+            max_points: limits.points,
+        };
+        let discs: Vec<AxialDisc> = pieces
+            .iter()
+            .flat_map(|p| match *p {
+                Piece::Point(centre, _) => vec![AxialDisc {
+                    centre,
+                    radius: 0.0,
+                }],
+                Piece::Cylinder(c) => {
+                    let at = |h: f64| c.centre + (h - c.axis.dot(c.centre)) * c.axis;
+                    vec![
+                        AxialDisc {
+                            centre: at(c.low),
+                            radius: c.radius,
+                        },
+                        AxialDisc {
+                            centre: at(c.high),
+                            radius: c.radius_high,
+                        },
+                    ]
+                }
+                Piece::Ball(..) => Vec::new(),
+            })
+            .collect();
+        hull_frusta::build(&mut self.dag, &builder, &discs, first.axis)
     }
 
     fn minkowski_2d(&mut self, edges: &[Edge], source: Source) -> R<Result<Edge, HullRefusal>> {
@@ -249,12 +301,14 @@ impl<'a> Evaluator<'a> {
                 if op == "hull" {
                     format!(
                         "`hull` of {what} is not supported: qcsg computes hulls of convex \
-                         polytopes and {ball}s, whose hulls are bounded by quadrics"
+                         polytopes, {ball}s and parallel cylinders and cones, whose hulls are \
+                         bounded by quadrics"
                     )
                 } else {
                     format!(
                         "`{op}` of {what} is not supported: qcsg computes Minkowski sums of \
-                         convex polytopes and balls, which are bounded by quadrics"
+                         convex polytopes with balls or with parallel cylinders and cones, which \
+                         are bounded by quadrics"
                     )
                 },
                 file,
@@ -262,13 +316,13 @@ impl<'a> Evaluator<'a> {
             )
             .with_label(at.file, at.span, "this part")
             .with_help(if op != "hull" {
-                "use unions of cubes, polyhedra and spheres as the children; round a box's edges \
-                 with the sum of the box and a sphere"
+                "use unions of cubes, polyhedra, spheres, cylinders and cones as the children; \
+                 round a box's edges with the sum of the box and a sphere or a cylinder"
             } else if planar {
-                "use squares, polygons and circles of one radius as the hull's children"
+                "use squares, polygons and circles as the hull's children"
             } else {
-                "use cubes, polyhedra and spheres as the hull's children; an ellipsoid's or a \
-                 cylinder's hull can be modelled with intersections and unions"
+                "use cubes, polyhedra, spheres and parallel cylinders or cones as the hull's \
+                 children; an ellipsoid's hull can be modelled with intersections and unions"
             }),
             HullRefusal::UnequalRadii([(s1, r1), (s2, r2)]) => {
                 let name = |r: f64| {
