@@ -7,7 +7,8 @@
 //! vertices, edge midpoints and centroid, subdivided until no more than `spacing` apart) to the
 //! exact surface (projected onto the quadrics and kept where the projection is on the CSG
 //! surface; else bisected along the quadric to the feature curve between the projection and
-//! the quadric's nearest reference point; or the nearest reference point). Both directions
+//! the quadric's nearest reference point, then moved along that feature curve to its point
+//! nearest the mesh point ([`crease`](crate::crease)); or the nearest reference point). Both directions
 //! are upper bounds on the true directed distances up to the density of the points used, which
 //! the report states.
 
@@ -17,6 +18,7 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use qcsg_csg::Dnf;
 use qcsg_quadric::DVec3;
 
+use crate::crease;
 use crate::reference::{SurfacePoint, on_csg_surface, project, side_step};
 
 /// A triangle soup.
@@ -322,6 +324,17 @@ fn distance_to_surface(
                         }
                     }
                     best = best.min((p - on).length());
+                    // The walk crosses the crease where it happens to, often obliquely: the
+                    // crease's point nearest to `p`, where the solid is seen to change.
+                    if let Some(other) = crease::other_quadric(dnf, index, on) {
+                        let q2 = &dnf.quadrics[other].quadric;
+                        let delta = 1e3 * eps;
+                        if let Some(y) = crease::nearest_on_curve(q, q2, on, p)
+                            && crease::surface_within(dnf, q, q2, y, delta)
+                        {
+                            best = best.min((p - y).length() + delta);
+                        }
+                    }
                 }
                 None => {}
             }
