@@ -175,6 +175,7 @@ impl Analysis {
                 }
                 _ => {}
             },
+            Node::Elem(_) => {}
         });
         // `use`d files lend their modules and functions only.
         let used: Vec<_> = self

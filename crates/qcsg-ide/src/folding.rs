@@ -43,6 +43,7 @@ impl Analysis {
                 ExprKind::Call { args_span, .. } => spans.push((*args_span, FoldKind::Region)),
                 _ => {}
             },
+            Node::Elem(_) => {}
         });
         // Consecutive line comments fold as one.
         let mut run: Option<Span> = None;

@@ -39,7 +39,6 @@ mod read;
 mod resolve;
 mod suggest;
 pub mod ty;
-mod walk;
 
 use std::path::{Path, PathBuf};
 

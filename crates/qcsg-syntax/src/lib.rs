@@ -6,7 +6,8 @@
 //! Stages: [`lexer::lex`] (logos) turns the text into tokens, keeps comments aside and bounds the
 //! nesting depth; the parser (chumsky, grammar in `grammar/qcsg.ebnf`) builds the [`ast`]. A
 //! valid file is parsed once with a zero-cost error type; only a file with errors is parsed a
-//! second time to explain them. Diagnostic codes are in [`codes`]; [`sexpr`] prints trees.
+//! second time to explain them. Diagnostic codes are in [`codes`]; [`sexpr`] prints trees;
+//! [`walk`] visits every node of one.
 //! A file is read in a [`Dialect`]: `.scad` files take OpenSCAD's reading of string escapes
 //! (module [`escape`]), `.qcsg` files are strict.
 
@@ -17,6 +18,7 @@ pub mod escape;
 pub mod lexer;
 mod parser;
 pub mod sexpr;
+pub mod walk;
 
 pub use ast::SourceFile;
 pub use escape::Dialect;

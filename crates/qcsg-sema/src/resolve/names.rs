@@ -8,8 +8,8 @@ use qcsg_syntax::ast::{ExprKind, Ident, ListElemKind, Stmt, StmtKind};
 use crate::builtins::{self, BuiltinFunction, BuiltinModule};
 use crate::fxhash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use crate::ty::Ty;
-use crate::walk::{Node, walk};
 use crate::{DefId, Namespace, Target, codes};
+use qcsg_syntax::walk::{Node, walk};
 
 use super::{Resolver, Scope, VarBinding};
 

@@ -8,8 +8,8 @@ use qcsg_syntax::ast::{BinaryOp, Binding, ExprKind, Ident, Param, Stmt, StmtKind
 
 use crate::fxhash::FxHashSet as HashSet;
 use crate::ty::Ty;
-use crate::walk::{Node, walk};
 use crate::{DefId, DefKind, Definition, ParamInfo, Target};
+use qcsg_syntax::walk::{Node, walk};
 
 use super::{Item, Resolver, Scope, VarBinding};
 
