@@ -5,58 +5,24 @@
 //! past any scale give an error or a plain run, never a panic or a hang.
 //!
 //! This test binary counts its heap (`peak_alloc`), and a watchdog aborts it once the heap
-//! passes [`HEAP_CAP`]: a sampler that regressed to filling memory fails the test instead of
+//! passes [`heap::HEAP_CAP`]: a sampler that regressed to filling memory fails the test instead of
 //! exhausting the machine.
 
 mod common;
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Mutex, Once};
-use std::time::Duration;
-
-use common::{compile_file, workspace_root};
+use common::{compile_file, heap, workspace_root};
 use peak_alloc::PeakAlloc;
 use qcsg_sample::{DEFAULT_MAX_SAMPLES, SampleError, SampleLimits, sample, sample_with_limits};
 
 #[global_allocator]
 static HEAP: PeakAlloc = PeakAlloc;
 
-/// The most heap this test binary may hold: past it the watchdog aborts the process.
-const HEAP_CAP: usize = 1 << 30;
-
-/// How often the watchdog looks at the heap: the old sampler took about a second to reach the
-/// cap, a gigabyte and a half later.
-const WATCH_EVERY: Duration = Duration::from_millis(1);
-
-/// Starts the watchdog, once.
-fn watch_heap() {
-    static STARTED: Once = Once::new();
-    static OVER: AtomicBool = AtomicBool::new(false);
-    STARTED.call_once(|| {
-        std::thread::spawn(|| {
-            loop {
-                let held = HEAP.current_usage();
-                if held > HEAP_CAP && !OVER.swap(true, Ordering::Relaxed) {
-                    eprintln!("the heap holds {} MB: aborting", held >> 20);
-                    std::process::abort();
-                }
-                std::thread::sleep(WATCH_EVERY);
-            }
-        });
-    });
-}
-
-/// One test at a time measures the peak: the others would add theirs.
-static MEASURING: Mutex<()> = Mutex::new(());
-
-/// The most heap held at once while `run` runs, beyond what was held before.
+/// The most heap held at once while `run` runs, beyond what was held before, one test at a
+/// time, under the heap's watchdog.
 fn peak_during<T>(run: impl FnOnce() -> T) -> (T, usize) {
-    watch_heap();
-    let _one = MEASURING.lock().unwrap_or_else(|e| e.into_inner());
-    let before = HEAP.current_usage();
-    HEAP.reset_peak_usage();
-    let out = run();
-    (out, HEAP.peak_usage().saturating_sub(before))
+    heap::watch(&HEAP);
+    let _one = heap::measuring();
+    heap::peak_of(&HEAP, run)
 }
 
 fn rocket() -> qcsg_csg::Dnf {

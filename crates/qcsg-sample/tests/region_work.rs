@@ -9,50 +9,25 @@
 //!   0.01 % with a limit of 200,000 samples: 1.7 GB held before the limit stopped it.
 //!
 //! Each runs on a thread of its own under a watchdog: past [`TIME_CAP`] the test fails instead
-//! of hanging, and past [`HEAP_CAP`] of heap (counted by `peak_alloc`) the process aborts
+//! of hanging, and past [`heap::HEAP_CAP`] of heap (counted by `peak_alloc`) the process aborts
 //! instead of exhausting the machine. The bounds asserted are counts of work (regions,
 //! rectangles, samples) and the heap's peak, which do not depend on the machine's speed.
 
 mod common;
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Mutex, Once, mpsc};
+use std::sync::mpsc;
 use std::time::Duration;
 
-use common::{compile_text, diagonal};
+use common::{compile_text, diagonal, heap};
 use peak_alloc::PeakAlloc;
 use qcsg_sample::{SampleError, SampleLimits, Sampling, sample_with_limits};
 
 #[global_allocator]
 static HEAP: PeakAlloc = PeakAlloc;
 
-/// The most heap this test binary may hold: past it the watchdog aborts the process.
-const HEAP_CAP: usize = 1 << 30;
-
 /// The longest one scene may take, in a debug build on a loaded machine: the old partition
 /// took seconds in a release build, minutes in a debug one.
 const TIME_CAP: Duration = Duration::from_secs(120);
-
-/// Starts the heap watchdog, once.
-fn watch_heap() {
-    static STARTED: Once = Once::new();
-    static OVER: AtomicBool = AtomicBool::new(false);
-    STARTED.call_once(|| {
-        std::thread::spawn(|| {
-            loop {
-                let held = HEAP.current_usage();
-                if held > HEAP_CAP && !OVER.swap(true, Ordering::Relaxed) {
-                    eprintln!("the heap holds {} MB: aborting", held >> 20);
-                    std::process::abort();
-                }
-                std::thread::sleep(Duration::from_millis(1));
-            }
-        });
-    });
-}
-
-/// One scene at a time: the peak of another would add to this one's.
-static MEASURING: Mutex<()> = Mutex::new(());
 
 /// Samples `text` at `relative` of its diagonal under `limits` on a thread of its own, with the
 /// heap's peak during the run; fails past [`TIME_CAP`].
@@ -61,21 +36,20 @@ fn sample_text(
     relative: f64,
     limits: SampleLimits,
 ) -> (Result<Sampling, SampleError>, usize) {
-    watch_heap();
-    let _one = MEASURING.lock().unwrap_or_else(|e| e.into_inner());
+    heap::watch(&HEAP);
+    let _one = heap::measuring();
     let dnf = compile_text("work.qcsg", text.to_owned()).expect("compiles");
     let radius = relative * diagonal(&dnf);
-    let before = HEAP.current_usage();
-    HEAP.reset_peak_usage();
-    let (done, result) = mpsc::channel();
-    std::thread::spawn(move || {
-        let progress = |_| {};
-        let _ = done.send(sample_with_limits(&dnf, radius, limits, &progress));
-    });
-    let sampled = result
-        .recv_timeout(TIME_CAP)
-        .unwrap_or_else(|_| panic!("{text}: no result within {TIME_CAP:?}"));
-    (sampled, HEAP.peak_usage().saturating_sub(before))
+    heap::peak_of(&HEAP, || {
+        let (done, result) = mpsc::channel();
+        std::thread::spawn(move || {
+            let progress = |_| {};
+            let _ = done.send(sample_with_limits(&dnf, radius, limits, &progress));
+        });
+        result
+            .recv_timeout(TIME_CAP)
+            .unwrap_or_else(|_| panic!("{text}: no result within {TIME_CAP:?}"))
+    })
 }
 
 /// Samples `text` at `relative` of its diagonal and checks the work against `most` and the
