@@ -115,7 +115,7 @@ pub(crate) struct Evaluator<'a> {
     /// The files `import` read (or tried to), in order, each once.
     pub imports: Vec<std::path::PathBuf>,
     /// The cells of each mesh file imported so far, by resolved path.
-    imported_meshes: HashMap<std::path::PathBuf, Rc<crate::polyhedron::MeshShape>>,
+    imported_meshes: HashMap<std::path::PathBuf, Rc<[crate::polyhedron::MeshShape]>>,
     /// The cells of each `surface` built so far, by resolved path, `invert` and `center`.
     surfaces: HashMap<(std::path::PathBuf, bool, bool), Rc<crate::polyhedron::MeshShape>>,
     /// The triangles of each mesh node (polyhedron, import, surface), for its shadow.

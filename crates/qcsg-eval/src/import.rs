@@ -1,6 +1,6 @@
-//! `import(file)`: where the file is, what format it is, reading it safely and reading a mesh
-//! from it. The evaluator turns the mesh into a solid as it does `polyhedron`'s (see
-//! [`crate::polyhedron`]).
+//! `import(file)`: where the file is, what format it is, reading it safely and reading meshes
+//! (STL, OFF, 3MF) from it. The evaluator turns each mesh into a solid as it does
+//! `polyhedron`'s (see [`crate::polyhedron`]).
 //!
 //! As in OpenSCAD, a relative path is relative to the directory of the file that contains the
 //! call (not the including file, not the working directory), an absolute path is used as given,
@@ -10,7 +10,7 @@
 
 use std::path::{Path, PathBuf};
 
-use qcsg_mesh::{Mesh, ReadLimits, read_off, read_stl};
+use qcsg_mesh::{Mesh, ReadLimits, read_3mf, read_off, read_stl};
 use qcsg_sema::SourceError;
 
 /// The format of an imported file, from its extension.
@@ -20,6 +20,8 @@ pub enum Format {
     Stl,
     /// `.off`: Object File Format, a 3-D mesh.
     Off,
+    /// `.3mf`: a zipped XML package of 3-D meshes.
+    ThreeMf,
     /// `.dxf`: a 2-D drawing.
     Dxf,
     /// Any other extension, lower-cased (`"3mf"`, `"svg"`), or `""` for none.
@@ -36,6 +38,7 @@ impl Format {
         match ext.as_str() {
             "stl" => Format::Stl,
             "off" => Format::Off,
+            "3mf" => Format::ThreeMf,
             "dxf" => Format::Dxf,
             _ => Format::Other(ext),
         }
@@ -90,17 +93,24 @@ pub fn read_file(path: &Path, written: &str, max_bytes: u64) -> Result<Vec<u8>, 
     })
 }
 
-/// The mesh in `bytes`, an STL or OFF file, with at most `max_len` triangles and vertices.
-/// `format` must be [`Format::Stl`] or [`Format::Off`].
-pub fn read_mesh(format: &Format, bytes: &[u8], max_len: usize) -> Result<Mesh, ImportFailure> {
+/// The meshes in `bytes`, an STL, OFF or 3MF file, with at most `max_len` triangles and
+/// vertices: one mesh, or one per mesh object of a 3MF file. A 3MF file's model part may unpack
+/// to at most `max_bytes`, the limit on the file itself.
+pub fn read_meshes(
+    format: &Format,
+    bytes: &[u8],
+    max_len: usize,
+    max_bytes: u64,
+) -> Result<Vec<Mesh>, ImportFailure> {
     let limits = ReadLimits {
         max_triangles: max_len,
         max_vertices: max_len,
     };
     let read = match format {
-        Format::Stl => read_stl(bytes, &limits),
+        Format::ThreeMf => read_3mf(bytes, &limits, max_bytes),
+        Format::Stl => read_stl(bytes, &limits).map(|m| vec![m]),
         Format::Off => match std::str::from_utf8(bytes) {
-            Ok(text) => read_off(text, &limits),
+            Ok(text) => read_off(text, &limits).map(|m| vec![m]),
             Err(e) => {
                 return Err(ImportFailure::Malformed(format!(
                     "OFF file, byte {}: not text (not valid UTF-8)",
@@ -110,13 +120,16 @@ pub fn read_mesh(format: &Format, bytes: &[u8], max_len: usize) -> Result<Mesh, 
         },
         _ => {
             return Err(ImportFailure::Malformed(
-                "not a mesh format (STL or OFF)".into(),
+                "not a mesh format (STL, OFF or 3MF)".into(),
             ));
         }
     };
     read.map_err(|e| {
-        // The readers state a crossed limit in their message; it is a limit, with its flag.
-        if e.message.contains("the limit") {
+        // The readers state a crossed limit in their message; it is a limit, with its flag: the
+        // byte limit for a 3MF part that unpacks too large, else the vector-length limit.
+        if e.message.contains("unpacks to") {
+            ImportFailure::TooLarge(e.to_string())
+        } else if e.message.contains("the limit") {
             ImportFailure::TooManyElements(e.to_string())
         } else {
             ImportFailure::Malformed(e.to_string())

@@ -5,8 +5,8 @@
 //! ([`polygon_cells`]), and `polyhedron` a union of convex cells of half-spaces whose planes pass
 //! through three input points ([`polyhedron_cells`]). The crate knows nothing of the rest of qcsg: the evaluator turns cells into
 //! solids.
-//! It also reads STL and OFF meshes ([`read_stl`], [`read_off`]) into a [`Mesh`], and DXF
-//! drawings ([`read_dxf`]) into a [`Drawing`] of exact paths, arcs and circles, whose even–odd
+//! It also reads STL, OFF and 3MF meshes ([`read_stl`], [`read_off`], [`read_3mf`]) into
+//! [`Mesh`]es, and DXF drawings ([`read_dxf`]) into a [`Drawing`] of exact paths, arcs and circles, whose even–odd
 //! region [`drawing_region`] builds from cells, discs and circular segments, and computes exact
 //! convex hulls of point sets ([`convex_hull`], [`convex_hull_2d`]). [`boolean_cells`] cuts any
 //! boolean of half-spaces, or its complement, within a box into convex cells.
@@ -24,7 +24,8 @@ pub use closest::closest_point_on_triangle;
 pub use drawing::{CurvedPiece, DrawingRegion, Op, RegionError, Step, drawing_region};
 pub use formats::{
     Arc, Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingLimits, DrawingOptions,
-    DrawingPath, DrawingWarning, Edge, ReadError, ReadLimits, read_dxf, read_off, read_stl,
+    DrawingPath, DrawingWarning, Edge, ReadError, ReadLimits, read_3mf, read_dxf, read_off,
+    read_stl,
 };
 pub use hull::{ConvexHull, HullError, HullFace, convex_hull, convex_hull_2d};
 pub use polygon::curved;

@@ -295,7 +295,7 @@ pub const MODULES: &[BuiltinModule] = &[
         params: IMPORT_PARAMS,
         variadic: false,
         kind: ModuleKind::Primitive,
-        doc: "import(file): the solid a closed STL or OFF mesh bounds, or the 2-D shape of a DXF drawing's layer, exact; the path is relative to the file that calls it",
+        doc: "import(file): the solid a closed STL, OFF or 3MF mesh bounds, or the 2-D shape of a DXF drawing's layer, exact; the path is relative to the file that calls it",
     },
     BuiltinModule {
         name: "import_stl",

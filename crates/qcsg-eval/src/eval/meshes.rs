@@ -3,8 +3,8 @@
 //!
 //! All end in [`crate::polyhedron::build`]; `surface` reads its height map with
 //! [`crate::surface`] and builds the mesh OpenSCAD builds. `import` resolves its path against the calling
-//! file ([`crate::import::resolve`]), then dispatches on the extension: STL and OFF are read
-//! into a mesh here; `.dxf` goes to [`Evaluator::import_dxf`]; anything else is E0301 at the
+//! file ([`crate::import::resolve`]), then dispatches on the extension: STL, OFF and 3MF are read
+//! into meshes here (a 3MF file's objects united); `.dxf` goes to [`Evaluator::import_dxf`]; anything else is E0301 at the
 //! `file` argument, naming the format, before the file is touched. A mesh file's cells are kept
 //! for the evaluation, so a part imported in a loop or at several places is read and cut once.
 
@@ -158,7 +158,8 @@ impl<'a> Evaluator<'a> {
         }
     }
 
-    /// `import(file, …)`: an STL or OFF mesh as a solid; other formats are E0301.
+    /// `import(file, …)`: an STL, OFF or 3MF mesh as a solid, a DXF drawing as a 2-D shape;
+    /// other formats are E0301.
     pub(super) fn import(
         &mut self,
         named: &BuiltinArgs<'a>,
@@ -193,17 +194,28 @@ impl<'a> Evaluator<'a> {
         let call = self.import_call(written, (file, span, file_span), named, args, params);
         let format = Format::of(&call.written);
         match format {
-            Format::Stl | Format::Off => {
-                let shape = match self.imported_meshes.get(&call.path) {
-                    Some(shape) => shape.clone(),
+            Format::Stl | Format::Off | Format::ThreeMf => {
+                let shapes = match self.imported_meshes.get(&call.path) {
+                    Some(shapes) => shapes.clone(),
                     None => {
-                        let shape = Rc::new(self.import_mesh(&format, &call)?);
+                        let shapes: Rc<[MeshShape]> = self.import_mesh(&format, &call)?.into();
                         self.imported_meshes
-                            .insert(call.path.clone(), shape.clone());
-                        shape
+                            .insert(call.path.clone(), shapes.clone());
+                        shapes
                     }
                 };
-                self.file_mesh_solid(&shape, file, span, file_span)
+                // A 3MF file's objects are united, as OpenSCAD unites them.
+                let mut solids = Vec::with_capacity(shapes.len());
+                for shape in shapes.iter() {
+                    if let Some(solid) = self.file_mesh_solid(shape, file, span, file_span)? {
+                        solids.push(solid);
+                    }
+                }
+                Ok(match solids.len() {
+                    0 => None,
+                    1 => solids.pop(),
+                    _ => Some(self.dag.union(solids, Source::new(file, span)).into()),
+                })
             }
             Format::Dxf => self.import_dxf(&call),
             Format::Other(ext) => {
@@ -214,8 +226,12 @@ impl<'a> Evaluator<'a> {
                 };
                 Err(self.error_with_help(
                     qcsg_sema::codes::UNSUPPORTED_MODULE,
-                    format!("importing {what} is not supported: qcsg imports STL and OFF meshes"),
-                    "convert the part to STL or OFF (OpenSCAD and most mesh tools export both)",
+                    format!(
+                        "importing {what} is not supported: qcsg imports STL, OFF and 3MF \
+                         meshes and DXF drawings"
+                    ),
+                    "convert the part to STL, OFF or 3MF (OpenSCAD and most mesh tools export \
+                     them)",
                     file,
                     file_span,
                 ))
@@ -326,15 +342,20 @@ impl<'a> Evaluator<'a> {
             .map_err(|failure| self.mesh_failure(failure, call.file, &|_| call.file_span))
     }
 
-    /// The cells of the STL or OFF mesh `call` names.
-    fn import_mesh(&mut self, format: &Format, call: &ImportCall<'_, 'a>) -> R<MeshShape> {
+    /// The cells of the STL, OFF or 3MF mesh `call` names: one shape per mesh object.
+    fn import_mesh(&mut self, format: &Format, call: &ImportCall<'_, 'a>) -> R<Vec<MeshShape>> {
         let bytes = self.import_bytes(call)?;
         let max_len = usize::try_from(self.options.max_vector_len).unwrap_or(usize::MAX);
-        let mesh =
-            import::read_mesh(format, &bytes, max_len).map_err(|f| self.import_failure(f, call))?;
+        let meshes = import::read_meshes(format, &bytes, max_len, self.options.max_import_bytes)
+            .map_err(|f| self.import_failure(f, call))?;
         drop(bytes);
-        mesh::shape(&mesh, max_len)
-            .map_err(|failure| self.mesh_failure(failure, call.file, &|_| call.file_span))
+        meshes
+            .iter()
+            .map(|mesh| {
+                mesh::shape(mesh, max_len)
+                    .map_err(|failure| self.mesh_failure(failure, call.file, &|_| call.file_span))
+            })
+            .collect()
     }
 
     /// `import` of a `.dxf` drawing: the even–odd region of its layer as a 2-D shape (see

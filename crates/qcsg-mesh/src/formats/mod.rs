@@ -1,14 +1,15 @@
-//! Readers of mesh files into a [`Mesh`](crate::Mesh) in OpenSCAD's face order, and of DXF
-//! drawings into a [`Drawing`].
+//! Readers of mesh files (STL, OFF, 3MF) into [`Mesh`](crate::Mesh)es in OpenSCAD's face
+//! order, and of DXF drawings into a [`Drawing`].
 //!
-//! STL and OFF list faces counter-clockwise seen from outside; the readers reverse them so every
-//! [`Mesh`](crate::Mesh) is clockwise seen from outside, as `polyhedron` expects. Errors are
+//! STL, OFF and 3MF list faces counter-clockwise seen from outside; the readers reverse them so
+//! every [`Mesh`](crate::Mesh) is clockwise seen from outside, as `polyhedron` expects. Errors are
 //! values with the line (text) or record (binary) where reading stopped; sizes are bounded by
 //! [`ReadLimits`] so a hostile file cannot exhaust memory.
 
 mod dxf;
 mod off;
 mod stl;
+mod threemf;
 
 use std::collections::HashMap;
 use std::fmt;
@@ -21,6 +22,7 @@ pub use dxf::{
 };
 pub use off::read_off;
 pub use stl::read_stl;
+pub use threemf::read_3mf;
 
 /// Limits on what a file may hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
