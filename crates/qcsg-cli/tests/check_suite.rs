@@ -6,8 +6,6 @@
 //! panics or hangs fails on its own without stopping the others.
 //! `QCSG_SUITE_FILTER=text` runs only the cases whose path contains `text`.
 
-mod annotations;
-
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -15,8 +13,8 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use annotations::{Reported, compare, parse_annotations};
 use qcsg_sema::{CheckOptions, FsLoader};
+use qcsg_testkit::annotations::{mismatch_report, suite_cases};
 
 /// How long one case may take before it counts as hanging (debug builds are slow; cases are small).
 const CASE_TIME_LIMIT: Duration = Duration::from_secs(20);
@@ -25,27 +23,6 @@ const CASE_TIME_LIMIT: Duration = Duration::from_secs(20);
 fn suite_root() -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/check");
     root.canonicalize().unwrap_or(root)
-}
-
-/// Every case file below `dir`, sorted, `lib/` directories skipped.
-fn collect_cases(dir: &Path, cases: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        panic!("cannot read the suite directory {}", dir.display());
-    };
-    let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
-    paths.sort();
-    for path in paths {
-        if path.is_dir() {
-            if path.file_name().is_some_and(|name| name != "lib") {
-                collect_cases(&path, cases);
-            }
-        } else if path
-            .extension()
-            .is_some_and(|ext| ext == "qcsg" || ext == "scad")
-        {
-            cases.push(path);
-        }
-    }
 }
 
 /// Checks one case; returns its failure report, or `None` when it passes.
@@ -81,48 +58,13 @@ fn run_case(root: &Path, path: &Path) -> Option<String> {
         }
     };
 
-    // The case file and every file it loaded carry expectations; a library's annotations are
-    // expected whenever a case loads it.
-    let mut report = String::new();
-    for (file, source) in analysis.sources.iter() {
-        let (expected, malformed) = parse_annotations(&source.text);
-        let reported: Vec<Reported> = analysis
-            .diagnostics
-            .iter()
-            .filter(|d| d.file == file)
-            .map(|d| Reported::new(&source.text, d))
-            .collect();
-        let mismatches = compare(&expected, &reported);
-        if malformed.is_empty() && mismatches.is_empty() {
-            continue;
-        }
-        if file != analysis.main {
-            let _ = writeln!(report, "  in {}:", shown(Path::new(&source.name)));
-        }
-        for annotation in &malformed {
-            let _ = writeln!(report, "  {annotation}");
-        }
-        if !mismatches.missing.is_empty() {
-            let _ = writeln!(report, "  expected, not reported:");
-            for expectation in &mismatches.missing {
-                let _ = writeln!(report, "    {expectation}");
-            }
-        }
-        if !mismatches.unexpected.is_empty() {
-            let _ = writeln!(report, "  reported, not expected:");
-            for diagnostic in &mismatches.unexpected {
-                let _ = writeln!(report, "    {diagnostic}");
-            }
-        }
-    }
-    (!report.is_empty()).then_some(report)
+    mismatch_report(&analysis, &|name| shown(Path::new(name)))
 }
 
 #[test]
 fn language_suite() {
     let root = suite_root();
-    let mut cases = Vec::new();
-    collect_cases(&root, &mut cases);
+    let mut cases = suite_cases(&root);
     assert!(!cases.is_empty(), "no cases found under {}", root.display());
     if let Ok(filter) = std::env::var("QCSG_SUITE_FILTER") {
         cases.retain(|path| path.to_string_lossy().contains(&filter));

@@ -21,8 +21,9 @@ fn allowed() -> BTreeMap<&'static str, Vec<&'static str>> {
         ("qcsg-diag", vec![]),
         ("qcsg-quadric", vec![]),
         ("qcsg-mesh", vec![]),
-        // Test helpers: a file loader over memory, so it may know the loader's trait.
-        ("qcsg-testkit", vec!["qcsg-sema"]),
+        // Test helpers: a file loader over memory (the loader's trait), the language suite's
+        // annotations (diagnostics, analyses) and oracle meshes (the point-triangle distance).
+        ("qcsg-testkit", vec!["qcsg-diag", "qcsg-sema", "qcsg-mesh"]),
         ("qcsg-syntax", vec!["qcsg-diag"]),
         ("qcsg-sema", vec!["qcsg-diag", "qcsg-syntax"]),
         ("qcsg-csg", vec!["qcsg-diag", "qcsg-quadric", "qcsg-mesh"]),
@@ -44,10 +45,16 @@ fn allowed() -> BTreeMap<&'static str, Vec<&'static str>> {
         ),
         ("qcsg-sample", vec!["qcsg-diag", "qcsg-csg", "qcsg-quadric"]),
         ("qcsg-render", vec!["qcsg-diag", "qcsg-csg", "qcsg-quadric"]),
-        // Meshes checked against the sampler's points.
+        // Meshes checked against the sampler's points, by the mesh crate's distance query.
         (
             "qcsg-export",
-            vec!["qcsg-diag", "qcsg-csg", "qcsg-quadric", "qcsg-sample"],
+            vec![
+                "qcsg-diag",
+                "qcsg-csg",
+                "qcsg-quadric",
+                "qcsg-sample",
+                "qcsg-mesh",
+            ],
         ),
         (
             "qcsg-splat",

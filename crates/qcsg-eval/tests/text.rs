@@ -8,6 +8,7 @@ use glam::{DVec2, DVec3};
 use qcsg_csg::{DnfOptions, build_dnf};
 use qcsg_eval::glyphs::layout::{HAlign, TextParams, VAlign, layout};
 use qcsg_mesh::curved::{FillRule, Segment, curved_cells};
+use qcsg_testkit::Rng;
 
 /// The bundled font, read straight from the crate's folder.
 const SANS: &[u8] = include_bytes!("../fonts/LiberationSans-Regular.ttf");
@@ -226,13 +227,8 @@ fn flattened_winding(contours: &[Vec<Segment>], q: DVec2, n: usize) -> (i32, f64
 #[test]
 fn every_ascii_glyph_decomposes_to_its_winding_number_wherever_it_stands() {
     let text: String = (33u8..127).map(char::from).collect();
-    let mut state = 7u64;
-    let mut unit = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Rng::new(7);
+    let mut unit = move || rng.unit();
     for valign in [VAlign::Baseline, VAlign::Center] {
         let params = TextParams {
             text: &text,

@@ -31,7 +31,7 @@ use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::DVec3;
 use rayon::prelude::*;
 
-pub use deviation::{Deviation, closest_point, measure_deviation};
+pub use deviation::{Deviation, measure_deviation};
 pub use topology::{Topology, topology};
 
 /// The default limit on the triangles of the mesh (and of one literal's mesh).

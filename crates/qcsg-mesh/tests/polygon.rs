@@ -5,6 +5,7 @@
 use glam::DVec2;
 use proptest::prelude::*;
 use qcsg_mesh::{Polygon, PolygonError, PolygonLimits, polygon_cells};
+use qcsg_testkit::Rng;
 
 /// The even–odd rule by a horizontal ray, the textbook way (no shared code with the crate).
 fn oracle(points: &[DVec2], paths: &[Vec<usize>], p: DVec2) -> bool {
@@ -43,19 +44,6 @@ fn distance_to_outline(points: &[DVec2], paths: &[Vec<usize>], p: DVec2) -> f64 
     best
 }
 
-/// A small deterministic generator for sample points.
-struct Lcg(u64);
-
-impl Lcg {
-    fn unit(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 fn decompose(points: &[DVec2], paths: &[Vec<usize>]) -> Polygon {
     polygon_cells(points, Some(paths), &PolygonLimits::default()).expect("a valid polygon")
 }
@@ -71,7 +59,7 @@ fn check_membership(points: &[DVec2], paths: &[Vec<usize>], samples: usize, seed
     );
     let size = (hi - lo).max_element();
     let margin = (hi - lo) * 0.1;
-    let mut rng = Lcg(seed);
+    let mut rng = Rng::new(seed);
     for _ in 0..samples {
         let p = lo - margin + (hi - lo + 2.0 * margin) * DVec2::new(rng.unit(), rng.unit());
         if distance_to_outline(points, paths, p) < 1e-9 * size {

@@ -4,6 +4,7 @@
 
 use glam::DVec3;
 use qcsg_mesh::{Mesh, MeshError, MeshLimits, Polyhedron, polyhedron_cells};
+use qcsg_testkit::Rng;
 
 /// The generalised winding number (van Oosterom–Strackee solid angles over the faces' fans),
 /// for faces listed clockwise seen from outside: about 1 inside, 0 outside.
@@ -66,18 +67,6 @@ fn distance_to_mesh(mesh: &Mesh, p: DVec3) -> f64 {
     best
 }
 
-struct Lcg(u64);
-
-impl Lcg {
-    fn unit(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 fn check_membership(mesh: &Mesh, samples: usize, seed: u64) -> Polyhedron {
     let polyhedron = polyhedron_cells(mesh, &MeshLimits::default()).expect("a valid mesh");
     let (lo, hi) = mesh.points.iter().fold(
@@ -86,7 +75,7 @@ fn check_membership(mesh: &Mesh, samples: usize, seed: u64) -> Polyhedron {
     );
     let size = (hi - lo).max_element();
     let margin = (hi - lo) * 0.1;
-    let mut rng = Lcg(seed);
+    let mut rng = Rng::new(seed);
     for _ in 0..samples {
         let p =
             lo - margin + (hi - lo + 2.0 * margin) * DVec3::new(rng.unit(), rng.unit(), rng.unit());

@@ -1,7 +1,8 @@
 //! Flush faces: a scene whose parts share a surface (a cutter flush with a face, a ball minus
 //! a turned copy of itself) must render as the same solid written without shared surfaces.
 //!
-//! Each case is a pair of sources, flush and clean, rendered by the ray tracer with one
+//! Each case is a pair of sources, flush and clean (`qcsg_testkit::FLUSH_PAIRS`, shared with
+//! the splats' and the sampler's tests), rendered by the ray tracer with one
 //! explicit camera. Outside a 1-pixel band around the clean image's edges (silhouettes and
 //! creases, where a sub-pixel shift of an edge changes a pixel), at least 99.9 % of the pixels
 //! must agree: both miss, or both hit at the same depth with the same colour. Every case is
@@ -16,6 +17,7 @@ use qcsg_driver::{Options, Stage, compile};
 use qcsg_quadric::DVec3;
 use qcsg_render::{Camera, Frame, ImageSize, Projection, RenderOptions, Scene, render};
 use qcsg_sema::FsLoader;
+use qcsg_testkit::{FLUSH_PAIRS, FlushPair};
 
 /// The least share of pixels outside the edge band that must agree.
 const MIN_AGREEMENT: f64 = 0.999;
@@ -158,17 +160,8 @@ fn mismatch(flush: &Frame, clean: &Frame) -> (f64, usize, usize) {
     (different as f64 / counted.max(1) as f64, different, counted)
 }
 
-/// One pair: flush and clean sources of the same solid, looked at from `towards_eye`.
-struct Case {
-    name: &'static str,
-    flush: &'static str,
-    clean: &'static str,
-    centre: DVec3,
-    towards_eye: DVec3,
-    distance: f64,
-}
-
-fn check(case: &Case) {
+/// Renders one pair at every placement, flush both pruned and unpruned; the failures.
+fn check(case: &FlushPair) -> Vec<String> {
     let unpruned = Pruning::without("final_coincident_pairs").unwrap();
     let mut failures = Vec::new();
     for placement in Placement::ALL {
@@ -186,108 +179,18 @@ fn check(case: &Case) {
             );
             if 1.0 - share < MIN_AGREEMENT {
                 failures.push(format!(
-                    "{placement:?} {label}: {:.3} % differ",
+                    "{} {placement:?} {label}: {:.3} % differ",
+                    case.name,
                     100.0 * share
                 ));
             }
         }
     }
-    assert!(failures.is_empty(), "{}: {failures:?}", case.name);
-}
-
-const NOTCH_FLUSH: &str =
-    "difference() { cube([20, 10, 10]); translate([5, 0, 5]) cube([10, 10, 5]); }";
-const NOTCH_CLEAN: &str =
-    "difference() { cube([20, 10, 10]); translate([5, -1, 5]) cube([10, 12, 6]); }";
-
-fn notch(name: &'static str, flush: &'static str, clean: &'static str) -> Case {
-    Case {
-        name,
-        flush,
-        clean,
-        centre: DVec3::new(10.0, 5.0, 5.0),
-        towards_eye: DVec3::new(0.5, -1.0, 0.9),
-        distance: 60.0,
-    }
+    failures
 }
 
 #[test]
-fn a_flush_notch_renders_as_an_oversized_cut() {
-    check(&notch("notch", NOTCH_FLUSH, NOTCH_CLEAN));
-}
-
-#[test]
-fn a_flush_notch_turned_by_37_degrees_renders_as_an_oversized_cut() {
-    check(&notch(
-        "notch turned about z",
-        "rotate([0, 0, 37]) difference() { cube([20, 10, 10]); translate([5, 0, 5]) cube([10, 10, 5]); }",
-        "rotate([0, 0, 37]) difference() { cube([20, 10, 10]); translate([5, -1, 5]) cube([10, 12, 6]); }",
-    ));
-    check(&Case {
-        centre: DVec3::ZERO,
-        ..notch(
-            "notch turned about a skew axis",
-            "rotate([37, 37, 0]) translate([-10, -5, -5]) difference() { cube([20, 10, 10]); translate([5, 0, 5]) cube([10, 10, 5]); }",
-            "rotate([37, 37, 0]) translate([-10, -5, -5]) difference() { cube([20, 10, 10]); translate([5, -1, 5]) cube([10, 12, 6]); }",
-        )
-    });
-}
-
-#[test]
-fn a_cylinder_cut_flush_at_half_height_renders_as_the_lower_half() {
-    check(&Case {
-        name: "half cylinder",
-        flush: "difference() { cylinder(h = 10, r = 5); translate([0, 0, 5]) cylinder(h = 5, r = 5); }",
-        clean: "cylinder(h = 5, r = 5);",
-        centre: DVec3::new(0.0, 0.0, 5.0),
-        towards_eye: DVec3::new(0.6, -1.0, 0.8),
-        distance: 45.0,
-    });
-}
-
-#[test]
-fn a_ball_minus_itself_turned_is_empty() {
-    for flush in [
-        "difference() { sphere(5); rotate([0, 0, 30]) sphere(5); }",
-        "difference() { sphere(5); rotate([20, 30, 40]) sphere(5); }",
-    ] {
-        check(&Case {
-            name: "ball minus turned ball",
-            flush,
-            clean: "",
-            centre: DVec3::ZERO,
-            towards_eye: DVec3::new(0.6, -1.0, 0.8),
-            distance: 40.0,
-        });
-    }
-}
-
-#[test]
-fn a_tube_bored_flush_renders_as_one_bored_through() {
-    check(&Case {
-        name: "tube",
-        flush: "difference() { cylinder(h = 10, r = 5); cylinder(h = 10, r = 3); }",
-        clean: "difference() { cylinder(h = 10, r = 5); translate([0, 0, -1]) cylinder(h = 12, r = 3); }",
-        centre: DVec3::new(0.0, 0.0, 5.0),
-        towards_eye: DVec3::new(0.5, -1.0, 1.6),
-        distance: 45.0,
-    });
-}
-
-#[test]
-fn a_union_with_a_flush_top_renders_as_one_solid() {
-    check(&Case {
-        name: "union with a flush top",
-        flush: "union() { cube([10, 10, 10]); translate([5, 5, 4]) cube([10, 10, 6]); }",
-        clean: "difference() {
-            cube([15, 15, 10]);
-            translate([10, -1, -1]) cube([6, 6, 12]);
-            translate([-1, 10, -1]) cube([6, 6, 12]);
-            translate([10, 4, -1]) cube([6, 12, 5]);
-            translate([4, 10, -1]) cube([12, 6, 5]);
-        }",
-        centre: DVec3::new(7.5, 7.5, 5.0),
-        towards_eye: DVec3::new(0.7, -1.0, 1.1),
-        distance: 60.0,
-    });
+fn flush_scenes_render_as_their_clean_twins() {
+    let failures: Vec<String> = FLUSH_PAIRS.iter().flat_map(check).collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

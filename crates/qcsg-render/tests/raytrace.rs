@@ -10,6 +10,7 @@ use qcsg_render::raytrace::{LITERAL_INDEX_ABOVE, Scratch, TermIndex, term_index}
 use qcsg_render::{
     Camera, Hit, ImageSize, Projection, Ray, RenderOptions, Scene, View, render, trace,
 };
+use qcsg_testkit::Rng;
 
 fn sphere(dag: &mut Dag, centre: DVec3, radius: f64) -> Edge {
     let q = Quadric::sphere(centre, radius).unwrap();
@@ -246,13 +247,8 @@ fn a_term_of_many_literals_traces_as_with_every_literal() {
     assert!(dnf.terms[0].literals.len() > LITERAL_INDEX_ABOVE);
     let (indexed, walked) = (term_index(&dnf), TermIndex::new(&dnf, usize::MAX));
     let mut scratch = Scratch::default();
-    let mut state = 0x5eed_u64;
-    let mut unit = || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Rng::new(0x5eed);
+    let mut unit = || rng.unit();
     let mut hits = 0;
     for _ in 0..4000 {
         let origin = DVec3::new(

@@ -1,6 +1,7 @@
 //! Coverage on flush scenes: pairs of one solid written with surfaces shared by its parts (a
 //! cutter flush with a face, a cylinder cut flush at half height, a ball minus a turned copy of
-//! itself, a tube bored flush, a union with a flush top) and without. Each flush scene, also
+//! itself, a tube bored flush, a union with a flush top, boxes sharing their sides, a cylinder
+//! on a coaxial one; `qcsg_testkit::FLUSH_PAIRS`) and without. Each flush scene, also
 //! moved by 10⁵ and scaled by 10⁻³, must keep the sampler's guarantee against its own ray-cast
 //! reference points, and match the clean scene: every sample lies on the clean solid's surface,
 //! and every reference point of the clean solid is within the radius of a sample. The sampler
@@ -16,6 +17,7 @@ use common::{Strictness, check_guarantee, compile_text, diagonal, reference_poin
 use qcsg_csg::Dnf;
 use qcsg_quadric::DVec3;
 use qcsg_sample::{Sampling, sample};
+use qcsg_testkit::{FLUSH_PAIRS, FlushPair};
 
 const STRICTNESS: Strictness = Strictness {
     rays: 1200,
@@ -47,61 +49,6 @@ impl Placement {
         }
     }
 }
-
-/// The flush/clean pairs of the ray tracer's test (`crates/qcsg-render/tests/coincident.rs`).
-const PAIRS: &[(&str, &str, &str)] = &[
-    (
-        "notch",
-        "difference() { cube([20, 10, 10]); translate([5, 0, 5]) cube([10, 10, 5]); }",
-        "difference() { cube([20, 10, 10]); translate([5, -1, 5]) cube([10, 12, 6]); }",
-    ),
-    (
-        "notch turned by 37 degrees",
-        "rotate([0, 0, 37]) difference() { cube([20, 10, 10]); translate([5, 0, 5]) cube([10, 10, 5]); }",
-        "rotate([0, 0, 37]) difference() { cube([20, 10, 10]); translate([5, -1, 5]) cube([10, 12, 6]); }",
-    ),
-    (
-        "notch turned about a skew axis",
-        "rotate([37, 37, 0]) difference() { cube([20, 10, 10]); translate([5, 0, 5]) cube([10, 10, 5]); }",
-        "rotate([37, 37, 0]) difference() { cube([20, 10, 10]); translate([5, -1, 5]) cube([10, 12, 6]); }",
-    ),
-    (
-        "half cylinder",
-        "difference() { cylinder(h = 10, r = 5); translate([0, 0, 5]) cylinder(h = 5, r = 5); }",
-        "cylinder(h = 5, r = 5);",
-    ),
-    (
-        "ball minus turned ball",
-        "difference() { sphere(5); rotate([0, 0, 30]) sphere(5); }",
-        "",
-    ),
-    (
-        "ball minus ball turned about a skew axis",
-        "difference() { sphere(5); rotate([20, 30, 40]) sphere(5); }",
-        "",
-    ),
-    (
-        "tube",
-        "difference() { cylinder(h = 10, r = 5); cylinder(h = 10, r = 3); }",
-        "difference() { cylinder(h = 10, r = 5); translate([0, 0, -1]) cylinder(h = 12, r = 3); }",
-    ),
-    (
-        "union with a flush top",
-        "union() { cube([10, 10, 10]); translate([5, 5, 4]) cube([10, 10, 6]); }",
-        "difference() {
-            cube([15, 15, 10]);
-            translate([10, -1, -1]) cube([6, 6, 12]);
-            translate([-1, 10, -1]) cube([6, 6, 12]);
-            translate([10, 4, -1]) cube([6, 12, 5]);
-            translate([4, 10, -1]) cube([12, 6, 5]);
-        }",
-    ),
-    (
-        "cylinder on a coaxial cylinder of its radius",
-        "union() { cylinder(h = 5, r = 4); translate([0, 0, 5]) cylinder(h = 5, r = 4); }",
-        "cylinder(h = 10, r = 4);",
-    ),
-];
 
 fn compile(name: &str, source: &str) -> Dnf {
     compile_text(name, source.to_string()).unwrap_or_else(|e| panic!("{name}: {e}"))
@@ -180,7 +127,10 @@ fn against_clean(flush: &Sampling, clean: &Dnf, r: f64, diag: f64) -> Result<(),
 #[test]
 fn flush_scenes_are_sampled_as_their_clean_twins() {
     let mut failures = Vec::new();
-    for &(name, flush, clean) in PAIRS {
+    for &FlushPair {
+        name, flush, clean, ..
+    } in FLUSH_PAIRS
+    {
         for placement in Placement::ALL {
             let flush_dnf = compile(name, &placement.wrap(flush));
             let clean_dnf = compile(name, &placement.wrap(clean));

@@ -1,7 +1,7 @@
 //! Flush faces in splats: pairs of one solid written with surfaces shared by its parts (a
 //! cutter flush with a face, a cylinder cut flush at half height, a ball minus a turned copy of
-//! itself, a tube bored flush, a union with a flush top, boxes sharing their sides) and
-//! without, each also moved by 10⁵ and scaled by 10⁻³. With one explicit camera, the splats of
+//! itself, a tube bored flush, a union with a flush top, boxes sharing their sides;
+//! `qcsg_testkit::FLUSH_PAIRS`) and without, each also moved by 10⁵ and scaled by 10⁻³. With one explicit camera, the splats of
 //! the flush scene must show what the ray tracer shows of the clean one: outside a one-pixel
 //! band around the clean frame's silhouettes, creases and depth steps, at least 99.9 % of the
 //! pixels agree in coverage and depth (within [`DEPTH_TOLERANCE`] of the depth range). The ray
@@ -19,6 +19,7 @@ use qcsg_render::{Camera, Frame, ImageSize, Projection, RenderOptions, Scene};
 use qcsg_sema::{CheckOptions, FsLoader};
 use qcsg_splat::compare::DEPTH_TOLERANCE;
 use qcsg_splat::{AdapterRequirement, PreparedScene, SplatRenderer};
+use qcsg_testkit::{FLUSH_PAIRS, FlushPair};
 
 /// The least share of pixels outside the band that must agree.
 const REQUIRED_AGREEMENT: f64 = 0.999;
@@ -60,105 +61,6 @@ impl Placement {
     }
 }
 
-/// One pair, looked at from `towards_eye`, `distance` from `centre`.
-struct Case {
-    name: &'static str,
-    flush: &'static str,
-    clean: &'static str,
-    centre: DVec3,
-    towards_eye: DVec3,
-    distance: f64,
-}
-
-const NOTCH_FLUSH: &str =
-    "difference() { cube([20, 10, 10]); translate([5, 0, 5]) cube([10, 10, 5]); }";
-const NOTCH_CLEAN: &str =
-    "difference() { cube([20, 10, 10]); translate([5, -1, 5]) cube([10, 12, 6]); }";
-
-const CASES: &[Case] = &[
-    Case {
-        name: "notch",
-        flush: NOTCH_FLUSH,
-        clean: NOTCH_CLEAN,
-        centre: DVec3::new(10.0, 5.0, 5.0),
-        towards_eye: DVec3::new(0.5, -1.0, 0.9),
-        distance: 60.0,
-    },
-    Case {
-        name: "notch turned by 37 degrees",
-        flush: "rotate([0, 0, 37]) difference() { cube([20, 10, 10]); translate([5, 0, 5]) cube([10, 10, 5]); }",
-        clean: "rotate([0, 0, 37]) difference() { cube([20, 10, 10]); translate([5, -1, 5]) cube([10, 12, 6]); }",
-        centre: DVec3::new(10.0, 5.0, 5.0),
-        towards_eye: DVec3::new(0.5, -1.0, 0.9),
-        distance: 60.0,
-    },
-    Case {
-        name: "notch turned about a skew axis",
-        flush: "rotate([37, 37, 0]) translate([-10, -5, -5]) difference() { cube([20, 10, 10]); translate([5, 0, 5]) cube([10, 10, 5]); }",
-        clean: "rotate([37, 37, 0]) translate([-10, -5, -5]) difference() { cube([20, 10, 10]); translate([5, -1, 5]) cube([10, 12, 6]); }",
-        centre: DVec3::ZERO,
-        towards_eye: DVec3::new(0.5, -1.0, 0.9),
-        distance: 60.0,
-    },
-    Case {
-        name: "half cylinder",
-        flush: "difference() { cylinder(h = 10, r = 5); translate([0, 0, 5]) cylinder(h = 5, r = 5); }",
-        clean: "cylinder(h = 5, r = 5);",
-        centre: DVec3::new(0.0, 0.0, 5.0),
-        towards_eye: DVec3::new(0.6, -1.0, 0.8),
-        distance: 45.0,
-    },
-    Case {
-        name: "ball minus turned ball",
-        flush: "difference() { sphere(5); rotate([0, 0, 30]) sphere(5); }",
-        clean: "",
-        centre: DVec3::ZERO,
-        towards_eye: DVec3::new(0.6, -1.0, 0.8),
-        distance: 40.0,
-    },
-    Case {
-        name: "ball minus ball turned about a skew axis",
-        flush: "difference() { sphere(5); rotate([20, 30, 40]) sphere(5); }",
-        clean: "",
-        centre: DVec3::ZERO,
-        towards_eye: DVec3::new(0.6, -1.0, 0.8),
-        distance: 40.0,
-    },
-    Case {
-        name: "tube",
-        flush: "difference() { cylinder(h = 10, r = 5); cylinder(h = 10, r = 3); }",
-        clean: "difference() { cylinder(h = 10, r = 5); translate([0, 0, -1]) cylinder(h = 12, r = 3); }",
-        centre: DVec3::new(0.0, 0.0, 5.0),
-        towards_eye: DVec3::new(0.5, -1.0, 1.6),
-        distance: 45.0,
-    },
-    // Each box's side slabs are the other's, written with other coefficients: the clip list
-    // of a side's sample leaves the other box's slab out (it would cut the splat at random
-    // where its value on the shared face is rounding in f32).
-    Case {
-        name: "intersection of boxes sharing their sides, turned",
-        flush: "rotate([37, 37, 0]) intersection() { cube(10); translate([0, 0, 5]) cube(10); }",
-        clean: "rotate([37, 37, 0]) translate([0, 0, 5]) cube([10, 10, 5]);",
-        centre: DVec3::ZERO,
-        towards_eye: DVec3::new(0.5, -1.0, 0.9),
-        distance: 60.0,
-    },
-    Case {
-        name: "union with a flush top",
-        flush: "union() { cube([10, 10, 10]); translate([5, 5, 4]) cube([10, 10, 6]); }",
-        clean: "difference() {
-            cube([15, 15, 10]);
-            translate([10, -1, -1]) cube([6, 6, 12]);
-            translate([-1, 10, -1]) cube([6, 6, 12]);
-            translate([10, 4, -1]) cube([6, 12, 5]);
-            translate([4, 10, -1]) cube([12, 6, 5]);
-        }",
-        centre: DVec3::new(7.5, 7.5, 5.0),
-        towards_eye: DVec3::new(0.7, -1.0, 1.1),
-        distance: 60.0,
-    },
-];
-
 fn scene(name: &str, source: String) -> Scene {
     let analysis = qcsg_sema::check_file(name, source, &CheckOptions::default(), &FsLoader);
     assert!(!analysis.has_errors(), "{name} has errors");
@@ -168,7 +70,7 @@ fn scene(name: &str, source: String) -> Scene {
     Scene::from_dag(&mut dag, &DnfOptions::default()).unwrap_or_else(|_| panic!("{name}: no DNF"))
 }
 
-fn camera(case: &Case, placement: Placement) -> Camera {
+fn camera(case: &FlushPair, placement: Placement) -> Camera {
     let size = ImageSize::new(WIDTH, HEIGHT).unwrap();
     let eye = case.centre + case.distance * case.towards_eye.normalize();
     Camera::look_at(
@@ -260,7 +162,7 @@ fn splats_of_flush_scenes_show_their_clean_twins() {
     let size = ImageSize::new(WIDTH, HEIGHT).unwrap();
     let options = RenderOptions::default();
     let mut failures = Vec::new();
-    for case in CASES {
+    for case in FLUSH_PAIRS {
         for placement in Placement::ALL {
             let flush = scene(case.name, placement.wrap(case.flush));
             let clean = scene(case.name, placement.wrap(case.clean));

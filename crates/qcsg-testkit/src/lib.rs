@@ -2,6 +2,10 @@
 //!
 //! - [`Rng`]: a small deterministic generator (SplitMix64) with the draws tests need (points in
 //!   a box, directions, rotations, similarities);
+//! - [`FLUSH_PAIRS`]: solids written with surfaces shared by their parts and without, which
+//!   every consumer of the DNF must show alike;
+//! - [`annotations`]: the language suite's inline expectations, parsed and matched against a
+//!   check's diagnostics;
 //! - [`MemoryFiles`]: files from memory for `include` / `use`, as an editor's unsaved buffers;
 //! - [`TriangleMesh`]: a triangle mesh read from STL with an exact-enough membership oracle
 //!   (the generalised winding number) and distances to it;
@@ -10,11 +14,14 @@
 //!
 //! It is a dependency of tests and benchmarks only; nothing in the product depends on it.
 
+pub mod annotations;
 mod files;
+mod flush;
 mod mesh;
 pub mod openscad;
 mod rng;
 
 pub use files::MemoryFiles;
+pub use flush::{FLUSH_PAIRS, FlushPair};
 pub use mesh::TriangleMesh;
 pub use rng::Rng;

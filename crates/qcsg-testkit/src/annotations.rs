@@ -1,10 +1,13 @@
 //! Inline expectations of the language suite (`tests/README.md`): parsing them out of a case's
-//! comments and matching them against the diagnostics a check produced.
+//! comments, matching them against the diagnostics a check produced, and the report of what did
+//! not match. The CLI's runner of the whole suite and the checker's own cases both use it.
 //!
-//! Kept apart from the suite runner so that its own tests can feed it hand-made diagnostics: a
-//! harness that silently accepted anything would make the whole suite worthless.
+//! Its own tests feed it hand-made diagnostics: a harness that silently accepted anything would
+//! make the whole suite worthless.
 
 use std::fmt;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 /// Severity as written in annotations (`error`, `warning`, `info`, `hint`).
 pub type SeverityName = &'static str;
@@ -362,6 +365,74 @@ pub fn compare(expected: &[Expectation], reported: &[Reported]) -> Mismatches {
         missing,
         unexpected,
     }
+}
+
+/// Every case file (`.qcsg`, `.scad`) below `dir`, sorted, `lib/` directories skipped.
+pub fn suite_cases(dir: &Path) -> Vec<PathBuf> {
+    fn collect(dir: &Path, cases: &mut Vec<PathBuf>) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            panic!("cannot read the suite directory {}", dir.display());
+        };
+        let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+        paths.sort();
+        for path in paths {
+            if path.is_dir() {
+                if path.file_name().is_some_and(|name| name != "lib") {
+                    collect(&path, cases);
+                }
+            } else if path
+                .extension()
+                .is_some_and(|ext| ext == "qcsg" || ext == "scad")
+            {
+                cases.push(path);
+            }
+        }
+    }
+    let mut cases = Vec::new();
+    collect(dir, &mut cases);
+    cases
+}
+
+/// What did not match between the annotations of every file `analysis` read and the
+/// diagnostics reported in it, or `None` when all matched. A library's annotations are expected
+/// whenever a case loads it; files other than the main one are named by `shown`.
+pub fn mismatch_report(
+    analysis: &qcsg_sema::Analysis,
+    shown: &dyn Fn(&str) -> String,
+) -> Option<String> {
+    let mut report = String::new();
+    for (file, source) in analysis.sources.iter() {
+        let (expected, malformed) = parse_annotations(&source.text);
+        let reported: Vec<Reported> = analysis
+            .diagnostics
+            .iter()
+            .filter(|d| d.file == file)
+            .map(|d| Reported::new(&source.text, d))
+            .collect();
+        let mismatches = compare(&expected, &reported);
+        if malformed.is_empty() && mismatches.is_empty() {
+            continue;
+        }
+        if file != analysis.main {
+            let _ = writeln!(report, "  in {}:", shown(&source.name));
+        }
+        for annotation in &malformed {
+            let _ = writeln!(report, "  {annotation}");
+        }
+        if !mismatches.missing.is_empty() {
+            let _ = writeln!(report, "  expected, not reported:");
+            for expectation in &mismatches.missing {
+                let _ = writeln!(report, "    {expectation}");
+            }
+        }
+        if !mismatches.unexpected.is_empty() {
+            let _ = writeln!(report, "  reported, not expected:");
+            for diagnostic in &mismatches.unexpected {
+                let _ = writeln!(report, "    {diagnostic}");
+            }
+        }
+    }
+    (!report.is_empty()).then_some(report)
 }
 
 #[cfg(test)]
