@@ -269,16 +269,21 @@ pub fn find(name: &FontName) -> Option<FoundFont> {
     find_with(name, &RegisteredFonts::default())
 }
 
-/// [`find`], searching the `registered` faces first.
+/// [`find`], searching the `registered` faces first. Each family is tried as written, then as
+/// the families fontconfig substitutes for it ([`aliases`]).
 pub fn find_with(name: &FontName, registered: &RegisteredFonts) -> Option<FoundFont> {
     let families: Vec<String> = if name.families.is_empty() {
         vec![DEFAULT_FAMILY.into()]
     } else {
         name.families.clone()
     };
-    for family in &families {
+    let families = families
+        .iter()
+        .flat_map(|f| std::iter::once(f.as_str()).chain(aliases(f).iter().copied()));
+    let style = name.style.as_deref();
+    for family in families {
         let entries = registered.faces.iter().map(|(e, _)| e);
-        if let Some(chosen) = choose(entries, family, name.style.as_deref()) {
+        if let Some(chosen) = choose(entries, family, style) {
             let data = registered
                 .faces
                 .iter()
@@ -291,8 +296,25 @@ pub fn find_with(name: &FontName, registered: &RegisteredFonts) -> Option<FoundF
                 style: chosen.style.clone(),
             });
         }
+        if let Some(found) = choose(catalogue().iter(), family, style).and_then(load) {
+            return Some(found);
+        }
     }
-    find_installed(name)
+    None
+}
+
+/// The families fontconfig's default configuration substitutes for `family` when it is not
+/// installed (`30-metric-aliases.conf`, and Bitstream Vera's successor DejaVu), in order.
+fn aliases(family: &str) -> &'static [&'static str] {
+    match folded(family).as_str() {
+        "bitstreamverasans" => &["DejaVu Sans"],
+        "bitstreamveraserif" => &["DejaVu Serif"],
+        "bitstreamverasansmono" => &["DejaVu Sans Mono"],
+        "arial" | "helvetica" | "arimo" => &["Liberation Sans"],
+        "timesnewroman" | "times" | "tinos" => &["Liberation Serif"],
+        "couriernew" | "courier" | "cousine" => &["Liberation Mono"],
+        _ => &[],
+    }
 }
 
 /// The face of `family` among `entries` with `style`, else its regular face, else its first.
@@ -315,40 +337,6 @@ fn choose<'e>(
     }
     .or(of_family.first())
     .copied()
-}
-
-fn find_installed(name: &FontName) -> Option<FoundFont> {
-    let entries = catalogue();
-    let families: Vec<String> = if name.families.is_empty() {
-        vec![DEFAULT_FAMILY.into()]
-    } else {
-        name.families.clone()
-    };
-    for family in &families {
-        let family = folded(family);
-        let of_family: Vec<&Entry> = entries
-            .iter()
-            .filter(|e| folded(&e.family) == family)
-            .collect();
-        if of_family.is_empty() {
-            continue;
-        }
-        let chosen = match &name.style {
-            Some(style) => {
-                let style = folded(style);
-                of_family
-                    .iter()
-                    .find(|e| folded(&e.style) == style)
-                    .or_else(|| of_family.iter().find(|e| is_regular(&e.style)))
-            }
-            None => of_family.iter().find(|e| is_regular(&e.style)),
-        }
-        .or(of_family.first())?;
-        if let Some(found) = load(chosen) {
-            return Some(found);
-        }
-    }
-    None
 }
 
 /// The bundled default face.
@@ -407,6 +395,9 @@ mod tests {
         let found = find(&parse_name("")).expect("the bundled font");
         assert_eq!(folded(&found.family), "liberationsans");
         assert!(find(&parse_name("No Such Family 123")).is_none());
+        // fontconfig's metric aliases: Arial is Liberation Sans (bundled, so always found).
+        let arial = find(&parse_name("Arial")).expect("Arial's alias");
+        assert_eq!(folded(&arial.family), "liberationsans");
         let face = ttf_parser::Face::parse(BUNDLED_SANS, 0).unwrap();
         assert_eq!(face_names(&face).0, DEFAULT_FAMILY);
     }
