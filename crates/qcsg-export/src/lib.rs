@@ -284,8 +284,23 @@ fn mesh_dnf(
             result
         })
         .collect::<Result<_, _>>()?;
-    let solid = Manifold::batch_boolean(&terms, OpType::Add);
+    let mut solid = Manifold::batch_boolean(&terms, OpType::Add);
     check_status(&solid)?;
+    // Far from the world origin, an edge shorter than a few ulps of the world coordinates
+    // collapses when the mesh is moved back, leaving triangles of zero area: such edges are
+    // collapsed here, where Manifold keeps the mesh manifold while it does so.
+    let world_ulp = f64::EPSILON * (dnf.bounds.min.abs().max(dnf.bounds.max.abs())).max_element();
+    let collapse = 64.0 * world_ulp;
+    if collapse > solid.get_epsilon() {
+        let mut imp = solid.into_impl();
+        imp.epsilon = collapse;
+        imp.tolerance = imp.tolerance.max(collapse);
+        manifold_rust::edge_op::remove_degenerates(&mut imp, 0);
+        imp.sort_geometry();
+        imp.invalidate_self_intersects();
+        solid = Manifold::from_impl(imp);
+        check_status(&solid)?;
+    }
     if solid.num_tri() as u64 > max_triangles {
         return Err(ExportError::TooManyTriangles {
             quadric: u32::MAX,
@@ -418,5 +433,33 @@ fn mesh_term(
             break;
         }
     }
-    Ok(solid)
+    Ok(without_flat_parts(
+        solid,
+        1e-12 * context.scene.half_diagonal(),
+    ))
+}
+
+/// The solid without its parts of no thickness: a term cut by two planes that the compiler
+/// identified as one surface, facing each other (a cube's top face and a pocket's flush top),
+/// is a flat shell of zero volume, which the union would keep as a lid over the pocket. A part
+/// counts as flat when its volume over its area, about half its mean thickness, is below
+/// `thickness`, far below any wall the compiler keeps (10⁻¹² of the scene against walls of
+/// 10⁻⁹).
+fn without_flat_parts(solid: Manifold, thickness: f64) -> Manifold {
+    if solid.is_empty() {
+        return solid;
+    }
+    let flat = |m: &Manifold| m.volume() <= thickness * m.surface_area();
+    if !flat(&solid) && solid.num_tri() > 0 {
+        let parts = solid.decompose();
+        if parts.len() <= 1 {
+            return solid;
+        }
+        if !parts.iter().any(flat) {
+            return solid;
+        }
+        let kept: Vec<Manifold> = parts.into_iter().filter(|m| !flat(m)).collect();
+        return Manifold::compose(&kept);
+    }
+    Manifold::empty()
 }

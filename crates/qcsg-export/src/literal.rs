@@ -481,11 +481,76 @@ fn smallest_curvature_radius(frame: &PrincipalFrame) -> f64 {
     r
 }
 
+/// How many times [`curvature_radius_in`] halves a box that the surface crosses.
+const CURVATURE_DEPTH: u32 = 5;
+
+/// A lower bound on the radius of curvature of the quadric's surface inside `bounds` (relative
+/// to `origin`), at least `global` (the smallest over the whole surface).
+///
+/// A normal curvature is `vᵀHv / ‖∇q‖ ≤ ‖H‖ / ‖∇q‖` for the constant Hessian `H`, and over a
+/// box of centre `c` and half-diagonal `R`, `‖∇q‖ ≥ ‖∇q(c)‖ − ‖H‖R`; boxes that the surface
+/// cannot reach (`|q(c)| > ‖∇q(c)‖R + ½‖H‖R²`) are dropped and the others halved until that
+/// bound is at least half of `‖∇q(c)‖`. A paraboloid that is nearly a cylinder (the hull of balls
+/// of nearly equal radii) has its vertex, where the curvature is sharp, some 10⁹ lengths away:
+/// only the box decides the grid.
+fn curvature_radius_in(q: &Quadric, origin: DVec3, bounds: &Aabb, global: f64) -> f64 {
+    // The gradient is affine: its differences along the axes are the Hessian's columns.
+    let at = q.origin();
+    let g0 = q.gradient(at);
+    let hessian = [DVec3::X, DVec3::Y, DVec3::Z]
+        .map(|e| q.gradient(at + e) - g0)
+        .iter()
+        .map(|c| c.length_squared())
+        .sum::<f64>()
+        .sqrt();
+    if !(hessian > 0.0 && hessian.is_finite()) {
+        return f64::INFINITY;
+    }
+    let mut smallest = f64::INFINITY;
+    let mut stack = vec![(*bounds, 0u32)];
+    while let Some((b, depth)) = stack.pop() {
+        let c = b.centre();
+        let r = b.half_diagonal();
+        let g = q.gradient(c + origin).length();
+        let v = q.value(c + origin).abs();
+        if v > g * r + 0.5 * hessian * r * r {
+            continue;
+        }
+        let lower = g - hessian * r;
+        if lower >= 0.5 * g && lower > 0.0 {
+            smallest = smallest.min(lower / hessian);
+        } else if depth < CURVATURE_DEPTH {
+            let (lo, hi) = (b.min, b.max);
+            for k in 0..8 {
+                let pick = |bit: usize, l: f64, m: f64, h: f64| {
+                    if k >> bit & 1 == 0 { (l, m) } else { (m, h) }
+                };
+                let (x0, x1) = pick(0, lo.x, c.x, hi.x);
+                let (y0, y1) = pick(1, lo.y, c.y, hi.y);
+                let (z0, z1) = pick(2, lo.z, c.z, hi.z);
+                stack.push((
+                    Aabb::new(DVec3::new(x0, y0, z0), DVec3::new(x1, y1, z1)),
+                    depth + 1,
+                ));
+            }
+        } else {
+            smallest = smallest.min(global.max(lower / hessian));
+        }
+    }
+    smallest.max(global)
+}
+
 /// The literal's solid inside the box (with a margin) as a level set of `−q / ‖∇q‖`.
 fn level_set_mesh(frame: &PrincipalFrame, job: &LiteralJob) -> Result<Manifold, ExportError> {
     let size = job.bounds.max - job.bounds.min;
     let largest = size.max_element();
-    let radius = smallest_curvature_radius(frame).min(largest);
+    let global = smallest_curvature_radius(frame);
+    // Curvature sharper than the tolerance (a hyperboloid's neck 10⁻³ wide meshed to 10⁻²) is a
+    // feature the tolerance allows to be cut through: the grid stops at the tolerance's scale
+    // there, and the check refines it when that is not enough.
+    let radius = curvature_radius_in(job.quadric, job.origin, &job.bounds, global)
+        .max(job.tolerance)
+        .min(largest);
     // A triangle of diameter h on a surface of curvature radius ρ lies within h² / (6ρ) of it.
     let h = (3.0 * job.tolerance * radius)
         .sqrt()

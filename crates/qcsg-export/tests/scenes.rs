@@ -19,56 +19,7 @@ const TOLERANCE: f64 = 0.03;
 const MAX_LEVEL_SETS: usize = 8;
 
 /// Scenes left out, each with the reason: they fail or are too slow (`docs/export.md`, "Known limits").
-const KNOWN: &[(&str, &str)] = &[
-    (
-        "coincident_difference_flush.qcsg",
-        "a mesh face 0.5 T from the surface after refinement (not diagnosed)",
-    ),
-    (
-        "cylinder_shell_cut.qcsg",
-        "walls far thinner than the tolerance: the inscribed meshes of their two faces cross, so the booleans keep or drop pieces of the wall",
-    ),
-    (
-        "far_1e6.qcsg",
-        "triangles a few ulps wide become degenerate when moved back 10⁶ from the origin",
-    ),
-    (
-        "far_1e9.qcsg",
-        "the oracle measures 1.6 T from the mesh to the surface 10⁹ from the origin",
-    ),
-    (
-        "hull_nearly_equal_radii.scad",
-        "a cone whose apex is far away asks for about 10¹² triangles",
-    ),
-    (
-        "hyperboloid_neck.qcsg",
-        "passes, but its level set takes 80 s in the debug build",
-    ),
-    (
-        "hyperboloid_two_sheets_gap.qcsg",
-        "mesh to surface 1.0 T after refinement: the level set across the gap (not diagnosed)",
-    ),
-    (
-        "parallel_slabs_union.qcsg",
-        "a mesh face 0.5 T from the surface after refinement (not diagnosed)",
-    ),
-    (
-        "nested_spheres_shell.qcsg",
-        "walls far thinner than the tolerance: the inscribed meshes of their two faces cross, so the booleans keep or drop pieces of the wall",
-    ),
-    (
-        "thin_wall_plate.qcsg",
-        "walls far thinner than the tolerance: the inscribed meshes of their two faces cross, so the booleans keep or drop pieces of the wall",
-    ),
-    (
-        "thin_wall_shell.qcsg",
-        "walls far thinner than the tolerance: the inscribed meshes of their two faces cross, so the booleans keep or drop pieces of the wall",
-    ),
-    (
-        "thin_wall_tilted.qcsg",
-        "walls far thinner than the tolerance: the inscribed meshes of their two faces cross, so the booleans keep or drop pieces of the wall",
-    ),
-];
+const KNOWN: &[(&str, &str)] = &[];
 
 fn scenes() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -139,8 +90,15 @@ fn check(path: &Path) -> Result<String, String> {
     let soup = Mesh {
         triangles: mesh.triangles.iter().map(|t| mesh.corners(t)).collect(),
     };
-    let refs = reference_points(dnf, 600, 7);
-    let measured = mesh_distance(dnf, &soup, &refs, tolerance / 2.0);
+    // The oracle's mesh-to-surface distance is an upper bound that is loose near feature
+    // curves when its reference points are sparse (a mesh point whose projection onto a quadric
+    // lands off the solid's surface walks towards the nearest reference point of that quadric,
+    // which may lie the wrong way): where it exceeds the tolerance with 600 rays it is measured
+    // again with ten times as many, which a mesh truly too far still fails.
+    let mut measured = mesh_distance(dnf, &soup, &reference_points(dnf, 600, 7), tolerance / 2.0);
+    if measured.mesh_to_surface > tolerance * 1.25 {
+        measured = mesh_distance(dnf, &soup, &reference_points(dnf, 6000, 7), tolerance / 2.0);
+    }
     // The oracle's mesh-to-surface points are within spacing/2 of every mesh point.
     if measured.surface_to_mesh > tolerance || measured.mesh_to_surface > tolerance * 1.25 {
         return Err(format!(
@@ -159,6 +117,8 @@ fn check(path: &Path) -> Result<String, String> {
 
 #[test]
 fn every_scene_exports_a_closed_mesh_within_the_tolerance() {
+    // `QCSG_EXPORT_ONLY=NAME[,NAME]` checks just those scenes, known failures included.
+    let only = std::env::var("QCSG_EXPORT_ONLY").ok();
     let mut failures = Vec::new();
     for path in scenes() {
         let name = path
@@ -166,8 +126,10 @@ fn every_scene_exports_a_closed_mesh_within_the_tolerance() {
             .and_then(|n| n.to_str())
             .unwrap_or_default()
             .to_owned();
-        if KNOWN.iter().any(|(k, _)| *k == name) {
-            continue;
+        match &only {
+            Some(only) if !only.split(',').any(|o| name.starts_with(o)) => continue,
+            None if KNOWN.iter().any(|(k, _)| *k == name) => continue,
+            _ => {}
         }
         let started = std::time::Instant::now();
         let outcome = check(&path);
