@@ -18,6 +18,12 @@
 //! waiting for the answer to its `shutdown` still gets 0: `exit` is held until every `shutdown`
 //! handed to the server is answered, since the server cancels what is pending at `exit`. The end
 //! of the input, even in the middle of a message, ends the session normally (status 0).
+//!
+//! Once `exit` is handed over the session ends at once: `tower-lsp-server` cancels pending
+//! requests at `exit` but lets notification handlers run to their end, and a `didChange`
+//! handler may be in the middle of an evaluation that takes seconds (more on a loaded
+//! machine). The server is dropped instead, which ends its output; what it wrote before goes
+//! out, and an analysis still running on a blocking thread finishes unseen.
 
 pub mod framing;
 pub mod message;
@@ -94,6 +100,8 @@ struct Lifecycle {
     shut_down: bool,
     /// Whether the server's output has ended.
     server_gone: bool,
+    /// Whether the reader handed `exit` to the server: serving stops there.
+    exited: bool,
 }
 
 /// Serves LSP with the qcsg [`Backend`] over `input` and `output` until `exit` or the end of
@@ -116,7 +124,14 @@ where
     // Each future drops what it owns when it completes: the reader its end of the pipe into
     // the server, which ends the server; the server its output pipe, which ends the relay; the
     // reader and the relay their senders, which ends the writer.
-    let serving = Server::new(server_input, server_output, socket).serve(service);
+    let server = Server::new(server_input, server_output, socket).serve(service);
+    let serving = async {
+        let mut state = lifecycle.subscribe();
+        tokio::select! {
+            () = server => {}
+            _ = state.wait_for(|l| l.exited) => {}
+        }
+    };
     let reading = read_client(
         FrameReader::new(input, options.max_message_bytes),
         to_server,
@@ -211,6 +226,7 @@ async fn read_client<I: AsyncRead + Unpin>(
             return ReadEnd::EndOfInput;
         }
         if is_exit {
+            lifecycle.send_modify(|l| l.exited = true);
             return ReadEnd::Exit;
         }
     }
