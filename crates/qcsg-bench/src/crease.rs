@@ -18,7 +18,7 @@ fn onto_both(a: &Quadric, b: &Quadric, x: DVec3) -> Option<DVec3> {
     let (ga, gb) = (a.gradient(x), b.gradient(x));
     let (aa, ab, bb) = (ga.dot(ga), ga.dot(gb), gb.dot(gb));
     let det = aa * bb - ab * ab;
-    if !(det > 1e-12 * aa * bb) {
+    if det.is_nan() || det <= 1e-12 * aa * bb {
         return None;
     }
     let (fa, fb) = (a.value(x), b.value(x));
