@@ -43,8 +43,11 @@
 //!   may fail near it; eq. 22 of each basic region keeps only what comes near the region's
 //!   patch ([`csg_distance::CsgDistance::near`]), and a region that still looks at many
 //!   literals (a face of a plate drilled with thousands of holes) is tiled until each tile
-//!   looks at few (`tiles`). Setup, memory and a query cost what the nearby parts cost, not
-//!   what the whole scene does;
+//!   looks at few (`tiles`); a rectangle of the subdivision [`subdivide::NARROW_RATIO`] times
+//!   smaller than the box eq. 22 was kept to keeps it to its own patch again, and so does each
+//!   rectangle the second pass refines (the cells of a line of text lie side by side, and the
+//!   borders of their faces are split down to the cutoff). Setup, memory and a query cost what
+//!   the nearby parts cost, not what the whole scene does;
 //! - a basic region whose patch lies outside its term (a literal of the term fails on all of
 //!   its box) or inside another term (every literal of it holds on all of the box) is left out
 //!   before any query ([`csg_distance::NearDistance::nowhere_negative`]): eq. 22 is negative

@@ -36,6 +36,11 @@ impl NearDistance<'_> {
         }
     }
 
+    /// Whether eq. 22 here looks at other terms than the sampled one.
+    pub fn has_other_terms(&self) -> bool {
+        self.sheet.is_none() || !self.terms.is_empty()
+    }
+
     /// The literals of the `k`-th kept term near the box, where not all.
     pub(super) fn list(&self, k: usize) -> Option<&NearLiterals> {
         self.lists.get(k).and_then(Option::as_ref)

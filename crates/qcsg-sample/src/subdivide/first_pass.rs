@@ -127,6 +127,25 @@ pub(super) fn subdivide(
     (memo, stats): Walk<'_>,
 ) {
     memo.clear();
+    let scale = region.rect.diagonal();
+    walk_cells(
+        (ctx, index, region, scale),
+        root,
+        (out, look_back),
+        deferred,
+        (memo, stats),
+    );
+}
+
+/// [`subdivide`] from `root` on, without emptying the memo; `scale` is the diagonal of the
+/// rectangle `ctx`'s eq. 22 was kept to ([`narrowed`]).
+fn walk_cells(
+    (ctx, index, region, scale): (&RegionContext<'_>, usize, &BasicRegion, f64),
+    root: Cell,
+    (out, look_back): (&mut Emitted, usize),
+    deferred: &mut Vec<Deferred>,
+    (memo, stats): Walk<'_>,
+) {
     let (first_sample, first_deferred) = (out.len(), deferred.len());
     let first_queries = stats.distance_queries;
     let mut stack = vec![root];
@@ -171,10 +190,35 @@ pub(super) fn subdivide(
                     let (held, queries) = pending(out, deferred, stats);
                     meter.skip_to(held, queries);
                 }
-                Some((low, high)) => {
-                    stack.push(high);
-                    stack.push(low);
-                }
+                Some((low, high)) => match narrowed(ctx, region, &cell, scale) {
+                    // The cell's subtree with eq. 22 kept to what comes near it, in the order
+                    // the stack would take it.
+                    Some(near) => {
+                        // The subtree charges the budget itself.
+                        meter.finish(held, queries);
+                        let ctx = RegionContext {
+                            distance: &near,
+                            ..*ctx
+                        };
+                        let scale = cell.rect.diagonal();
+                        for half in [low, high] {
+                            let walk = (&mut *memo, &mut *stats);
+                            walk_cells(
+                                (&ctx, index, region, scale),
+                                half,
+                                (out, look_back),
+                                deferred,
+                                walk,
+                            );
+                        }
+                        let (held, queries) = pending(out, deferred, stats);
+                        meter.skip_to(held, queries);
+                    }
+                    None => {
+                        stack.push(high);
+                        stack.push(low);
+                    }
+                },
                 None => deferred.push(defer(cell)),
             },
         }
@@ -244,4 +288,37 @@ pub(super) fn split_in_parallel(
             lock(task.0.spare_halves).push((more, more_deferred, memo));
         }
     }
+}
+
+/// A cell this many times smaller (by diagonal) than the rectangle its eq. 22 was kept to
+/// gets eq. 22 kept to its own patch ([`crate::csg_distance::NearDistance::narrow`]).
+pub const NARROW_RATIO: f64 = 16.0;
+
+/// Eq. 22 kept to what comes near `cell`'s patch, when the cell is [`NARROW_RATIO`] times
+/// smaller than the rectangle `ctx`'s was kept to (`scale`) and that looked at other terms:
+/// where many small terms lie side by side (the cells of a line of text), the rectangles
+/// that a face's border leaves to split down to the cutoff otherwise query every term near
+/// the whole region. The margin is the regions' own (`near_margin`), so what is left out is
+/// farther than any point of the cell's subtree and radius; it only cuts values beyond that.
+pub(super) fn narrowed<'a>(
+    ctx: &RegionContext<'a>,
+    region: &BasicRegion,
+    cell: &Cell,
+    scale: f64,
+) -> Option<crate::csg_distance::NearDistance<'a>> {
+    if ctx.on_surface
+        || cell.rect.diagonal() * NARROW_RATIO > scale
+        || !ctx.distance.has_other_terms()
+    {
+        return None;
+    }
+    let part = BasicRegion {
+        rect: cell.rect,
+        ..*region
+    };
+    let bounds = crate::regions::patch_bounds(ctx.frame, &part)?;
+    Some(
+        ctx.distance
+            .narrow(&bounds, crate::patches::near_margin(&bounds, ctx.radius)),
+    )
 }

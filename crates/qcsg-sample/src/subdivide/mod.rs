@@ -45,7 +45,7 @@ use crate::memo::QueryMemo;
 
 pub use cover::{SurfacePoint, cover_by, grow_radius};
 pub use emitted::{BOX_SAMPLES, Emitted, SampleBox, box_runs};
-pub use first_pass::{Deferred, TASK_FOOTPRINT, sample_region};
+pub use first_pass::{Deferred, NARROW_RATIO, TASK_FOOTPRINT, sample_region};
 pub use given_up::{GivenUp, settle_given_up, settle_parts};
 pub use probe::{Probed, probe_given_up};
 pub use sample_index::{Member, SampleIndex};

@@ -18,7 +18,7 @@ use super::cell::{Cell, Walk, cell_distortion, cell_footprint};
 use super::classify::{Verdict, at_centre, centre_point, classify, split};
 use super::cover::{SurfacePoint, cover_by, grow_radius, grow_to_cover, may_cover};
 use super::emitted::Emitted;
-use super::first_pass::Deferred;
+use super::first_pass::{Deferred, narrowed};
 use super::given_up::GivenUp;
 use super::sample_index::{Member, SampleIndex};
 use super::{RegionContext, SMALL_REGION_FRACTION, SubdivisionStats};
@@ -66,6 +66,21 @@ pub fn refine_deferred(
     (memo, stats): Walk<'_>,
 ) {
     memo.clear();
+    // Eq. 22 kept to what comes near the rectangle: it is split down to the cutoff where a
+    // face's border crosses it, and each of those queries would otherwise look at every term
+    // near the whole region.
+    let near = narrowed(ctx, region, &deferred.cell, f64::INFINITY);
+    let kept;
+    let ctx = match &near {
+        Some(near) => {
+            kept = RegionContext {
+                distance: near,
+                ..*ctx
+            };
+            &kept
+        }
+        None => ctx,
+    };
     let cutoff = SMALL_REGION_FRACTION * ctx.radius / region.max_distortion.max(1.0);
     let first_sample = out.len();
     let first_given_up = given_up.len();
