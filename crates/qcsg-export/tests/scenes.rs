@@ -19,7 +19,16 @@ const TOLERANCE: f64 = 0.03;
 const MAX_LEVEL_SETS: usize = 8;
 
 /// Scenes left out, each with the reason: they fail or are too slow (`docs/export.md`, "Known limits").
-const KNOWN: &[(&str, &str)] = &[];
+const KNOWN: &[(&str, &str)] = &[
+    (
+        "imported_mesh.scad",
+        "a non-convex mesh cut by balls and cylinders: 2.3 T from mesh to surface after three refinements (not diagnosed), in 70 s",
+    ),
+    (
+        "turned_part.scad",
+        "a rotate_extrude of cones, an ellipsoid and a sphere: 1.8 T from mesh to surface after three refinements (not diagnosed)",
+    ),
+];
 
 fn scenes() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
