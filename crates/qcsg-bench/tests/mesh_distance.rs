@@ -178,7 +178,7 @@ fn point_inside_a_concave_crease_of_planes_measures_to_the_crease() {
     );
     let expected = b * 2f64.sqrt();
     assert!(
-        (d - expected).abs() < 1e-6 * expected,
+        (d - expected).abs() < 1e-5 * expected,
         "{d}, expected {expected}"
     );
 }
@@ -199,7 +199,7 @@ fn point_inside_the_crease_of_two_balls_measures_to_the_crease() {
     );
     let expected = 0.8 - rho;
     assert!(
-        (d - expected).abs() < 1e-6 * expected,
+        (d - expected).abs() < 1e-5 * expected,
         "{d}, expected {expected}"
     );
 }
