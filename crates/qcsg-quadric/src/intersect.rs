@@ -67,11 +67,23 @@ impl Quadric {
     /// of radius `1e-6` to `1e6` at `1e6`, slabs of width `2e-6`, and lines within `1e-9` rad of
     /// a cylinder's axis (far root `±1e9`).
     pub fn intersect_line(&self, p: DVec3, v: DVec3) -> LineIntersection {
+        self.intersect_line_with_value(p, v, self.value_with_error(p))
+    }
+
+    /// [`Self::intersect_line`] given `value`, which must be `self.value_with_error(p)`: a ray
+    /// tracer whose rays all start at one eye computes it once per quadric for all of them.
+    /// The result is the same, bit for bit, as that of `intersect_line(p, v)`.
+    pub fn intersect_line_with_value(
+        &self,
+        p: DVec3,
+        v: DVec3,
+        value: (f64, f64),
+    ) -> LineIntersection {
         let x = p - self.origin();
         let av = self.apply_a(v);
         let alpha = v.dot(av);
         let beta = av.dot(x) + self.linear().dot(v);
-        let (gamma, gamma_error) = self.value_with_error(p);
+        let (gamma, gamma_error) = value;
         let gamma_terms = gamma_error / (16.0 * EPS);
         if !(alpha.is_finite() && beta.is_finite() && gamma.is_finite()) {
             return LineIntersection::None;

@@ -6,8 +6,10 @@
 
 use rayon::prelude::*;
 
+use crate::camera::Projection;
 use crate::camera::{Camera, ImageSize};
-use crate::raytrace::{Hit, Ray, Scratch, trace};
+use crate::eye::EyeValues;
+use crate::raytrace::{Hit, Ray, Scratch, trace_from};
 use crate::scene::{Layer, Scene};
 use crate::shade::{self, Rgb};
 
@@ -115,10 +117,13 @@ pub fn render(
     options: &RenderOptions,
     progress: &(dyn Fn(u32) + Sync),
 ) -> Frame {
+    // Every ray of a perspective frame starts at the eye: the quadrics' values there are
+    // computed once per frame.
+    let eyes = FrameEyes::new(scene, camera);
     let rows: Vec<Row> = (0..size.height())
         .into_par_iter()
         .map_init(Scratch::default, |scratch, y| {
-            let row = render_row(scene, camera, size, options, y, scratch);
+            let row = render_row(scene, camera, size, options, y, &eyes, scratch);
             progress(y);
             row
         })
@@ -144,6 +149,7 @@ fn render_row(
     size: ImageSize,
     options: &RenderOptions,
     y: u32,
+    eyes: &FrameEyes,
     scratch: &mut Scratch,
 ) -> Row {
     let width = size.width() as usize;
@@ -158,15 +164,15 @@ fn render_row(
             solid: scene
                 .solid
                 .as_ref()
-                .and_then(|layer| trace_layer(layer, &ray, scratch)),
+                .and_then(|layer| trace_layer(layer, &ray, eyes.solid.as_ref(), scratch)),
             highlight: scene
                 .highlights
                 .as_ref()
-                .and_then(|layer| trace_layer(layer, &ray, scratch)),
+                .and_then(|layer| trace_layer(layer, &ray, eyes.highlights.as_ref(), scratch)),
             background: scene
                 .backgrounds
                 .as_ref()
-                .and_then(|layer| trace_layer(layer, &ray, scratch)),
+                .and_then(|layer| trace_layer(layer, &ray, eyes.backgrounds.as_ref(), scratch)),
         };
         let pixel = shade_pixel(scene, camera, options, &ray, &hits);
         row.rgb.extend(pixel.rgb);
@@ -253,9 +259,13 @@ pub fn shade_pixel(
             ));
         }
     }
-    let mut overlays: Vec<_> = overlays.into_iter().flatten().collect();
-    overlays.sort_by(|a, b| b.0.total_cmp(&a.0));
-    for (_, over, alpha) in overlays {
+    // The farther first; a stable sort of the two, without allocating.
+    if let [Some(a), Some(b)] = overlays
+        && b.0.total_cmp(&a.0).is_gt()
+    {
+        overlays = [Some(b), Some(a)];
+    }
+    for (_, over, alpha) in overlays.into_iter().flatten() {
         color = shade::blend(color, over, alpha);
     }
     Pixel {
@@ -281,6 +291,35 @@ pub fn frame_from_pixels(size: ImageSize, pixel: &(dyn Fn(u32, u32) -> Pixel + S
     frame
 }
 
-fn trace_layer(layer: &Layer, ray: &Ray, scratch: &mut Scratch) -> Option<Hit> {
-    trace(layer.dnf(), layer.index(), ray, 0.0, scratch)
+fn trace_layer(
+    layer: &Layer,
+    ray: &Ray,
+    eye: Option<&EyeValues>,
+    scratch: &mut Scratch,
+) -> Option<Hit> {
+    trace_from(layer.dnf(), layer.index(), ray, 0.0, eye, scratch)
+}
+
+/// The values of each layer's quadrics at a perspective camera's eye (none for orthographic
+/// frames, whose rays start at different points).
+struct FrameEyes {
+    solid: Option<EyeValues>,
+    highlights: Option<EyeValues>,
+    backgrounds: Option<EyeValues>,
+}
+
+impl FrameEyes {
+    fn new(scene: &Scene, camera: &Camera) -> Self {
+        let at = |layer: &Option<Layer>| {
+            layer
+                .as_ref()
+                .filter(|_| camera.projection() == Projection::Perspective)
+                .map(|layer| EyeValues::new(layer.dnf(), camera.eye()))
+        };
+        Self {
+            solid: at(&scene.solid),
+            highlights: at(&scene.highlights),
+            backgrounds: at(&scene.backgrounds),
+        }
+    }
 }

@@ -19,6 +19,7 @@
 use qcsg_csg::{Sheet, Surfaces};
 use qcsg_quadric::{LineIntersection, Quadric};
 
+use crate::eye::EyeValues;
 use crate::raytrace::Ray;
 
 /// What bounds an interval at one of its ends.
@@ -64,21 +65,23 @@ pub fn literal_intervals(
     range: Interval,
     out: &mut Vec<Interval>,
 ) {
-    Literal::Own(quadric).intervals(id, ray, range, out);
+    Literal::Own(quadric).intervals(id, ray, range, None, out);
 }
 
 /// [`literal_intervals`] for the DNF quadric `id` (whose quadric is `quadric`), read through the
 /// surfaces its sheets lie on (see the module docs). A quadric that `surfaces` does not
-/// describe, or without a surface, is read by itself.
+/// describe, or without a surface, is read by itself. `eye`: the values of the DNF's quadrics
+/// and surfaces at the ray's start, when they were computed for it (the same results, sooner).
 pub fn surface_literal_intervals(
     surfaces: &Surfaces,
     quadric: &Quadric,
     id: u32,
     ray: &Ray,
     range: Interval,
+    eye: Option<&EyeValues>,
     out: &mut Vec<Interval>,
 ) {
-    Literal::of(surfaces, quadric, id).intervals(id, ray, range, out);
+    Literal::of(surfaces, quadric, id).intervals(id, ray, range, eye, out);
 }
 
 /// How a literal's roots and sign are read.
@@ -116,9 +119,12 @@ impl<'a> Literal<'a> {
 
     /// The crossings of the literal's surface along `ray`, ascending, into `roots`; returns how
     /// many. A double root touches without crossing; a line in the surface crosses nothing.
-    fn roots(&self, ray: &Ray, roots: &mut [f64; 4]) -> usize {
+    fn roots(&self, id: u32, ray: &Ray, eye: Option<&EyeValues>, roots: &mut [f64; 4]) -> usize {
         let mut count = 0;
-        let mut add = |q: &Quadric| match q.intersect_line(ray.origin, ray.direction) {
+        let mut add = |q: &Quadric, value: Option<(f64, f64)>| match value.map_or_else(
+            || q.intersect_line(ray.origin, ray.direction),
+            |value| q.intersect_line_with_value(ray.origin, ray.direction, value),
+        ) {
             LineIntersection::One(t) => {
                 roots[count] = t;
                 count += 1;
@@ -132,12 +138,12 @@ impl<'a> Literal<'a> {
             }
         };
         match *self {
-            Self::Own(q) => add(q),
+            Self::Own(q) => add(q, eye.and_then(|e| e.quadric(id))),
             Self::Sheets { sheets, surfaces } => {
                 // At most two sheets (a slab's planes), each a plane: two roots; or one curved.
                 for sheet in sheets.iter().take(2) {
                     if let Some(surface) = surfaces.surface(sheet.surface) {
-                        add(&surface.quadric);
+                        add(&surface.quadric, eye.and_then(|e| e.surface(sheet.surface)));
                     }
                 }
             }
@@ -167,10 +173,17 @@ impl<'a> Literal<'a> {
         }
     }
 
-    fn intervals(&self, id: u32, ray: &Ray, range: Interval, out: &mut Vec<Interval>) {
+    fn intervals(
+        &self,
+        id: u32,
+        ray: &Ray,
+        range: Interval,
+        eye: Option<&EyeValues>,
+        out: &mut Vec<Interval>,
+    ) {
         out.clear();
         let mut roots = [0.0; 4];
-        let count = self.roots(ray, &mut roots);
+        let count = self.roots(id, ray, eye, &mut roots);
         let mut cuts = [0.0; 4];
         let mut cut_count = 0;
         for &t in &roots[..count] {

@@ -32,6 +32,7 @@
 //! ```
 
 pub mod camera;
+pub mod eye;
 pub mod frame;
 pub mod interval;
 pub mod png;

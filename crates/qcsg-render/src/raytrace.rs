@@ -19,6 +19,7 @@ use qcsg_csg::quadric_box::{BoxClass, classify};
 use qcsg_csg::{Aabb, BoxIndex, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
 
+use crate::eye::EyeValues;
 use crate::interval::{Boundary, Interval, intersect_into, surface_literal_intervals};
 
 /// A ray `origin + t · direction`, `t ≥ 0`; the direction is unit length for the renderer, so
@@ -107,11 +108,18 @@ impl Hit {
 pub struct Scratch {
     terms: Vec<u32>,
     entries: Vec<(f64, f64, u32)>,
+    deferred: Vec<(f64, f64, u32)>,
+    term: TermBuffers,
+    all: Vec<(Interval, u32)>,
+}
+
+/// The buffers of one term's intervals along a ray.
+#[derive(Clone, Debug, Default)]
+struct TermBuffers {
     literals: Vec<u32>,
     current: Vec<Interval>,
     literal: Vec<Interval>,
     merged: Vec<Interval>,
-    all: Vec<(Interval, u32)>,
 }
 
 /// What `dnf`'s rays look at ([`TermIndex`]), with literal boxes for the terms of more than
@@ -120,19 +128,51 @@ pub fn term_index(dnf: &Dnf) -> TermIndex {
     TermIndex::new(dnf, LITERAL_INDEX_ABOVE)
 }
 
-/// Terms with more literals than this index where each literal may fail.
-pub const LITERAL_INDEX_ABOVE: usize = 32;
+/// Terms with more literals than this keep where each literal may fail.
+pub const LITERAL_INDEX_ABOVE: usize = 16;
+
+/// Terms with more literals than this keep those boxes in an R-tree; the others in a list,
+/// which a ray walks (cheaper than a tree search for a few boxes).
+const LITERAL_TREE_ABOVE: usize = 32;
 
 /// What a ray looks at: the term boxes, each grown a little so that a face lying on the box (a
 /// cube's slab) is met as the quadric's root, not as the box, in an R-tree (a ray looks only
-/// at the terms whose box it crosses); and, for a term of many literals (a plate drilled with
-/// many holes), a box around where each literal fails within the term's box, in an R-tree too
-/// (a ray intersects only the literals whose box it crosses: it lies inside the others
+/// at the terms whose box it crosses); and, for a term of several literals (a block drilled
+/// with holes, a plate with many), a box around where each literal fails within the term's
+/// box (a ray intersects only the literals whose box it crosses: it lies inside the others
 /// throughout).
 #[derive(Clone, Debug)]
 pub struct TermIndex {
     boxes: BoxIndex,
-    literals: Vec<Option<BoxIndex>>,
+    literals: Vec<Option<LiteralBoxes>>,
+}
+
+/// Where each literal of a term may fail.
+#[derive(Clone, Debug)]
+enum LiteralBoxes {
+    /// In an R-tree, for a term of many literals.
+    Indexed(BoxIndex),
+    /// In the term's order, for a term of a few.
+    Listed(Vec<Aabb>),
+}
+
+impl LiteralBoxes {
+    /// Writes into `out` the positions, ascending, of the literals whose box `meets` accepts.
+    fn select(&self, meets: impl Fn(&Aabb) -> bool, out: &mut Vec<u32>) {
+        match self {
+            Self::Indexed(index) => {
+                index.select(meets, out);
+                out.sort_unstable();
+            }
+            Self::Listed(boxes) => out.extend(
+                boxes
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, b)| !b.is_empty() && meets(b))
+                    .map(|(k, _)| k as u32),
+            ),
+        }
+    }
 }
 
 impl TermIndex {
@@ -144,13 +184,21 @@ impl TermIndex {
             .iter()
             .zip(&boxes)
             .map(|(term, bounds)| {
-                (term.literals.len() > literals_above && bounds.is_bounded()).then(|| {
+                let count = term.literals.len();
+                (count > literals_above && bounds.is_bounded()).then(|| {
+                    // A few literals are cheap to read anyway: coarser boxes, found sooner.
+                    let many = count > LITERAL_TREE_ABOVE;
+                    let splits = if many { FAIL_SPLITS } else { FEW_FAIL_SPLITS };
                     let fails = term.literals.iter().map(|&id| {
                         dnf.quadrics
                             .get(id as usize)
-                            .map_or(*bounds, |q| where_it_fails(&q.quadric, bounds))
+                            .map_or(*bounds, |q| where_it_fails(&q.quadric, bounds, splits))
                     });
-                    BoxIndex::new(fails.collect())
+                    if many {
+                        LiteralBoxes::Indexed(BoxIndex::new(fails.collect()))
+                    } else {
+                        LiteralBoxes::Listed(fails.collect())
+                    }
                 })
             })
             .collect();
@@ -164,17 +212,19 @@ impl TermIndex {
 /// Bisections of a term's box when looking for where a literal fails: down to 1/2^8 of its
 /// size on each axis.
 const FAIL_SPLITS: u32 = 24;
+/// The same for a term of few literals: down to 1/2^4.
+const FEW_FAIL_SPLITS: u32 = 12;
 
 /// A box around the points of `bounds` where `q ≤ 0` fails or holds only up to its surface:
 /// the union of the pieces of `bounds`, bisected along their longest side, that
 /// `quadric_box::classify` does not prove inside.
-fn where_it_fails(q: &Quadric, bounds: &Aabb) -> Aabb {
+fn where_it_fails(q: &Quadric, bounds: &Aabb, splits: u32) -> Aabb {
     let mut found = Aabb::EMPTY;
     let mut stack = vec![(*bounds, 0)];
     while let Some((piece, depth)) = stack.pop() {
         match classify(q, &piece) {
             BoxClass::Inside => {}
-            BoxClass::Cuts if depth < FAIL_SPLITS => {
+            BoxClass::Cuts if depth < splits => {
                 let axis = (piece.max - piece.min).max_position();
                 let middle = 0.5 * (piece.min[axis] + piece.max[axis]);
                 let (mut low, mut high) = (piece, piece);
@@ -231,6 +281,20 @@ pub fn trace(
     t_min: f64,
     scratch: &mut Scratch,
 ) -> Option<Hit> {
+    trace_from(dnf, index, ray, t_min, None, scratch)
+}
+
+/// [`trace`] with the values of `dnf`'s quadrics and surfaces at the frame's eye, used when
+/// `ray` starts there ([`EyeValues`]): the same hit, sooner.
+pub fn trace_from(
+    dnf: &Dnf,
+    index: &TermIndex,
+    ray: &Ray,
+    t_min: f64,
+    eye: Option<&EyeValues>,
+    scratch: &mut Scratch,
+) -> Option<Hit> {
+    let eye = eye.and_then(|e| e.for_ray(ray));
     scratch.all.clear();
     scratch.terms.clear();
     scratch.entries.clear();
@@ -255,48 +319,30 @@ pub fn trace(
     let candidate = |entry: &Interval| entry.start > t_min || entry.start_by != Boundary::Clip;
     let mut nearest = f64::INFINITY;
     let mut from_start = false;
+    scratch.deferred.clear();
     for &(t_in, t_out, term_index) in &scratch.entries {
         if !from_start && t_in > nearest {
             break;
         }
-        let Some(term) = dnf.terms.get(term_index as usize) else {
+        // While no interval begins at the ray's start, a term whose intervals all begin beyond
+        // `nearest` cannot change the hit (its literals only narrow them further): it is left
+        // as soon as that shows, and read whole below only if some interval turns out to begin
+        // at the ray's start after all, when the sweep reads past `nearest`.
+        let cutoff = if from_start { f64::INFINITY } else { nearest };
+        let read = term_intervals(
+            dnf,
+            index,
+            ray,
+            (t_in, t_out, term_index),
+            eye,
+            cutoff,
+            &mut scratch.term,
+        );
+        if !read {
+            scratch.deferred.push((t_in, t_out, term_index));
             continue;
-        };
-        scratch.current.clear();
-        scratch.current.push(Interval::clip(t_in, t_out));
-        // Of a term of many literals, those whose failing part the ray's piece misses hold
-        // along all of it: they change nothing.
-        scratch.literals.clear();
-        match index.literals.get(term_index as usize) {
-            Some(Some(fails)) => {
-                let meets = |b: &Aabb| ray.clip_to(b).is_some_and(|(a, c)| a <= t_out && c >= t_in);
-                fails.select(meets, &mut scratch.literals);
-                scratch.literals.sort_unstable();
-                for k in &mut scratch.literals {
-                    *k = term.literals[*k as usize];
-                }
-            }
-            _ => scratch.literals.extend_from_slice(&term.literals),
         }
-        for &id in &scratch.literals {
-            let Some(literal) = dnf.quadrics.get(id as usize) else {
-                continue;
-            };
-            surface_literal_intervals(
-                &dnf.surfaces,
-                &literal.quadric,
-                id,
-                ray,
-                Interval::clip(t_in, t_out),
-                &mut scratch.literal,
-            );
-            intersect_into(&scratch.current, &scratch.literal, &mut scratch.merged);
-            std::mem::swap(&mut scratch.current, &mut scratch.merged);
-            if scratch.current.is_empty() {
-                break;
-            }
-        }
-        for interval in &scratch.current {
+        for interval in &scratch.term.current {
             if candidate(interval) {
                 nearest = nearest.min(interval.start);
             } else {
@@ -305,7 +351,23 @@ pub fn trace(
         }
         scratch
             .all
-            .extend(scratch.current.iter().map(|&i| (i, term_index)));
+            .extend(scratch.term.current.iter().map(|&i| (i, term_index)));
+    }
+    if from_start {
+        for &(t_in, t_out, term_index) in &scratch.deferred {
+            term_intervals(
+                dnf,
+                index,
+                ray,
+                (t_in, t_out, term_index),
+                eye,
+                f64::INFINITY,
+                &mut scratch.term,
+            );
+            scratch
+                .all
+                .extend(scratch.term.current.iter().map(|&i| (i, term_index)));
+        }
     }
     if scratch.all.is_empty() {
         return None;
@@ -334,6 +396,60 @@ pub fn trace(
         }
     }
     None
+}
+
+/// Writes into `buffers.current` the intervals of the term `term_index` along the piece
+/// `(t_in, t_out)` of `ray` in its box; returns `false`, leaving them unfinished, as soon as
+/// every one begins beyond `cutoff`.
+fn term_intervals(
+    dnf: &Dnf,
+    index: &TermIndex,
+    ray: &Ray,
+    (t_in, t_out, term_index): (f64, f64, u32),
+    eye: Option<&EyeValues>,
+    cutoff: f64,
+    buffers: &mut TermBuffers,
+) -> bool {
+    buffers.current.clear();
+    let Some(term) = dnf.terms.get(term_index as usize) else {
+        return true;
+    };
+    buffers.current.push(Interval::clip(t_in, t_out));
+    // Of a term of several literals, those whose failing part the ray's piece misses hold
+    // along all of it: they change nothing.
+    buffers.literals.clear();
+    match index.literals.get(term_index as usize) {
+        Some(Some(fails)) => {
+            let meets = |b: &Aabb| ray.clip_to(b).is_some_and(|(a, c)| a <= t_out && c >= t_in);
+            fails.select(meets, &mut buffers.literals);
+            for k in &mut buffers.literals {
+                *k = term.literals[*k as usize];
+            }
+        }
+        _ => buffers.literals.extend_from_slice(&term.literals),
+    }
+    for &id in &buffers.literals {
+        let Some(literal) = dnf.quadrics.get(id as usize) else {
+            continue;
+        };
+        surface_literal_intervals(
+            &dnf.surfaces,
+            &literal.quadric,
+            id,
+            ray,
+            Interval::clip(t_in, t_out),
+            eye,
+            &mut buffers.literal,
+        );
+        intersect_into(&buffers.current, &buffers.literal, &mut buffers.merged);
+        std::mem::swap(&mut buffers.current, &mut buffers.merged);
+        match buffers.current.first() {
+            None => break,
+            Some(first) if first.start > cutoff => return false,
+            Some(_) => {}
+        }
+    }
+    true
 }
 
 /// The hit at the start of `interval`.

@@ -1,0 +1,105 @@
+//! The ray tracer's shortcuts change no pixel: a frame rendered with them (the quadrics' values
+//! at the eye computed once per perspective frame, the terms of a few literals read only where
+//! their literals may fail, a term left as soon as it cannot begin before the nearest entry
+//! found) holds, bit for bit, the depth and ids that tracing each pixel's ray without any of
+//! them gives, in both projections and from inside the solid.
+
+#[path = "common/mod.rs"]
+mod common;
+
+use qcsg_csg::{Aabb, Dag, DnfOptions, Edge, Source};
+use qcsg_quadric::{DVec3, Quadric};
+use qcsg_render::raytrace::{Scratch, TermIndex};
+use qcsg_render::{Camera, ImageSize, Projection, RenderOptions, Scene, View, render, trace};
+
+fn sphere(dag: &mut Dag, centre: DVec3, radius: f64) -> Edge {
+    let r = DVec3::splat(radius);
+    dag.bounded_leaf(
+        Quadric::sphere(centre, radius).unwrap(),
+        Source::default(),
+        Aabb::new(centre - r, centre + r),
+    )
+    .into()
+}
+
+/// A plate drilled with 4 × 4 holes (one term of 19 literals: a few, read where they fail),
+/// with overlapping balls on it and through it (terms in front of and behind each other).
+fn scene() -> Scene {
+    let mut dag = Dag::new();
+    let mut parts = vec![common::drilled_plate(&mut dag, 4)];
+    for (i, x) in [-2.5, -0.5, 1.5].into_iter().enumerate() {
+        parts.push(sphere(
+            &mut dag,
+            DVec3::new(x, 0.3 * i as f64, 0.8),
+            1.2 + 0.1 * i as f64,
+        ));
+    }
+    parts.push(sphere(&mut dag, DVec3::new(1.5, 1.5, 0.0), 1.0));
+    let root = dag.union(parts, Source::default());
+    dag.set_root(root.into());
+    Scene::from_dag(&mut dag, &DnfOptions::default()).unwrap()
+}
+
+/// Renders through `camera` and compares every pixel with its ray traced plainly.
+fn compare(scene: &Scene, camera: &Camera, size: ImageSize) -> usize {
+    let frame = render(scene, camera, size, &RenderOptions::default(), &|_| {});
+    let layer = scene.solid.as_ref().unwrap();
+    let plain = TermIndex::new(layer.dnf(), usize::MAX);
+    let mut scratch = Scratch::default();
+    let mut hits = 0;
+    for y in 0..size.height() {
+        for x in 0..size.width() {
+            let ray = camera.ray(f64::from(x) + 0.5, f64::from(y) + 0.5, size);
+            let hit = trace(layer.dnf(), &plain, &ray, 0.0, &mut scratch);
+            let i = frame.index(x, y);
+            let depth = hit.map_or(f64::INFINITY, |h| h.t);
+            assert_eq!(
+                frame.depth[i].to_bits(),
+                depth.to_bits(),
+                "depth at ({x}, {y})"
+            );
+            assert_eq!(
+                frame.ids[i].quadric,
+                hit.and_then(|h| h.quadric).unwrap_or(u32::MAX),
+                "quadric at ({x}, {y})"
+            );
+            hits += usize::from(hit.is_some());
+        }
+    }
+    hits
+}
+
+#[test]
+fn frames_hold_the_plainly_traced_pixels() {
+    let scene = scene();
+    let few = scene
+        .solid
+        .as_ref()
+        .unwrap()
+        .dnf()
+        .terms
+        .iter()
+        .any(|t| (17..=32).contains(&t.literals.len()));
+    assert!(few, "the scene has a term of a few literals");
+    let size = ImageSize::new(64, 48).unwrap();
+    let bounds = scene.bounds();
+    let mut hits = 0;
+    for projection in [Projection::Perspective, Projection::Orthographic] {
+        for view in [View::Iso, View::Top, View::Front] {
+            let camera = Camera::fit(&view, projection, &bounds, size).unwrap();
+            let seen = compare(&scene, &camera, size);
+            assert!(seen > 0, "{view:?} {projection:?}");
+            hits += seen;
+        }
+    }
+    assert!(hits > 2000, "{hits} pixels show the solid");
+    // From inside a ball and inside the plate: intervals begin at the ray's start.
+    for eye in [DVec3::new(-2.5, 0.0, 0.8), DVec3::new(0.0, -0.2, 0.0)] {
+        let view = View::Explicit {
+            eye,
+            center: DVec3::new(3.0, 2.0, -1.0),
+        };
+        let camera = Camera::fit(&view, Projection::Perspective, &bounds, size).unwrap();
+        compare(&scene, &camera, size);
+    }
+}
