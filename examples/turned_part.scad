@@ -18,7 +18,7 @@ module section() {
         union() {
             // The foot, a stepped and tapered disc.
             polygon([[0, 0], [foot_r, 0], [foot_r, 3], [foot_r - 4, 6], [stem_r + 2, 10],
-                [stem_r, 14], [0, 14]]);
+                [0, 10]]);
             // The stem.
             square([stem_r, height - 10]);
             // A flattened knob on the stem, an ellipse centred on the axis, and a ball under it.
