@@ -13,7 +13,9 @@ use std::os::unix::process::ExitStatusExt;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::thread;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use crate::cpu_clock::{Verdict, Watch};
 
 use crate::panics::relative;
 use crate::protocol::FailureKind;
@@ -94,12 +96,13 @@ pub fn run(qcsg: &Path, name: &Path, bytes: &[u8], timeout: Duration) -> Result<
     let stdout = child.stdout.take().map(drain);
     let stderr = child.stderr.take().map(drain);
 
-    let started = Instant::now();
+    // The binary's own CPU time against the budget, as the supervisor watches the worker.
+    let watch = Watch::start(child.id(), timeout);
     let mut pause = Duration::from_millis(1);
     let status = loop {
         match child.try_wait() {
             Ok(Some(status)) => break Some(status),
-            Ok(None) if started.elapsed() > timeout => {
+            Ok(None) if watch.look() == Verdict::Over => {
                 let _ = child.kill();
                 let _ = child.wait();
                 break None;

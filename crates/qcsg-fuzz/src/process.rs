@@ -2,7 +2,8 @@
 //!
 //! [`WorkerProcess::run`] sends a request and reads the worker's events on a reader thread. The
 //! watchdog is the wait for the next event: a stage that has not ended within its time budget
-//! is a hang, and the worker is killed. A worker whose output ends before [`Event::Done`] died
+//! (CPU time of the worker, with a cap on wall time: [`crate::cpu_clock`]) is a hang, and the
+//! worker is killed. A worker whose output ends before [`Event::Done`] died
 //! in the stage it had started; its exit status and the end of its standard error (kept by a
 //! second thread) tell an allocation failure, a stack overflow or another crash apart. Either
 //! way a fresh worker is started for the next input.
@@ -17,6 +18,7 @@ use std::sync::{Arc, Mutex};
 use std::thread;
 use std::time::{Duration, Instant};
 
+use crate::cpu_clock::{Verdict, Watch};
 use crate::protocol::{
     Event, Failure, FailureKind, Fault, Radius, Request, Stage, parse_event, write_request,
 };
@@ -173,15 +175,37 @@ impl WorkerProcess {
             write_request(&mut self.stdin, &request, bytes)?;
         }
         let budget = self.options.stage_timeout;
+        let pid = self.child.id();
         let mut outcome = Outcome::default();
         let mut current: Option<Stage> = None;
-        let mut deadline = Instant::now() + budget;
+        let mut watch = Watch::start(pid, budget);
         loop {
-            let wait = deadline.saturating_duration_since(Instant::now());
+            let wait = match watch.look() {
+                Verdict::Running(wait) => wait,
+                Verdict::Over => {
+                    let stage = current.unwrap_or(Stage::Parse);
+                    let seconds = (budget * budget_factor(stage)).as_secs_f64();
+                    let used = watch.cpu_used().map_or_else(String::new, |used| {
+                        format!(
+                            " ({:.1} s of the worker's CPU time in {:.1} s of wall time)",
+                            used.as_secs_f64(),
+                            watch.elapsed().as_secs_f64()
+                        )
+                    });
+                    outcome.failures.push(Failure {
+                        stage,
+                        kind: FailureKind::Hang,
+                        message: format!("the {stage} stage ran past its {seconds} s budget{used}"),
+                        signature: String::new(),
+                    });
+                    self.restart()?;
+                    return Ok(outcome);
+                }
+            };
             match self.events.recv_timeout(wait) {
                 Ok(Event::Start { stage }) => {
                     current = Some(stage);
-                    deadline = Instant::now() + budget * budget_factor(stage);
+                    watch = Watch::start(pid, budget * budget_factor(stage));
                 }
                 Ok(Event::End {
                     stage,
@@ -196,21 +220,11 @@ impl WorkerProcess {
                     });
                     outcome.failures.extend(failure);
                     current = None;
-                    deadline = Instant::now() + budget;
+                    watch = Watch::start(pid, budget);
                 }
                 Ok(Event::Done) => return Ok(outcome),
-                Err(RecvTimeoutError::Timeout) => {
-                    let stage = current.unwrap_or(Stage::Parse);
-                    let seconds = (budget * budget_factor(stage)).as_secs_f64();
-                    outcome.failures.push(Failure {
-                        stage,
-                        kind: FailureKind::Hang,
-                        message: format!("the {stage} stage ran past its {seconds} s budget"),
-                        signature: String::new(),
-                    });
-                    self.restart()?;
-                    return Ok(outcome);
-                }
+                // Look at the watch again.
+                Err(RecvTimeoutError::Timeout) => {}
                 Err(RecvTimeoutError::Disconnected) => {
                     let stage = current.unwrap_or(Stage::Parse);
                     outcome.failures.push(self.death(stage));

@@ -178,8 +178,10 @@ pub enum Radius {
 pub enum Fault {
     /// Panic.
     Panic,
-    /// Loop forever.
+    /// Compute forever (a hang that uses a core).
     Hang,
+    /// Wait forever without computing (a deadlock).
+    Stall,
     /// Allocate (and touch) memory until stopped.
     Memory,
     /// Recurse until the stack overflows.

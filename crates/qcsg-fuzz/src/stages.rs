@@ -437,13 +437,21 @@ fn render(pool: &rayon::ThreadPool, mut dag: Dag) -> StageResult<()> {
 fn inject(fault: Fault) -> StageResult<()> {
     match fault {
         Fault::Panic => panic!("injected panic"),
-        Fault::Hang => loop {
+        Fault::Hang => {
+            let mut x = 1u64;
+            loop {
+                x = std::hint::black_box(x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1));
+            }
+        }
+        Fault::Stall => loop {
             std::thread::sleep(Duration::from_millis(50));
         },
         // One allocation far past any address-space limit, as a runaway size computation
         // makes: the allocator fails and the process aborts.
         Fault::Memory => {
-            let huge: Vec<u8> = Vec::with_capacity(std::hint::black_box(1 << 42));
+            // `black_box` of the vector too: an optimised build may elide an unused allocation.
+            let huge: Vec<u8> =
+                std::hint::black_box(Vec::with_capacity(std::hint::black_box(1 << 42)));
             Ok(Some(()).filter(|_| huge.capacity() > 0))
         }
         Fault::StackOverflow => {
