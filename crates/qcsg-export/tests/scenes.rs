@@ -25,10 +25,6 @@ const KNOWN: &[(&str, &str)] = &[
         "a non-convex mesh cut by balls and cylinders: 2.3 T from mesh to surface after three refinements (not diagnosed), in 70 s",
     ),
     (
-        "turned_part.scad",
-        "a rotate_extrude of cones, an ellipsoid and a sphere: 1.8 T from mesh to surface after three refinements (not diagnosed)",
-    ),
-    (
         "rounded_enclosure.scad",
         "three triangles of zero area in the mesh (minkowski sums' rounded corners cut by boxes, not diagnosed), after 150 s in the debug build",
     ),
