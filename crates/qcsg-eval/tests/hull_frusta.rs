@@ -66,7 +66,10 @@ fn random_parallel_cylinders_and_cones_match_the_sampled_hull() {
             }
         }
         text += " }";
-        let set = Convex { discs, ball: 0.0 };
+        let set = Convex {
+            discs,
+            ..Convex::default()
+        };
         let (i, o) = support::compare(&text, &[set], DMat4::IDENTITY, &mut rng);
         inside += i;
         outside += o;
@@ -92,6 +95,7 @@ fn turned_far_tiny_and_stiff_hulls_match_the_sampled_hull() {
     let set = Convex {
         discs: discs.clone(),
         ball: 0.0,
+        balls: Vec::new(),
     };
     for (outer, frame) in [
         (String::new(), DMat4::IDENTITY),
@@ -150,7 +154,10 @@ fn turned_far_tiny_and_stiff_hulls_match_the_sampled_hull() {
             ],
         ),
     ] {
-        let set = Convex { discs, ball: 0.0 };
+        let set = Convex {
+            discs,
+            ..Convex::default()
+        };
         let (i, o) = support::compare(text, &[set], DMat4::IDENTITY, &mut rng);
         assert!(i > 10 && o > 10, "{text}: {i} in, {o} out");
     }

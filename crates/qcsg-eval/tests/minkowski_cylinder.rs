@@ -81,6 +81,7 @@ fn cylinder(at: DVec3, r: f64, h: f64) -> (String, Convex) {
         Convex {
             discs: vec![(at, r), (at + DVec3::Z * h, r)],
             ball: 0.0,
+            balls: Vec::new(),
         },
     )
 }
@@ -190,6 +191,7 @@ fn cone(at: DVec3, r1: f64, r2: f64, h: f64) -> (String, Convex) {
         Convex {
             discs: vec![(at, r1), (at + DVec3::Z * h, r2)],
             ball: 0.0,
+            balls: Vec::new(),
         },
     )
 }

@@ -1,5 +1,5 @@
 //! An independent membership test for convex sets given by their support function: the hull of
-//! discs square to z (centres and radii; points have radius 0) grown by a ball. The support
+//! discs square to z (centres and radii; points have radius 0) and of balls, grown by a ball. The support
 //! function is sampled on Fibonacci lattices of directions (the hull of a dense sampling of the
 //! discs and the ball), with the sampling error bounded by the function's Lipschitz constant, so
 //! that a point is told inside or outside only when the sampling cannot be wrong.
@@ -39,11 +39,13 @@ pub fn lattices() -> Vec<(Vec<DVec3>, f64)> {
     DIRECTIONS.iter().map(|&n| directions(n)).collect()
 }
 
-/// A convex set: the hull of discs square to z (centre, radius) grown by a ball.
-#[derive(Clone, Debug)]
+/// A convex set: the hull of discs square to z (centre, radius) and of balls, grown by a ball.
+#[derive(Clone, Debug, Default)]
 pub struct Convex {
     /// The discs.
     pub discs: Vec<(DVec3, f64)>,
+    /// The balls (centre, radius).
+    pub balls: Vec<(DVec3, f64)>,
     /// The ball's radius.
     pub ball: f64,
 }
@@ -53,11 +55,11 @@ impl Convex {
     pub fn points(points: &[DVec3]) -> Convex {
         Convex {
             discs: points.iter().map(|p| (*p, 0.0)).collect(),
-            ball: 0.0,
+            ..Convex::default()
         }
     }
 
-    /// The Minkowski sum: discs about one axis add centres and radii.
+    /// The Minkowski sum of sets without `balls`: discs about one axis add centres and radii.
     pub fn sum(&self, other: &Convex) -> Convex {
         Convex {
             discs: self
@@ -65,13 +67,20 @@ impl Convex {
                 .iter()
                 .flat_map(|a| other.discs.iter().map(move |b| (a.0 + b.0, a.1 + b.1)))
                 .collect(),
+            balls: Vec::new(),
             ball: self.ball + other.ball,
         }
     }
 
+    /// The centres and how far each reaches from its centre at most.
+    fn centres(&self) -> impl Iterator<Item = (DVec3, f64)> + '_ {
+        self.discs.iter().chain(&self.balls).copied()
+    }
+
     /// The sampled `max over v of (v · p − h(v))` and its error bound.
     fn signed(&self, p: DVec3, dirs: &[DVec3], delta: f64) -> (f64, f64) {
-        let o = self.discs.iter().map(|d| d.0).sum::<DVec3>() / self.discs.len() as f64;
+        let count = self.discs.len() + self.balls.len();
+        let o = self.centres().map(|d| d.0).sum::<DVec3>() / count as f64;
         let q = p - o;
         let mut best = f64::NEG_INFINITY;
         for v in dirs {
@@ -80,14 +89,14 @@ impl Convex {
                 .discs
                 .iter()
                 .map(|(c, r)| (*c - o).dot(*v) + r * across)
+                .chain(self.balls.iter().map(|(c, r)| (*c - o).dot(*v) + r))
                 .fold(f64::NEG_INFINITY, f64::max)
                 + self.ball;
             best = best.max(v.dot(q) - h);
         }
         let reach = self
-            .discs
-            .iter()
-            .map(|(c, r)| (*c - o).length() + r)
+            .centres()
+            .map(|(c, r)| (c - o).length() + r)
             .fold(0.0, f64::max);
         // v ↦ v·q − h(v) is Lipschitz with constant |q| + reach + ball.
         (best, (q.length() + reach + self.ball) * delta)
@@ -104,6 +113,14 @@ impl Convex {
             .discs
             .iter()
             .fold(DVec3::NEG_INFINITY, |m, (c, r)| m.max(*c + grow(*r)));
+        let lo = self
+            .balls
+            .iter()
+            .fold(lo, |m, (c, r)| m.min(*c - (*r + self.ball)));
+        let hi = self
+            .balls
+            .iter()
+            .fold(hi, |m, (c, r)| m.max(*c + (*r + self.ball)));
         (lo, hi)
     }
 }
@@ -167,10 +184,17 @@ pub fn compare(text: &str, sets: &[Convex], frame: DMat4, rng: &mut Rng) -> (usi
             let mut sum = DVec3::ZERO;
             let mut total = 0.0;
             for _ in 0..4 {
-                let (c, r) = set.discs[rng.below(set.discs.len())];
-                let angle = rng.range(0.0, std::f64::consts::TAU);
                 let w = rng.unit();
-                sum += w * (c + r * rng.unit() * DVec3::new(angle.cos(), angle.sin(), 0.0));
+                let point = if set.discs.is_empty() || (!set.balls.is_empty() && rng.below(2) == 0)
+                {
+                    let (c, r) = set.balls[rng.below(set.balls.len())];
+                    c + r * rng.unit() * rng.direction()
+                } else {
+                    let (c, r) = set.discs[rng.below(set.discs.len())];
+                    let angle = rng.range(0.0, std::f64::consts::TAU);
+                    c + r * rng.unit() * DVec3::new(angle.cos(), angle.sin(), 0.0)
+                };
+                sum += w * point;
                 total += w;
             }
             sum / total.max(1e-300)
