@@ -154,7 +154,13 @@ pub fn layout(
     }) {
         buffer.set_script(script);
     }
-    if let Some(language) = params.language.and_then(|l| l.parse().ok()) {
+    // Language tags are ASCII (BCP 47); rustybuzz's parser slices the text by bytes and panics
+    // inside a multi-byte character, so anything else is no language.
+    if let Some(language) = params
+        .language
+        .filter(|l| l.is_ascii())
+        .and_then(|l| l.parse().ok())
+    {
         buffer.set_language(language);
     }
     buffer.guess_segment_properties();
