@@ -2,6 +2,9 @@
 //!
 //! OpenSCAD prints the parsed expression, not the source: binary and ternary operations in
 //! parentheses, parentheses of the source dropped, numbers in their `echo` form.
+//!
+//! `qcsg_syntax::sexpr` prints the same tree for another reader: the structure of a parse, for
+//! tests and `--emit ast`. This one is user-visible output that must match OpenSCAD's text.
 
 use std::fmt::Write as _;
 

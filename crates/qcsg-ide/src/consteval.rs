@@ -3,6 +3,10 @@
 //! This is not the evaluator: it folds literals, arithmetic, vectors and references to other
 //! constant variables, and gives up (returns `None`) on anything else, within a small budget so
 //! that hover and inlay hints stay cheap on large files.
+//!
+//! It has its own small [`Value`] rather than the evaluator's: the editor layer depends on syntax
+//! and sema only (the layering test in `qcsg-driver` holds it to that), and a hover needs none of
+//! the evaluator's ranges, function values or shared, scope-bound storage.
 
 use std::fmt;
 
