@@ -183,6 +183,10 @@ impl Formatter {
         let Item::Token(tok) = item else { return true };
         let Some(prev) = self.prev else { return false };
         let Item::Token(prev) = prev else { return true };
+        // `2 .x` written `2.x` would lex as the number `2.` and then `x`.
+        if tok == Tok::Dot && prev == Tok::Number {
+            return true;
+        }
         if matches!(
             tok,
             Tok::RParen | Tok::RBracket | Tok::Comma | Tok::Semi | Tok::Dot

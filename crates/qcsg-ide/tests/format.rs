@@ -108,6 +108,8 @@ fn style_examples() {
             "include <lib.scad>\nx = v.x;\n",
         ),
         ("x = 1;   // note\n", "x = 1;   // note\n"),
+        // A member of a number keeps its space: `2.t` would lex as `2.` and `t`.
+        ("x=[2 .t];", "x = [2 .t];\n"),
         ("a = [\n1,\n2\n];", "a = [\n    1,\n    2\n];\n"),
     ];
     for (input, expected) in cases {
