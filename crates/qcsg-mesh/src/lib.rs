@@ -23,9 +23,9 @@ mod polyhedron;
 pub use closest::closest_point_on_triangle;
 pub use drawing::{CurvedPiece, DrawingRegion, Op, RegionError, Step, drawing_region};
 pub use formats::{
-    Arc, Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingLimits, DrawingOptions,
-    DrawingPath, DrawingWarning, Edge, ReadError, ReadLimits, read_3mf, read_dxf, read_off,
-    read_stl,
+    Arc, Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingEllipse, DrawingLimits,
+    DrawingOptions, DrawingPath, DrawingWarning, Edge, EllipticArc, ReadError, ReadLimits,
+    read_3mf, read_dxf, read_off, read_stl,
 };
 pub use hull::{ConvexHull, HullError, HullFace, convex_hull, convex_hull_2d};
 pub use polygon::curved;

@@ -1,12 +1,52 @@
-//! A drawing's exact region against an independent even–odd count over its exact edges, arcs and
-//! circles, on drawings written here and on OpenSCAD's example drawings.
+//! A drawing's exact region against an independent even–odd count over its exact edges, arcs,
+//! elliptic arcs, circles and ellipses, on drawings written here, the conformance scenes'
+//! drawings, and OpenSCAD's example drawings.
 
 use std::f64::consts::TAU;
 
 use glam::DVec2;
 use qcsg_mesh::{
-    Drawing, DrawingLimits, DrawingOptions, PolygonLimits, RegionError, drawing_region, read_dxf,
+    Drawing, DrawingLimits, DrawingOptions, EllipticArc, PolygonLimits, RegionError,
+    drawing_region, read_dxf,
 };
+
+/// The coordinates of `p` in an ellipse's frame (on the unit circle for its points), and the
+/// ellipse's semi-minor axis.
+fn ellipse_local(center: DVec2, axes: [DVec2; 2], p: DVec2) -> (DVec2, f64) {
+    let [a, b] = axes;
+    let det = a.perp_dot(b);
+    let d = p - center;
+    let sum = a.length_squared() + b.length_squared();
+    let major = (0.5 * (sum + (sum * sum - 4.0 * det * det).max(0.0).sqrt())).sqrt();
+    (
+        DVec2::new(d.perp_dot(b) / det, a.perp_dot(d) / det),
+        det.abs() / major,
+    )
+}
+
+/// Crossings of the ray from `p` along +x with an elliptic arc edge, and a lower bound of the
+/// distance from `p` to its ellipse.
+fn elliptic_crossings(from: DVec2, to: DVec2, el: &EllipticArc, p: DVec2) -> (bool, f64) {
+    let [a, b] = el.axes;
+    let (local, minor) = ellipse_local(el.center, el.axes, p);
+    let near = (local.length() - 1.0).abs() * minor;
+    let (first, second) = if el.forward { (from, to) } else { (to, from) };
+    let start = el.param(first);
+    let sweep = (el.param(second) - start).rem_euclid(TAU);
+    // y(t) = c.y + a.y cos t + b.y sin t = R cos(t − φ) + c.y.
+    let (r, phi) = (a.y.hypot(b.y), b.y.atan2(a.y));
+    let k = (p.y - el.center.y) / r;
+    let mut flip = false;
+    if k.abs() < 1.0 {
+        for t in [phi + k.acos(), phi - k.acos()] {
+            let x = el.center.x + a.x * t.cos() + b.x * t.sin();
+            if x > p.x && (t - start).rem_euclid(TAU) <= sweep {
+                flip = !flip;
+            }
+        }
+    }
+    (flip, near)
+}
 
 /// Whether `angle` lies on the arc of `edge` (counter-clockwise from its first end to its second).
 fn on_arc(from: DVec2, to: DVec2, center: DVec2, ccw: bool, p: DVec2) -> bool {
@@ -26,8 +66,19 @@ fn reference(d: &Drawing, p: DVec2) -> (bool, f64) {
         inside ^= r < c.radius;
         near = near.min((r - c.radius).abs());
     }
+    for e in &d.ellipses {
+        let (local, minor) = ellipse_local(e.center, e.axes, p);
+        inside ^= local.length() < 1.0;
+        near = near.min((local.length() - 1.0).abs() * minor);
+    }
     for path in &d.paths {
         for e in &path.edges {
+            if let Some(el) = e.ellipse {
+                let (flip, distance) = elliptic_crossings(e.from, e.to, &el, p);
+                inside ^= flip;
+                near = near.min(distance);
+                continue;
+            }
             match e.arc {
                 None => {
                     let (a, b) = (e.from, e.to);
@@ -254,4 +305,98 @@ fn an_open_arc_is_its_segment_and_two_half_arcs_a_disc() {
     assert!(region.contains(DVec2::new(0.0, 1.9)));
     assert!(region.contains(DVec2::new(0.3, -1.9)));
     compare(&d, DVec2::splat(-3.0), DVec2::splat(3.0));
+}
+
+/// A drawing of the conformance scenes (`tests/openscad/dxf`).
+fn scene_drawing(name: &str) -> Drawing {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/openscad/dxf")
+        .join(name);
+    let bytes = std::fs::read(path).unwrap();
+    read_dxf(
+        &bytes,
+        &DrawingOptions::default(),
+        &DrawingLimits::default(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn ellipses_and_bulges_of_the_conformance_drawings() {
+    let d = scene_drawing("ellipses.dxf");
+    assert_eq!(d.ellipses.len(), 2);
+    compare(&d, DVec2::new(-12.0, -12.0), DVec2::new(82.0, 37.0));
+    let d = scene_drawing("bulges.dxf");
+    compare(&d, DVec2::new(-2.0, -16.0), DVec2::new(52.0, 22.0));
+}
+
+/// An ELLIPSE entity.
+fn ellipse(
+    c: [f64; 2],
+    axis: [f64; 2],
+    ratio: f64,
+    start: f64,
+    stop: f64,
+) -> (&'static str, Vec<(i32, f64)>) {
+    (
+        "ELLIPSE",
+        vec![
+            (10, c[0]),
+            (20, c[1]),
+            (11, axis[0]),
+            (21, axis[1]),
+            (40, ratio),
+            (41, start),
+            (42, stop),
+        ],
+    )
+}
+
+#[test]
+fn nested_and_touching_ellipses_and_circles() {
+    // An ellipse holding a circle holding a rotated ellipse; an elliptic hole in a square; an
+    // ellipse touching a line from outside.
+    let d = dxf(&[
+        ellipse([0.0, 0.0], [10.0, 0.0], 0.6, 0.0, TAU),
+        circle([1.0, 0.0], 4.0),
+        ellipse([1.0, 0.0], [2.0, 2.0], 0.3, 0.0, TAU),
+        line([20.0, -5.0], [30.0, -5.0]),
+        line([30.0, -5.0], [30.0, 5.0]),
+        line([30.0, 5.0], [20.0, 5.0]),
+        line([20.0, 5.0], [20.0, -5.0]),
+        ellipse([25.0, 0.0], [0.0, 4.0], 0.5, 0.0, TAU),
+        ellipse([25.0, 8.0], [4.0, 0.0], 0.75, 0.0, TAU),
+    ]);
+    let region = drawing_region(&d, &PolygonLimits::default()).unwrap();
+    assert!(region.contains(DVec2::new(8.0, 0.0)));
+    assert!(!region.contains(DVec2::new(-2.0, 0.0)), "the circle's hole");
+    assert!(region.contains(DVec2::new(1.5, 0.5)), "the island");
+    assert!(!region.contains(DVec2::new(25.0, 0.0)), "the square's hole");
+    assert!(region.contains(DVec2::new(21.0, 4.0)));
+    compare(&d, DVec2::new(-11.0, -7.0), DVec2::new(31.0, 12.0));
+}
+
+#[test]
+fn crossing_ellipses_are_an_error_naming_both() {
+    let d = dxf(&[
+        ellipse([0.0, 0.0], [10.0, 0.0], 0.3, 0.0, TAU),
+        ellipse([0.0, 0.0], [0.0, 10.0], 0.3, 0.0, TAU),
+    ]);
+    match drawing_region(&d, &PolygonLimits::default()) {
+        Err(RegionError::Crossing { piece, other, .. }) => {
+            assert_eq!((piece, other), ("the ellipse", "the ellipse"));
+        }
+        other => panic!("{other:?}"),
+    }
+    // An elliptic arc whose bulge crosses a line.
+    let d = dxf(&[
+        ellipse([0.0, 0.0], [10.0, 0.0], 0.5, 0.0, std::f64::consts::PI),
+        line([-2.0, 1.0], [2.0, 8.0]),
+        line([2.0, 8.0], [3.0, 1.0]),
+        line([3.0, 1.0], [-2.0, 1.0]),
+    ]);
+    assert!(matches!(
+        drawing_region(&d, &PolygonLimits::default()),
+        Err(RegionError::Crossing { .. })
+    ));
 }

@@ -137,8 +137,16 @@ fn lwpolyline_and_polyline_closed_by_their_flag() {
     let d = read(&dxf(&[], &lw), &all()).unwrap();
     assert_eq!(d.paths.len(), 1);
     assert!(d.paths[0].closed_in_file);
-    // The bulge is ignored, as OpenSCAD ignores it: three straight edges.
-    assert!(d.paths[0].edges.iter().all(|e| e.arc.is_none()));
+    // The bulge belongs to the vertex it follows, (4, 0): the edge from there to (0, 3) is an
+    // arc, the others straight.
+    let arcs: Vec<_> = d.paths[0]
+        .edges
+        .iter()
+        .filter(|e| e.arc.is_some())
+        .collect();
+    assert_eq!(arcs.len(), 1);
+    let ends = [arcs[0].from, arcs[0].to];
+    assert!(ends.contains(&DVec2::new(4.0, 0.0)) && ends.contains(&DVec2::new(0.0, 3.0)));
     let mut open = lw.to_vec();
     open[3] = (70, "0");
     let d = read(&dxf(&[], &open), &all()).unwrap();
@@ -317,7 +325,7 @@ fn nested_blocks_expand_and_a_cycle_is_an_error() {
 }
 
 #[test]
-fn a_block_circle_scaled_unevenly_is_kept_aside() {
+fn a_block_circle_scaled_unevenly_is_an_ellipse() {
     let blocks = [
         (0, "BLOCK"),
         (2, "c"),
@@ -329,7 +337,15 @@ fn a_block_circle_scaled_unevenly_is_kept_aside() {
     ];
     let e = insert("c", [0.0, 0.0], [2.0, 1.0], 0.0);
     let d = read(&dxf(&blocks, &pairs(&e)), &all()).unwrap();
-    assert!(d.circles.is_empty());
+    assert!(d.circles.is_empty() && d.curves.is_empty());
+    assert_eq!(d.ellipses.len(), 1);
+    assert_eq!(
+        d.ellipses[0].axes,
+        [DVec2::new(2.0, 0.0), DVec2::new(0.0, 1.0)]
+    );
+    // A zero scale flattens it: kept aside, as no region.
+    let e = insert("c", [0.0, 0.0], [0.0, 1.0], 0.0);
+    let d = read(&dxf(&blocks, &pairs(&e)), &all()).unwrap();
     assert_eq!(d.curves.len(), 1);
     let e = insert("c", [1.0, 0.0], [-2.0, 2.0], 30.0);
     let d = read(&dxf(&blocks, &pairs(&e)), &all()).unwrap();
@@ -523,4 +539,199 @@ fn many_open_chains_and_a_busy_vertex_join_in_linear_time() {
     let d = read(&dxf(&[], &pairs(&e)), &all()).unwrap();
     assert_eq!(d.paths.len(), 20_000 + 10_000);
     assert!(start.elapsed().as_secs() < 20, "{:?}", start.elapsed());
+}
+
+/// The pairs of an LWPOLYLINE through `points`, each `[x, y, bulge]`.
+fn lwpolyline(points: &[[f64; 3]], closed: bool) -> Vec<(i32, String)> {
+    let mut v = vec![
+        (0, "LWPOLYLINE".to_string()),
+        (8, "0".into()),
+        (90, points.len().to_string()),
+        (70, if closed { "1" } else { "0" }.into()),
+    ];
+    for p in points {
+        v.push((10, p[0].to_string()));
+        v.push((20, p[1].to_string()));
+        if p[2] != 0.0 {
+            v.push((42, p[2].to_string()));
+        }
+    }
+    v
+}
+
+#[test]
+fn bulges_make_arcs_with_a_warning() {
+    // A half circle (bulge 1) below the edge from (0, 0) to (10, 0); a quarter turn clockwise
+    // (bulge −tan 22.5°) from (10, 10) to (0, 10), about (5, 15).
+    let t = 22.5f64.to_radians().tan();
+    let e = lwpolyline(
+        &[
+            [0.0, 0.0, 1.0],
+            [10.0, 0.0, 0.0],
+            [10.0, 10.0, -t],
+            [0.0, 10.0, 0.0],
+        ],
+        true,
+    );
+    let d = read(&dxf(&[], &pairs(&e)), &all()).unwrap();
+    assert_eq!(d.paths.len(), 1);
+    let arcs: Vec<_> = d.paths[0]
+        .edges
+        .iter()
+        .filter_map(|e| e.arc.map(|a| (e.from, e.to, a)))
+        .collect();
+    assert_eq!(arcs.len(), 2);
+    let half = arcs
+        .iter()
+        .find(|(_, _, a)| (a.radius - 5.0).abs() < 1e-12)
+        .unwrap();
+    assert!((half.2.center - DVec2::new(5.0, 0.0)).length() < 1e-12);
+    let mid = half.2.midpoint(half.0, half.1);
+    assert!((mid - DVec2::new(5.0, -5.0)).length() < 1e-9, "{mid}");
+    let quarter = arcs
+        .iter()
+        .find(|(_, _, a)| (a.radius - 50f64.sqrt()).abs() < 1e-9)
+        .unwrap();
+    assert!((quarter.2.center - DVec2::new(5.0, 15.0)).length() < 1e-9);
+    let mid = quarter.2.midpoint(quarter.0, quarter.1);
+    assert!(
+        (mid - DVec2::new(5.0, 15.0 - 50f64.sqrt())).length() < 1e-9,
+        "{mid}"
+    );
+    assert!(
+        d.warnings
+            .iter()
+            .any(|w| matches!(w, DrawingWarning::Bulges { count: 2, .. })),
+        "{:?}",
+        d.warnings
+    );
+    // A POLYLINE's VERTEX bulges: two half circles make a full disc's outline.
+    let mut e = vec![
+        (0, "POLYLINE".to_string()),
+        (8, "0".into()),
+        (66, "1".into()),
+        (70, "1".into()),
+    ];
+    for x in ["0", "10"] {
+        e.extend([
+            (0, "VERTEX".to_string()),
+            (8, "0".into()),
+            (10, x.into()),
+            (20, "0".into()),
+            (42, "1".into()),
+        ]);
+    }
+    e.push((0, "SEQEND".into()));
+    let d = read(&dxf(&[], &pairs(&e)), &all()).unwrap();
+    assert_eq!(d.paths[0].edges.len(), 2);
+    assert!(d.paths[0].edges.iter().all(|e| e.arc.is_some()));
+    // No bulge, no arc and no warning.
+    let e = lwpolyline(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], true);
+    let d = read(&dxf(&[], &pairs(&e)), &all()).unwrap();
+    assert!(d.paths[0].edges.iter().all(|e| e.arc.is_none()) && d.warnings.is_empty());
+}
+
+fn ellipse(
+    c: [f64; 2],
+    axis: [f64; 2],
+    ratio: f64,
+    params: Option<[f64; 2]>,
+) -> Vec<(i32, String)> {
+    let mut v = vec![
+        (0, "ELLIPSE".to_string()),
+        (8, "0".into()),
+        (10, c[0].to_string()),
+        (20, c[1].to_string()),
+        (11, axis[0].to_string()),
+        (21, axis[1].to_string()),
+        (40, ratio.to_string()),
+    ];
+    if let Some([s, e]) = params {
+        v.push((41, s.to_string()));
+        v.push((42, e.to_string()));
+    }
+    v
+}
+
+#[test]
+fn ellipses_full_and_partial_stay_exact() {
+    use std::f64::consts::{PI, TAU};
+    // Full: no parameters (a whole turn by default), and 0 to 2π.
+    for params in [None, Some([0.0, TAU])] {
+        let e = ellipse([1.0, 2.0], [3.0, 4.0], 0.5, params);
+        let d = read(&dxf(&[], &pairs(&e)), &all()).unwrap();
+        assert_eq!(d.ellipses.len(), 1, "{params:?}");
+        assert_eq!(d.ellipses[0].center, DVec2::new(1.0, 2.0));
+        assert_eq!(
+            d.ellipses[0].axes,
+            [DVec2::new(3.0, 4.0), DVec2::new(-2.0, 1.5)]
+        );
+    }
+    // Half, from parameter 0 to π: an open path closed by its chord, with the arc's points on
+    // the ellipse and above the major axis.
+    let e = ellipse([0.0, 0.0], [8.0, 0.0], 0.5, Some([0.0, PI]));
+    let d = read(&dxf(&[], &pairs(&e)), &all()).unwrap();
+    assert_eq!(d.paths.len(), 1);
+    let edge = d.paths[0]
+        .edges
+        .iter()
+        .find(|e| e.ellipse.is_some())
+        .unwrap();
+    let el = edge.ellipse.unwrap();
+    let mid = el.midpoint(edge.from, edge.to);
+    assert!((mid - DVec2::new(0.0, 4.0)).length() < 1e-9, "{mid}");
+    assert!((el.param(DVec2::new(0.0, -4.0)) + PI / 2.0).abs() < 1e-12);
+    assert!(
+        d.warnings
+            .iter()
+            .any(|w| matches!(w, DrawingWarning::OpenPath { .. }))
+    );
+    // Origin and scale move and scale it as a whole, with a warning that OpenSCAD differs.
+    let options = DrawingOptions {
+        origin: DVec2::new(1.0, 1.0),
+        scale: 2.0,
+        ..all()
+    };
+    let e = ellipse([3.0, 4.0], [10.0, 0.0], 0.5, None);
+    let d = read(&dxf(&[], &pairs(&e)), &options).unwrap();
+    assert_eq!(d.ellipses[0].center, DVec2::new(4.0, 6.0));
+    assert_eq!(
+        d.ellipses[0].axes,
+        [DVec2::new(20.0, 0.0), DVec2::new(0.0, 10.0)]
+    );
+    assert!(
+        d.warnings
+            .iter()
+            .any(|w| matches!(w, DrawingWarning::EllipseOptions { .. }))
+    );
+    // No sweep draws nothing, as OpenSCAD.
+    let e = ellipse([0.0, 0.0], [8.0, 0.0], 0.5, Some([1.0, 1.0]));
+    let d = read(&dxf(&[], &pairs(&e)), &all()).unwrap();
+    assert!(d.ellipses.is_empty() && d.paths.is_empty());
+}
+
+#[test]
+fn malformed_ellipses_are_errors_at_their_line() {
+    for (e, needle) in [
+        (ellipse([0.0, 0.0], [1.0, 0.0], 0.0, None), "axis ratio 0"),
+        (
+            ellipse([0.0, 0.0], [1.0, 0.0], -0.5, None),
+            "axis ratio -0.5",
+        ),
+        (ellipse([0.0, 0.0], [0.0, 0.0], 0.5, None), "major axis"),
+        (
+            vec![
+                (0, "ELLIPSE".to_string()),
+                (8, "0".into()),
+                (10, "0".into()),
+                (20, "0".into()),
+                (40, "0.5".into()),
+            ],
+            "major axis",
+        ),
+    ] {
+        let error = read(&dxf(&[], &pairs(&e)), &all()).unwrap_err();
+        let text = error.to_string();
+        assert!(text.contains(needle) && text.contains("line 21"), "{text}");
+    }
 }

@@ -2,9 +2,10 @@
 //!
 //! [`qcsg_mesh::read_dxf`] reads the drawing with OpenSCAD 2021.01's meaning (the `layer`, then
 //! `origin` and `scale`); [`qcsg_mesh::drawing_region`] orders its chord polygons, discs and
-//! circular segments so that each joins the region as a union or a difference. Here each piece
-//! becomes a z-invariant solid: the polygon's cells as `polygon` builds them, a disc as a
-//! cylinder about z, a segment as that cylinder cut by its chord's half-space. Drawings whose
+//! circular segments (and their elliptic kin) so that each joins the region as a union or a
+//! difference. Here each piece becomes a z-invariant solid: the polygon's cells as `polygon`
+//! builds them, a disc as a cylinder about z, an elliptic disc as an elliptic cylinder, a segment
+//! as that cylinder cut by its chord's half-space. Drawings whose
 //! curves cross in ways that need more than that are E0301 at the `file` argument, naming the
 //! DXF lines; nothing is tessellated.
 
@@ -199,23 +200,48 @@ fn build_region(
     Ok(node)
 }
 
-/// A disc (a cylinder about z) or a circular segment (that cylinder cut by the chord's
-/// half-space), with its box; `None` when the radius or the chord is not representable.
+/// A disc (a cylinder about z), an elliptic disc (an elliptic cylinder) or a segment of either
+/// (the cylinder cut by the chord's half-space), with its box; `None` when the size or the chord
+/// is not representable.
 fn piece_node(dag: &mut qcsg_csg::Dag, piece: &CurvedPiece, source: Source) -> Option<NodeId> {
-    let (center, radius) = match *piece {
-        CurvedPiece::Disc { center, radius } | CurvedPiece::Segment { center, radius, .. } => {
-            (center, radius)
-        }
+    let (quadric, center, half) = match *piece {
+        CurvedPiece::Disc { center, radius } | CurvedPiece::Segment { center, radius, .. } => (
+            Quadric::cylinder(center.extend(0.0), DVec3::Z, radius)?,
+            center,
+            DVec2::splat(radius),
+        ),
+        CurvedPiece::Ellipse { center, axes }
+        | CurvedPiece::EllipticSegment { center, axes, .. } => elliptic_cylinder(center, axes)?,
     };
-    let bounds = column(center - radius, center + radius);
-    let disc = Quadric::cylinder(center.extend(0.0), DVec3::Z, radius)?;
-    let disc = dag.bounded_leaf(disc, source, bounds);
+    let bounds = column(center - half, center + half);
+    let disc = dag.bounded_leaf(quadric, source, bounds);
     match piece {
-        CurvedPiece::Disc { .. } => Some(disc),
-        CurvedPiece::Segment { chord, .. } => {
+        CurvedPiece::Disc { .. } | CurvedPiece::Ellipse { .. } => Some(disc),
+        CurvedPiece::Segment { chord, .. } | CurvedPiece::EllipticSegment { chord, .. } => {
             let side = dag.leaf(half_space(chord)?, source);
             let node = dag.intersection([disc.into(), side.into()], source);
             Some(dag.bounded(node, bounds))
         }
     }
+}
+
+/// The elliptic cylinder about z through the ellipse `center + axes[0] cos t + axes[1] sin t`,
+/// `|E⁻¹ (p − center)|² − 1` for `E = [axes[0] axes[1]]`, with the ellipse's centre and
+/// half-size; `None` when the axes are (nearly) parallel or not finite.
+fn elliptic_cylinder(center: DVec2, axes: [DVec2; 2]) -> Option<(Quadric, DVec2, DVec2)> {
+    let [a, b] = axes;
+    let det = a.perp_dot(b);
+    if !det.is_finite() || det.abs() <= 1e-12 * a.length() * b.length() {
+        return None;
+    }
+    // The rows of E⁻¹; the quadric's matrix is their outer products' sum.
+    let r0 = DVec2::new(b.y, -b.x) / det;
+    let r1 = DVec2::new(-a.y, a.x) / det;
+    let xx = r0.x * r0.x + r1.x * r1.x;
+    let xy = r0.x * r0.y + r1.x * r1.y;
+    let yy = r0.y * r0.y + r1.y * r1.y;
+    let matrix = [[xx, xy, 0.0], [xy, yy, 0.0], [0.0, 0.0, 0.0]];
+    let quadric = Quadric::from_matrix(center.extend(0.0), &matrix, DVec3::ZERO, -1.0)?;
+    let half = DVec2::new(a.x.hypot(b.x), a.y.hypot(b.y));
+    Some((quadric, center, half))
 }

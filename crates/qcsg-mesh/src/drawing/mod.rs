@@ -1,11 +1,15 @@
-//! A drawing's region with OpenSCAD's fill rule, exactly: the even–odd region of all its paths
-//! and circles, as straight cells plus discs and circular segments combined in order.
+//! A drawing's region with OpenSCAD's fill rule, exactly: the even–odd region of all its paths,
+//! circles and ellipses, as straight cells plus discs, elliptic discs and their segments combined
+//! in order.
 //!
 //! A path with arcs bounds the same even–odd region as its chord polygon XOR, for each arc, the
-//! circular segment between the arc and its chord (the closed curve arc + chord bounds exactly
-//! that segment). So the region is `P ⊕ C₁ ⊕ … ⊕ Cₙ`: `P` the even–odd region of every chord
-//! polygon ([`polygon_cells`]), `Cᵢ` the full circles' discs and the arcs' segments (a disc cut by
-//! the chord's half-plane on the arc's side).
+//! segment between the arc and its chord (the closed curve arc + chord bounds exactly that
+//! segment). So the region is `P ⊕ C₁ ⊕ … ⊕ Cₙ`: `P` the even–odd region of every chord polygon
+//! ([`polygon_cells`]), `Cᵢ` the full circles' and ellipses' discs and the arcs' segments (a disc
+//! cut by the chord's half-plane on the arc's side). Elliptic pieces are handled in the frame of
+//! their conjugate semi-diameters, where the ellipse is the unit circle; where an elliptic arc
+//! meets another piece, whether it enters that piece is found by minimising over the arc's
+//! parameter (sampled, then refined), since the exact answer is the root of a quartic.
 //!
 //! XOR is not a boolean qcsg can keep small, but it needs none when each piece, in its turn,
 //! lies wholly inside or wholly outside the region built before it: `R₀ = P`, `Rₖ = Rₖ₋₁ − Cₖ`
@@ -30,7 +34,7 @@ use std::fmt;
 use glam::DVec2;
 
 use self::grid::BoxGrid;
-use crate::formats::{Drawing, DrawingPath};
+use crate::formats::{Drawing, DrawingPath, EllipticArc};
 use crate::polygon::{HalfPlane, Polygon, PolygonError, PolygonLimits, polygon_cells};
 
 /// A curved piece of a drawing's region.
@@ -52,32 +56,112 @@ pub enum CurvedPiece {
         /// The chord's half-plane, holding the arc.
         chord: HalfPlane,
     },
+    /// An elliptic disc: the points `center + axes[0] x + axes[1] y` with `x² + y² < 1`.
+    Ellipse {
+        /// The centre.
+        center: DVec2,
+        /// Two conjugate semi-diameters (linearly independent).
+        axes: [DVec2; 2],
+    },
+    /// An elliptic segment: the elliptic disc cut by the half-plane of its chord on the arc's
+    /// side.
+    EllipticSegment {
+        /// The ellipse's centre.
+        center: DVec2,
+        /// Its conjugate semi-diameters.
+        axes: [DVec2; 2],
+        /// The chord's half-plane, holding the arc.
+        chord: HalfPlane,
+    },
+}
+
+/// An ellipse's frame: its centre and two conjugate semi-diameters, the images of the unit
+/// circle's `x` and `y` radii (a circle's are two perpendicular radii).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Frame {
+    center: DVec2,
+    axes: [DVec2; 2],
+}
+
+impl Frame {
+    fn det(&self) -> f64 {
+        self.axes[0].perp_dot(self.axes[1])
+    }
+
+    /// The coordinates of `p` in the frame (on the unit circle for points of the ellipse).
+    fn local(&self, p: DVec2) -> DVec2 {
+        let [a, b] = self.axes;
+        let (d, det) = (p - self.center, self.det());
+        DVec2::new(d.perp_dot(b) / det, a.perp_dot(d) / det)
+    }
+
+    /// The point of local coordinates `l`.
+    fn point(&self, l: DVec2) -> DVec2 {
+        self.center + self.axes[0] * l.x + self.axes[1] * l.y
+    }
+
+    /// Half the size of the ellipse's box along x and y.
+    fn half_extent(&self) -> DVec2 {
+        let [a, b] = self.axes;
+        DVec2::new(a.x.hypot(b.x), a.y.hypot(b.y))
+    }
+
+    /// The semi-minor axis: the least distance from the centre to the ellipse.
+    fn min_scale(&self) -> f64 {
+        let [a, b] = self.axes;
+        let sum = a.length_squared() + b.length_squared();
+        let det = self.det().abs();
+        let major = (0.5 * (sum + (sum * sum - 4.0 * det * det).max(0.0).sqrt())).sqrt();
+        if major > 0.0 { det / major } else { 0.0 }
+    }
+
+    /// The half-plane's function in local coordinates: `h.value(point(l)) = n · l + k`.
+    fn local_line(&self, h: HalfPlane) -> (DVec2, f64) {
+        let [a, b] = self.axes;
+        (
+            DVec2::new(h.normal.dot(a), h.normal.dot(b)),
+            h.value(self.center),
+        )
+    }
 }
 
 impl CurvedPiece {
-    fn center(&self) -> DVec2 {
+    /// The circle's centre and radius, for a disc or circular segment.
+    fn circle(&self) -> Option<(DVec2, f64)> {
         match *self {
-            Self::Disc { center, .. } | Self::Segment { center, .. } => center,
+            Self::Disc { center, radius } | Self::Segment { center, radius, .. } => {
+                Some((center, radius))
+            }
+            Self::Ellipse { .. } | Self::EllipticSegment { .. } => None,
         }
     }
 
-    fn radius(&self) -> f64 {
+    fn frame(&self) -> Frame {
         match *self {
-            Self::Disc { radius, .. } | Self::Segment { radius, .. } => radius,
+            Self::Disc { center, radius } | Self::Segment { center, radius, .. } => Frame {
+                center,
+                axes: [DVec2::X * radius, DVec2::Y * radius],
+            },
+            Self::Ellipse { center, axes } | Self::EllipticSegment { center, axes, .. } => {
+                Frame { center, axes }
+            }
         }
     }
 
     fn chord(&self) -> Option<HalfPlane> {
         match *self {
-            Self::Disc { .. } => None,
-            Self::Segment { chord, .. } => Some(chord),
+            Self::Disc { .. } | Self::Ellipse { .. } => None,
+            Self::Segment { chord, .. } | Self::EllipticSegment { chord, .. } => Some(chord),
         }
     }
 
     /// Whether `p` lies in the open piece.
     pub fn contains(&self, p: DVec2) -> bool {
-        (p - self.center()).length_squared() < self.radius() * self.radius()
-            && self.chord().is_none_or(|h| h.value(p) < 0.0)
+        let in_conic = match self.circle() {
+            Some((center, radius)) => (p - center).length_squared() < radius * radius,
+            None => self.frame().local(p).length_squared() < 1.0,
+        };
+        in_conic && self.chord().is_none_or(|h| h.value(p) < 0.0)
     }
 }
 
@@ -166,7 +250,7 @@ impl fmt::Display for RegionError {
             ),
             Self::TooComplex { line } => write!(
                 f,
-                "too many arcs and circles to compose exactly (stopped at DXF line {line})"
+                "too many arcs, circles and ellipses to compose exactly (stopped at DXF line {line})"
             ),
             Self::Crossing {
                 piece,
@@ -192,7 +276,8 @@ impl std::error::Error for RegionError {}
 #[derive(Clone)]
 struct Item {
     piece: CurvedPiece,
-    /// The circle's arc as an angle interval `(start, sweep)`, counter-clockwise.
+    /// The conic's arc as a parameter interval `(start, sweep)` in its frame (for a circle, the
+    /// angle, counter-clockwise).
     arc: (f64, f64),
     /// The chord's position among the straight edges, for a segment.
     own_edge: Option<usize>,
@@ -201,10 +286,11 @@ struct Item {
 }
 
 impl Item {
-    /// A box around the piece (its circle's).
+    /// A box around the piece (its conic's).
     fn bounds(&self) -> (DVec2, DVec2) {
-        let (c, r) = (self.piece.center(), self.piece.radius());
-        (c - r, c + r)
+        let frame = self.piece.frame();
+        let e = frame.half_extent();
+        (frame.center - e, frame.center + e)
     }
 }
 
@@ -249,11 +335,33 @@ pub fn drawing_region(
             name: "the circle",
         });
     }
+    for e in &drawing.ellipses {
+        items.push(Item {
+            piece: CurvedPiece::Ellipse {
+                center: e.center,
+                axes: e.axes,
+            },
+            arc: (0.0, TAU),
+            own_edge: None,
+            line: e.line,
+            name: "the ellipse",
+        });
+    }
     let mut edge_index = 0;
     for path in &drawing.paths {
         for e in &path.edges {
             let own = edge_index;
             edge_index += 1;
+            if let Some(ellipse) = e.ellipse {
+                if let Some(item) = elliptic_item(e.from, e.to, &ellipse, tol) {
+                    items.push(Item {
+                        own_edge: Some(own),
+                        line: e.line,
+                        ..item
+                    });
+                }
+                continue;
+            }
             let Some(arc) = e.arc else { continue };
             let mid = arc.midpoint(e.from, e.to);
             // A segment thinner than the tolerance is its chord.
@@ -407,7 +515,7 @@ fn chord_polygons(paths: &[DrawingPath]) -> (Vec<DVec2>, Vec<Vec<usize>>, Vec<St
                 a: e.from,
                 b: e.to,
                 line: e.line,
-                chord: e.arc.is_some(),
+                chord: e.arc.is_some() || e.ellipse.is_some(),
             });
         }
         if path.edges.len() >= 3 {
@@ -428,6 +536,15 @@ fn tolerance(points: &[DVec2], drawing: &Drawing) -> f64 {
         lo = lo.min(c.center - c.radius);
         hi = hi.max(c.center + c.radius);
     }
+    for e in &drawing.ellipses {
+        let half = Frame {
+            center: e.center,
+            axes: e.axes,
+        }
+        .half_extent();
+        lo = lo.min(e.center - half);
+        hi = hi.max(e.center + half);
+    }
     if !lo.is_finite() || !hi.is_finite() {
         return 0.0;
     }
@@ -447,9 +564,11 @@ fn obstacle(
     near: &Near,
     tol: f64,
 ) -> Option<(&'static str, usize)> {
-    let c = item.piece.center();
-    let r = item.piece.radius() - tol;
-    if r <= 0.0 {
+    // In the piece's frame its conic is the unit circle, shrunk by the tolerance (measured
+    // along the semi-minor axis, so at least that much everywhere).
+    let frame = item.piece.frame();
+    let r = 1.0 - tol / frame.min_scale();
+    if r.is_nan() || r <= 0.0 {
         return None;
     }
     for &k in &near.straights {
@@ -472,7 +591,7 @@ fn obstacle(
             }
         }
         let (a, b) = (s.a + (s.b - s.a) * t0, s.a + (s.b - s.a) * t1);
-        if distance_to_segment(c, a, b) < r {
+        if distance_to_segment(DVec2::ZERO, frame.local(a), frame.local(b)) < r {
             let what = match (s.chord, s.line) {
                 (true, _) => "the chord of the arc",
                 (false, 0) => "the straight edge",
@@ -499,10 +618,13 @@ fn distance_to_segment(c: DVec2, a: DVec2, b: DVec2) -> f64 {
     (a + d * t - c).length()
 }
 
-/// Whether `item`'s arc (or circle) enters the interior of `piece`, by more than `tol`.
+/// Whether `item`'s arc (or circle, or ellipse) enters the interior of `piece`, by more than
+/// `tol`.
 fn arc_enters(item: &Item, piece: &CurvedPiece, tol: f64) -> bool {
-    let (c2, r2) = (item.piece.center(), item.piece.radius());
-    let (c, rho) = (piece.center(), piece.radius() - tol);
+    let (Some((c2, r2)), Some((c, radius))) = (item.piece.circle(), piece.circle()) else {
+        return conic_arc_enters(item, piece, tol);
+    };
+    let rho = radius - tol;
     if rho <= 0.0 {
         return false;
     }
@@ -539,6 +661,115 @@ fn arc_enters(item: &Item, piece: &CurvedPiece, tol: f64) -> bool {
     })
 }
 
+/// Samples along an arc before the least ones are refined: enough that two crossings of a conic
+/// (at most four in all) are rarely missed between samples, and the refinement finds the rest.
+const ARC_SAMPLES: usize = 256;
+
+/// [`arc_enters`] where either conic is an ellipse: the least, over the arc's parameter, of
+/// `max(|local|² − ρ², chord)`, found on a grid of samples and refined about each local least
+/// sample by golden-section search; the arc enters where that is negative.
+fn conic_arc_enters(item: &Item, piece: &CurvedPiece, tol: f64) -> bool {
+    let frame = piece.frame();
+    let scale = frame.min_scale();
+    let rho = 1.0 - tol / scale;
+    if rho.is_nan() || rho <= 0.0 {
+        return false;
+    }
+    let curve = item.piece.frame();
+    let chord = piece.chord().map(|h| {
+        let length = h.normal.length();
+        (h, -tol * length, length * scale)
+    });
+    let value = |t: f64| {
+        let p = curve.point(DVec2::from_angle(t));
+        let inside = frame.local(p).length_squared() - rho * rho;
+        match chord {
+            None => inside,
+            Some((h, limit, unit)) => inside.max((h.value(p) - limit) / unit),
+        }
+    };
+    let (start, sweep) = item.arc;
+    let step = sweep / ARC_SAMPLES as f64;
+    let samples: Vec<f64> = (0..=ARC_SAMPLES)
+        .map(|k| value(start + step * k as f64))
+        .collect();
+    if samples.iter().any(|&v| v < 0.0) {
+        return true;
+    }
+    (0..=ARC_SAMPLES).any(|k| {
+        let left = if k > 0 { samples[k - 1] } else { f64::INFINITY };
+        let right = samples.get(k + 1).copied().unwrap_or(f64::INFINITY);
+        if samples[k] > left || samples[k] > right {
+            return false;
+        }
+        let t = start + step * k as f64;
+        let (lo, hi) = ((t - step).max(start), (t + step).min(start + sweep));
+        golden_minimum(&value, lo, hi) < 0.0
+    })
+}
+
+/// The least value of `f` on `[lo, hi]` that golden-section search finds (exact for a function
+/// with one minimum there, up to the interval's rounding).
+fn golden_minimum(f: &impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+    let ratio = 0.5 * (5f64.sqrt() - 1.0);
+    let mut x1 = hi - ratio * (hi - lo);
+    let mut x2 = lo + ratio * (hi - lo);
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    let mut least = f1.min(f2);
+    for _ in 0..60 {
+        if f1 < f2 {
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - ratio * (hi - lo);
+            f1 = f(x1);
+        } else {
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + ratio * (hi - lo);
+            f2 = f(x2);
+        }
+        least = least.min(f1).min(f2);
+        if least < 0.0 {
+            break;
+        }
+    }
+    least
+}
+
+/// The segment piece of an elliptic arc edge, as an item (its edge and line set by the caller);
+/// `None` when it is thinner than the tolerance (its chord is the edge then).
+fn elliptic_item(from: DVec2, to: DVec2, ellipse: &EllipticArc, tol: f64) -> Option<Item> {
+    let mid = ellipse.midpoint(from, to);
+    let chord = HalfPlane::left_of(from, to);
+    let sagitta = chord.value(mid).abs() / chord.normal.length();
+    if sagitta.is_nan() || sagitta <= tol {
+        return None;
+    }
+    let chord = if chord.value(mid) < 0.0 {
+        chord
+    } else {
+        chord.flipped()
+    };
+    let (first, second) = if ellipse.forward {
+        (from, to)
+    } else {
+        (to, from)
+    };
+    let start = ellipse.param(first);
+    let sweep = (ellipse.param(second) - start).rem_euclid(TAU);
+    Some(Item {
+        piece: CurvedPiece::EllipticSegment {
+            center: ellipse.center,
+            axes: ellipse.axes,
+            chord,
+        },
+        arc: (start, if sweep == 0.0 { TAU } else { sweep }),
+        own_edge: None,
+        line: 0,
+        name: "the elliptic arc",
+    })
+}
+
 /// The intersection of two counter-clockwise angle intervals `(start, sweep)`.
 fn intersect(a: (f64, f64), b: (f64, f64)) -> Vec<(f64, f64)> {
     let t = (b.0 - a.0).rem_euclid(TAU);
@@ -553,59 +784,71 @@ fn intersect(a: (f64, f64), b: (f64, f64)) -> Vec<(f64, f64)> {
     out
 }
 
+/// The piece's area: the frame's determinant times the area of its image in the unit circle.
 fn area(piece: &CurvedPiece) -> f64 {
-    match *piece {
-        CurvedPiece::Disc { radius, .. } => std::f64::consts::PI * radius * radius,
-        CurvedPiece::Segment {
-            center,
-            radius,
-            chord,
-        } => {
+    let frame = piece.frame();
+    let unit = match piece.chord() {
+        None => std::f64::consts::PI,
+        Some(chord) => {
             // The segment's area from the chord's distance to the centre (signed: positive when
             // the centre is outside the segment's half-plane).
-            let h = (chord.value(center) / chord.normal.length()).clamp(-radius, radius);
-            let theta = 2.0 * (h / radius).acos();
-            0.5 * radius * radius * (theta - theta.sin())
+            let (n, k) = frame.local_line(chord);
+            let h = (k / n.length()).clamp(-1.0, 1.0);
+            let theta = 2.0 * h.acos();
+            0.5 * (theta - theta.sin())
         }
-    }
+    };
+    frame.det().abs() * unit
 }
 
 /// A point well inside the piece, where the parity is counted: among a few candidates inside it
 /// (its centre and a ring for a disc; points between chord and arc for a segment), the one
 /// farthest from every straight edge (chords included) and every circle applied before it.
 fn deep_point(piece: &CurvedPiece, straights: &[Straight], before: &[Item], near: &Near) -> DVec2 {
-    let (center, radius) = (piece.center(), piece.radius());
-    let mut candidates = Vec::new();
+    // Candidates are laid out in the piece's frame, where its conic is the unit circle.
+    let frame = piece.frame();
+    let mut local = Vec::new();
     match piece.chord() {
         None => {
-            candidates.push(center);
+            local.push(DVec2::ZERO);
             for k in 0..16 {
                 let a = 0.3 + k as f64 * TAU / 16.0;
-                candidates.push(center + DVec2::from_angle(a) * (0.5 * radius));
+                local.push(DVec2::from_angle(a) * 0.5);
             }
         }
         Some(chord) => {
             // `n` points away from the segment; the chord's line is at signed distance `h` from
-            // the centre along it, the arc's farthest point at `radius` against it.
-            let n = chord.normal / chord.normal.length();
-            let h = chord.value(center) / chord.normal.length();
-            let (on_chord, on_arc) = (center - n * h, center - n * radius);
+            // the centre along it, the arc's farthest point at 1 against it.
+            let (normal, k) = frame.local_line(chord);
+            let n = normal / normal.length();
+            let h = k / normal.length();
+            let (on_chord, on_arc) = (-n * h, -n);
             for f in [0.5, 0.3, 0.7, 0.15, 0.85] {
                 let axis = on_chord + (on_arc - on_chord) * f;
                 for g in [0.0, 0.3, -0.3, 0.6, -0.6] {
-                    let p = axis + n.perp() * (g * radius);
-                    if piece.contains(p) {
-                        candidates.push(p);
-                    }
+                    local.push(axis + n.perp() * g);
                 }
             }
-            if candidates.is_empty() {
-                candidates.push(0.5 * (on_chord + on_arc));
-            }
+            local.push(0.5 * (on_chord + on_arc));
         }
     }
+    let mut candidates: Vec<DVec2> = local.iter().map(|&l| frame.point(l)).collect();
+    let fallback = candidates.pop().unwrap_or(frame.center);
+    candidates.retain(|&p| piece.contains(p));
+    if candidates.is_empty() {
+        candidates.push(fallback);
+    }
+    // How far `p` is from a conic's boundary, at least: for a circle exactly, for an ellipse its
+    // offset in the frame times the semi-minor axis.
+    let from_conic = |conic: &CurvedPiece, p: DVec2| match conic.circle() {
+        Some((c, r)) => ((p - c).length() - r).abs(),
+        None => {
+            let f = conic.frame();
+            (f.local(p).length() - 1.0).abs() * f.min_scale()
+        }
+    };
     let clearance = |p: DVec2| {
-        let mut d = ((p - center).length() - radius).abs();
+        let mut d = from_conic(piece, p);
         if let Some(h) = piece.chord() {
             d = d.min(h.value(p).abs() / h.normal.length());
         }
@@ -615,9 +858,7 @@ fn deep_point(piece: &CurvedPiece, straights: &[Straight], before: &[Item], near
             d = d.min(distance_to_segment(p, s.a, s.b));
         }
         for &j in &near.done {
-            let item = &before[j];
-            let c = item.piece.center();
-            d = d.min(((p - c).length() - item.piece.radius()).abs());
+            d = d.min(from_conic(&before[j].piece, p));
         }
         d
     };
@@ -625,5 +866,5 @@ fn deep_point(piece: &CurvedPiece, straights: &[Straight], before: &[Item], near
         .into_iter()
         .map(|p| (clearance(p), p))
         .max_by(|a, b| a.0.total_cmp(&b.0))
-        .map_or(center, |(_, p)| p)
+        .map_or(frame.center, |(_, p)| p)
 }

@@ -17,8 +17,8 @@ use std::fmt;
 use glam::DVec3;
 
 pub use dxf::{
-    Arc, Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingLimits, DrawingOptions,
-    DrawingPath, DrawingWarning, Edge, read_dxf,
+    Arc, Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingEllipse, DrawingLimits,
+    DrawingOptions, DrawingPath, DrawingWarning, Edge, EllipticArc, read_dxf,
 };
 pub use off::read_off;
 pub use stl::read_stl;

@@ -1,4 +1,4 @@
-//! Joining segments and arcs end to end into paths, as OpenSCAD 2021.01 joins them.
+//! Joining segments, arcs and elliptic arcs end to end into paths, as OpenSCAD 2021.01 joins them.
 //!
 //! End points are matched on a grid: a point falls in the cell `round(p / res)`, or, when that
 //! cell is empty, in the nearest occupied neighbouring cell (OpenSCAD's `Grid2d::align`); points
@@ -18,7 +18,7 @@ use std::collections::{BinaryHeap, HashMap};
 use glam::DVec2;
 
 use super::parse::Piece;
-use super::{Arc, Drawing, DrawingPath, DrawingWarning, Edge};
+use super::{Arc, Drawing, DrawingPath, DrawingWarning, Edge, EllipticArc};
 
 /// OpenSCAD's `GRID_COARSE`.
 const GRID: f64 = 1.0 / 1024.0;
@@ -69,15 +69,19 @@ impl Grid {
 struct Link {
     ends: [usize; 2],
     arc: Option<Arc>,
+    ellipse: Option<EllipticArc>,
     line: usize,
 }
 
-/// Joins `pieces` (segments and arcs only) into the drawing's paths.
+/// Joins `pieces` (segments, arcs and elliptic arcs only) into the drawing's paths.
 pub(super) fn join(pieces: &[Piece], drawing: &mut Drawing) {
     let mut lo = DVec2::splat(f64::INFINITY);
     let mut hi = DVec2::splat(f64::NEG_INFINITY);
     for piece in pieces {
-        if let Piece::Segment { from, to, .. } | Piece::Arc { from, to, .. } = piece {
+        if let Piece::Segment { from, to, .. }
+        | Piece::Arc { from, to, .. }
+        | Piece::EllipticArc { from, to, .. } = piece
+        {
             lo = lo.min(from.min(*to));
             hi = hi.max(from.max(*to));
         }
@@ -95,8 +99,26 @@ pub(super) fn join(pieces: &[Piece], drawing: &mut Drawing) {
     };
     let mut links = Vec::new();
     for piece in pieces {
-        let (from, to, arc, line) = match *piece {
-            Piece::Segment { from, to, line } => (from, to, None, line),
+        let (from, to, arc, ellipse, line) = match *piece {
+            Piece::Segment { from, to, line } => (from, to, None, None, line),
+            Piece::EllipticArc {
+                from,
+                to,
+                center,
+                axes,
+                forward,
+                line,
+            } => (
+                from,
+                to,
+                None,
+                Some(EllipticArc {
+                    center,
+                    axes,
+                    forward,
+                }),
+                line,
+            ),
             Piece::Arc {
                 from,
                 to,
@@ -112,6 +134,7 @@ pub(super) fn join(pieces: &[Piece], drawing: &mut Drawing) {
                     radius,
                     ccw,
                 }),
+                None,
                 line,
             ),
             _ => continue,
@@ -119,7 +142,12 @@ pub(super) fn join(pieces: &[Piece], drawing: &mut Drawing) {
         let ends = [grid.align(from), grid.align(to)];
         // An edge inside one cell joins nothing and bounds nothing.
         if ends[0] != ends[1] {
-            links.push(Link { ends, arc, line });
+            links.push(Link {
+                ends,
+                arc,
+                ellipse,
+                line,
+            });
         }
     }
     let mut at: Vec<Vec<usize>> = vec![Vec::new(); grid.vertices.len()];
@@ -185,7 +213,7 @@ fn push_path(drawing: &mut Drawing, mut edges: Vec<Edge>, closed: bool) {
     let (Some(first), Some(last)) = (edges.first().copied(), edges.last().copied()) else {
         return;
     };
-    if edges.len() == 1 && first.arc.is_none() {
+    if edges.len() == 1 && first.arc.is_none() && first.ellipse.is_none() {
         drawing.two_point_chains.push([first.from, first.to]);
     }
     if !closed {
@@ -196,6 +224,7 @@ fn push_path(drawing: &mut Drawing, mut edges: Vec<Edge>, closed: bool) {
             from: last.to,
             to: first.from,
             arc: None,
+            ellipse: None,
             line: 0,
         });
     }
@@ -248,10 +277,15 @@ impl Walker<'_> {
                 ccw: if j == 0 { arc.ccw } else { !arc.ccw },
                 ..arc
             });
+            let ellipse = link.ellipse.map(|e| EllipticArc {
+                forward: if j == 0 { e.forward } else { !e.forward },
+                ..e
+            });
             edges.push(Edge {
                 from: self.vertices[a],
                 to: self.vertices[b],
                 arc,
+                ellipse,
                 line: link.line,
             });
             self.mark_used(i);

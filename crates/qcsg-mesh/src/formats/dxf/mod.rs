@@ -1,20 +1,28 @@
 //! DXF drawings with OpenSCAD 2021.01's meaning: the ENTITIES section (and BLOCKS for INSERT)
-//! read as lines, arcs and circles, joined end to end into paths.
+//! read as lines, arcs, circles and ellipses, joined end to end into paths.
 //!
 //! The file is a sequence of pairs of lines, a group code and its value; code 0 starts an entity,
-//! which ends at the next code 0. What OpenSCAD reads: LINE, LWPOLYLINE (straight edges, closed by
-//! flag 1; bulges are ignored as OpenSCAD ignores them), CIRCLE, ARC, ELLIPSE, INSERT of a BLOCK
-//! (insertion point, x/y scale, rotation), and DIMENSION (for `dxf_dim`). POLYLINE with its VERTEX
-//! entities is read too (closed by flag 1), which OpenSCAD 2021.01 skips. Other entities in the
-//! selected layer or in a block are skipped with a warning, as OpenSCAD does.
+//! which ends at the next code 0. What OpenSCAD reads: LINE, LWPOLYLINE (closed by flag 1),
+//! CIRCLE, ARC, ELLIPSE, INSERT of a BLOCK (insertion point, x/y scale, rotation), and DIMENSION
+//! (for `dxf_dim`). POLYLINE with its VERTEX entities is read too (closed by flag 1), which
+//! OpenSCAD 2021.01 skips. Other entities in the selected layer or in a block are skipped with a
+//! warning, as OpenSCAD does.
+//!
+//! Where OpenSCAD 2021.01 misreads what the format means, the drawing is read as the format means
+//! it and a warning says how OpenSCAD differs: a polyline vertex's bulge (code 42) makes the edge
+//! after it a circular arc (OpenSCAD draws the chord), and an ELLIPSE's major axis (codes 11/21,
+//! relative to its centre) and axis ratio (code 40) are not shifted by `origin` nor the ratio
+//! multiplied by `scale` (OpenSCAD does both).
 //!
 //! `origin` and `scale` apply as OpenSCAD applies them: `(p − origin) · scale` for entity points,
 //! block contents untouched until an INSERT maps them by `R(rotation) · diag(sx, sy) · scale`
 //! plus the insertion point. A layer name selects the entities of that layer (INSERTs by their
 //! own layer); no name reads every layer.
 //!
-//! Curves stay exact: an arc is an edge with its centre and radius, a full circle a
-//! [`DrawingCircle`]; nothing is tessellated. Joining ([`join`]) follows OpenSCAD's walk and its
+//! Curves stay exact: an arc is an edge with its centre and radius, an elliptic arc an edge with
+//! its ellipse ([`EllipticArc`]), a full circle a [`DrawingCircle`], a full ellipse a
+//! [`DrawingEllipse`]; nothing is tessellated. An INSERT that scales a block unevenly turns its
+//! circles and arcs into ellipses and elliptic arcs, exactly. Joining ([`join`]) follows OpenSCAD's walk and its
 //! tolerance for equal end points.
 
 mod join;
@@ -94,7 +102,55 @@ impl Arc {
     }
 }
 
-/// One edge of a path: a straight segment, or an arc when `arc` is set.
+/// The ellipse an elliptic arc edge follows: the points `center + axes[0] cos t + axes[1] sin t`
+/// (conjugate semi-diameters; the semi-axes for an ELLIPSE as drawn, any pair once an INSERT has
+/// mapped it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EllipticArc {
+    /// The centre.
+    pub center: DVec2,
+    /// The two conjugate semi-diameters (linearly independent).
+    pub axes: [DVec2; 2],
+    /// Whether the parameter `t` increases from the edge's `from` to its `to`.
+    pub forward: bool,
+}
+
+impl EllipticArc {
+    /// The point of parameter `t`.
+    pub fn point(&self, t: f64) -> DVec2 {
+        let (s, c) = t.sin_cos();
+        self.center + self.axes[0] * c + self.axes[1] * s
+    }
+
+    /// The parameter of a point on the ellipse (its angle in the frame of the semi-diameters).
+    pub fn param(&self, p: DVec2) -> f64 {
+        let [a, b] = self.axes;
+        let det = a.perp_dot(b);
+        let d = p - self.center;
+        // The coordinates of `d` in the basis (a, b), by Cramer's rule.
+        let (x, y) = (d.perp_dot(b) / det, a.perp_dot(d) / det);
+        y.atan2(x)
+    }
+
+    /// A point in the middle of the arc from `from` to `to`.
+    pub fn midpoint(&self, from: DVec2, to: DVec2) -> DVec2 {
+        let t0 = self.param(from);
+        let sweep = (self.param(to) - t0).rem_euclid(std::f64::consts::TAU);
+        let sweep = if sweep == 0.0 {
+            std::f64::consts::TAU
+        } else {
+            sweep
+        };
+        if self.forward {
+            self.point(t0 + 0.5 * sweep)
+        } else {
+            self.point(t0 - 0.5 * (std::f64::consts::TAU - sweep))
+        }
+    }
+}
+
+/// One edge of a path: a straight segment, a circular arc when `arc` is set, an elliptic arc
+/// when `ellipse` is set (never both).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Edge {
     /// Where the edge starts.
@@ -103,6 +159,8 @@ pub struct Edge {
     pub to: DVec2,
     /// The circle it follows, for an arc.
     pub arc: Option<Arc>,
+    /// The ellipse it follows, for an elliptic arc.
+    pub ellipse: Option<EllipticArc>,
     /// The DXF line of the entity it comes from (0 for an edge that closes an open path).
     pub line: usize,
 }
@@ -128,8 +186,19 @@ pub struct DrawingCircle {
     pub line: usize,
 }
 
-/// A curve the reader keeps but qcsg cannot yet make a region of exactly (an ELLIPSE, a circle
-/// scaled unevenly by an INSERT).
+/// A full ellipse (an ELLIPSE of a whole turn, or a circle scaled unevenly by an INSERT).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrawingEllipse {
+    /// The centre.
+    pub center: DVec2,
+    /// Two conjugate semi-diameters (see [`EllipticArc`]).
+    pub axes: [DVec2; 2],
+    /// The DXF line of its entity.
+    pub line: usize,
+}
+
+/// A curve the reader keeps but qcsg cannot make a region of exactly (a circle or ellipse that
+/// an INSERT of zero scale flattens to a line).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DrawingCurve {
     /// The entity ("ELLIPSE", "CIRCLE in an unevenly scaled INSERT").
@@ -159,6 +228,19 @@ pub enum DrawingWarning {
         /// The DXF line of its first entity.
         line: usize,
     },
+    /// Polyline vertices with a bulge: qcsg draws the arcs, OpenSCAD 2021.01 their chords.
+    Bulges {
+        /// How many edges are arcs by their bulge.
+        count: usize,
+        /// The DXF line of the first polyline with one.
+        line: usize,
+    },
+    /// An ELLIPSE read with an `origin` or `scale`, which OpenSCAD 2021.01 also applies to the
+    /// major axis's direction vector and the axis ratio.
+    EllipseOptions {
+        /// The DXF line of the first ELLIPSE.
+        line: usize,
+    },
     /// Entities OpenSCAD does not read, skipped.
     Unsupported {
         /// The entity's name.
@@ -176,6 +258,18 @@ impl fmt::Display for DrawingWarning {
             Self::OpenPath { line } => write!(
                 f,
                 "the path starting at DXF line {line} is open; it is closed by a straight edge"
+            ),
+            Self::Bulges { count, line } => write!(
+                f,
+                "{count} polyline edge{} with a bulge (first at DXF line {line}) drawn as circular \
+                 arcs, as DXF means them; OpenSCAD 2021.01 draws their straight chords",
+                if *count == 1 { "" } else { "s" }
+            ),
+            Self::EllipseOptions { line } => write!(
+                f,
+                "the ELLIPSE at DXF line {line} is moved by `origin` and scaled by `scale` as a \
+                 whole; OpenSCAD 2021.01 also shifts its axis vector by `origin` and multiplies its \
+                 axis ratio by `scale`, so its shape differs there"
             ),
             Self::Unsupported {
                 entity,
@@ -197,6 +291,8 @@ pub struct Drawing {
     pub paths: Vec<DrawingPath>,
     /// The full circles.
     pub circles: Vec<DrawingCircle>,
+    /// The full ellipses.
+    pub ellipses: Vec<DrawingEllipse>,
     /// Curves read but not representable exactly yet.
     pub curves: Vec<DrawingCurve>,
     /// The DIMENSION entities of the selected layer.

@@ -1,14 +1,16 @@
 //! The group-code reader: pairs of lines into entities, entities into pieces (segments, arcs,
-//! circles) with origin and scale applied, blocks kept aside and expanded at each INSERT.
+//! circles, elliptic arcs, ellipses) with origin and scale applied, blocks kept aside and
+//! expanded at each INSERT.
 
 use std::collections::HashMap;
+use std::f64::consts::TAU;
 
 use glam::DVec2;
 
 use super::join::join;
 use super::{
-    Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingLimits, DrawingOptions, DrawingWarning,
-    degrees_sin_cos,
+    Dimension, Drawing, DrawingCircle, DrawingCurve, DrawingEllipse, DrawingLimits, DrawingOptions,
+    DrawingWarning, degrees_sin_cos,
 };
 use crate::formats::ReadError;
 
@@ -33,6 +35,22 @@ pub(super) enum Piece {
     Circle {
         center: DVec2,
         radius: f64,
+        line: usize,
+    },
+    /// An elliptic arc, in the direction of increasing parameter from `from` to `to` unless
+    /// `forward` is false (see [`super::EllipticArc`]).
+    EllipticArc {
+        from: DVec2,
+        to: DVec2,
+        center: DVec2,
+        axes: [DVec2; 2],
+        forward: bool,
+        line: usize,
+    },
+    /// A full ellipse.
+    Ellipse {
+        center: DVec2,
+        axes: [DVec2; 2],
         line: usize,
     },
     /// A curve kept aside (see [`DrawingCurve`]).
@@ -67,8 +85,14 @@ struct Fields {
     ys: Vec<f64>,
     coords: [DVec2; 7],
     radius: f64,
+    /// Code 40 as written (an ELLIPSE's axis ratio, which `scale` does not change).
+    c40: f64,
     c41: f64,
     c42: f64,
+    /// Whether code 42 was given (an ELLIPSE's end parameter defaults to a whole turn).
+    has_c42: bool,
+    /// An LWPOLYLINE's bulges: the vertex each follows, and its value.
+    bulges: Vec<(usize, f64)>,
     c50: f64,
     c51: f64,
     flag: i64,
@@ -84,6 +108,8 @@ enum Section {
 /// An open POLYLINE collecting its VERTEX entities until SEQEND.
 struct Polyline {
     points: Vec<DVec2>,
+    /// The bulge of the edge after each point.
+    bulges: Vec<f64>,
     closed: bool,
     selected: bool,
     line: usize,
@@ -101,6 +127,10 @@ struct Reader<'a> {
     unsupported: Vec<(String, usize, usize)>,
     polyline: Option<Polyline>,
     entities: usize,
+    /// Polyline edges with a bulge, and the DXF line of the first.
+    bulges: (usize, usize),
+    /// The DXF line of the first ELLIPSE read with an origin or scale.
+    ellipse_options: Option<usize>,
 }
 
 fn error(line: usize, message: impl Into<String>) -> ReadError {
@@ -149,6 +179,8 @@ pub fn read_dxf(
         unsupported: Vec::new(),
         polyline: None,
         entities: 0,
+        bulges: (0, 0),
+        ellipse_options: None,
     };
     let mut fields = Fields::default();
     let mut index = 0;
@@ -245,9 +277,20 @@ impl Reader<'_> {
                     list.push(point);
                 }
             }
-            40 => f.radius = number(value, line)? * if raw { 1.0 } else { scale },
+            40 => {
+                f.c40 = number(value, line)?;
+                f.radius = f.c40 * if raw { 1.0 } else { scale };
+            }
             41 => f.c41 = number(value, line)?,
-            42 => f.c42 = number(value, line)?,
+            // An LWPOLYLINE's bulge follows the point of its vertex.
+            42 if f.kind == "LWPOLYLINE" => {
+                let bulge = number(value, line)?;
+                f.bulges.push((f.xs.len().saturating_sub(1), bulge));
+            }
+            42 => {
+                f.c42 = number(value, line)?;
+                f.has_c42 = true;
+            }
             50 => f.c50 = number(value, line)?,
             51 => f.c51 = number(value, line)?,
             70 => {
@@ -324,6 +367,7 @@ impl Reader<'_> {
                 return Err(error(line, "more POLYLINE vertices than the point limit"));
             }
             poly.points.push(p);
+            poly.bulges.push(f.c42);
             return Ok(());
         }
         if let Some(poly) = self.polyline.take() {
@@ -374,11 +418,18 @@ impl Reader<'_> {
                         .zip(&f.ys)
                         .map(|(&x, &y)| DVec2::new(x, y))
                         .collect();
-                self.polyline_pieces(&points, f.flag & 1 != 0, line, &f.layer);
+                let mut bulges = vec![0.0; points.len()];
+                for &(vertex, bulge) in &f.bulges {
+                    if let Some(b) = bulges.get_mut(vertex) {
+                        *b = bulge;
+                    }
+                }
+                self.polyline_pieces(&points, &bulges, f.flag & 1 != 0, line, &f.layer);
             }
             "POLYLINE" => {
                 self.polyline = Some(Polyline {
                     points: Vec::new(),
+                    bulges: Vec::new(),
                     closed: f.flag & 1 != 0,
                     selected: in_layer,
                     line,
@@ -405,11 +456,9 @@ impl Reader<'_> {
                 }
             }
             "ELLIPSE" => {
-                let piece = Piece::Curve {
-                    entity: "ELLIPSE".into(),
-                    line,
-                };
-                self.push(BlockItem::Piece(piece), &f.layer);
+                if let Some(piece) = self.ellipse_piece(&f)? {
+                    self.push(BlockItem::Piece(piece), &f.layer);
+                }
             }
             "INSERT" => {
                 let point = point(&f, 0).unwrap_or(DVec2::ZERO);
@@ -444,35 +493,119 @@ impl Reader<'_> {
         Ok(())
     }
 
+    /// An ELLIPSE: centre (10/20), major axis relative to it (11/21), axis ratio (40), start
+    /// and end parameters (41, 42; a whole turn by default); `None` for no sweep, as OpenSCAD
+    /// draws nothing then.
+    fn ellipse_piece(&mut self, f: &Fields) -> Result<Option<Piece>, ReadError> {
+        let line = f.line;
+        let center = point(f, 0).ok_or_else(|| error(line, "ELLIPSE without a centre"))?;
+        // Slot 1 holds the axis scaled but not shifted (raw inside a block).
+        let axis = f.coords[1];
+        if f.xs.len() < 2 || f.ys.len() < 2 || axis == DVec2::ZERO {
+            return Err(error(
+                line,
+                "ELLIPSE without its major axis (codes 11/21, a vector from the centre)",
+            ));
+        }
+        if f.c40 <= 0.0 {
+            return Err(error(
+                line,
+                format!(
+                    "ELLIPSE with axis ratio {} (code 40); it must be positive",
+                    f.c40
+                ),
+            ));
+        }
+        if self.section == Section::Entities
+            && (self.options.origin != DVec2::ZERO || self.options.scale != 1.0)
+        {
+            self.ellipse_options.get_or_insert(line);
+        }
+        let axes = [axis, axis.perp() * f.c40];
+        let start = f.c41;
+        let mut stop = if f.has_c42 { f.c42 } else { start + TAU };
+        if (stop - start).abs() > 1e6 {
+            return Err(error(
+                line,
+                "ELLIPSE parameters (codes 41, 42) more than a million radians apart",
+            ));
+        }
+        while start > stop {
+            stop += TAU;
+        }
+        let sweep = stop - start;
+        if sweep == 0.0 {
+            return Ok(None);
+        }
+        // A sweep a hair short of a turn (digits rounded in the file) is the whole ellipse: its
+        // ends would fall in one cell of the joining grid and the arc would vanish.
+        if sweep >= TAU - 1e-9 {
+            return Ok(Some(Piece::Ellipse { center, axes, line }));
+        }
+        let at = |t: f64| {
+            let (s, c) = t.sin_cos();
+            center + axes[0] * c + axes[1] * s
+        };
+        Ok(Some(Piece::EllipticArc {
+            from: at(start),
+            to: at(stop),
+            center,
+            axes,
+            forward: true,
+            line,
+        }))
+    }
+
     fn end_polyline(&mut self, poly: Polyline) {
         // The layer was checked when the POLYLINE began.
         if poly.selected {
-            self.polyline_pieces_unchecked(&poly.points, poly.closed, poly.line);
+            self.polyline_pieces_unchecked(&poly.points, &poly.bulges, poly.closed, poly.line);
         }
     }
 
-    fn polyline_pieces(&mut self, points: &[DVec2], closed: bool, line: usize, layer: &str) {
+    fn polyline_pieces(
+        &mut self,
+        points: &[DVec2],
+        bulges: &[f64],
+        closed: bool,
+        line: usize,
+        layer: &str,
+    ) {
         if self.section == Section::Entities && !self.selected(layer) {
             return;
         }
-        self.polyline_pieces_unchecked(points, closed, line);
+        self.polyline_pieces_unchecked(points, bulges, closed, line);
     }
 
-    fn polyline_pieces_unchecked(&mut self, points: &[DVec2], closed: bool, line: usize) {
+    /// A polyline's edges: from each point to the next (and the last to the first when closed),
+    /// an arc where the first point's bulge is not zero.
+    fn polyline_pieces_unchecked(
+        &mut self,
+        points: &[DVec2],
+        bulges: &[f64],
+        closed: bool,
+        line: usize,
+    ) {
         let mut pieces = Vec::new();
-        for pair in points.windows(2) {
-            pieces.push(Piece::Segment {
-                from: pair[0],
-                to: pair[1],
-                line,
-            });
-        }
-        if closed && points.len() > 1 {
-            pieces.push(Piece::Segment {
-                from: points[points.len() - 1],
-                to: points[0],
-                line,
-            });
+        let n = points.len();
+        let edges = if closed && n > 1 {
+            n
+        } else {
+            n.saturating_sub(1)
+        };
+        for i in 0..edges {
+            let (from, to) = (points[i], points[(i + 1) % n]);
+            let bulge = bulges.get(i).copied().unwrap_or(0.0);
+            match bulge_arc(from, to, bulge, line) {
+                Some(arc) => {
+                    if self.bulges.0 == 0 {
+                        self.bulges.1 = line;
+                    }
+                    self.bulges.0 += 1;
+                    pieces.push(arc);
+                }
+                None => pieces.push(Piece::Segment { from, to, line }),
+            }
         }
         for piece in pieces {
             match self.section {
@@ -524,6 +657,9 @@ impl Reader<'_> {
                     radius,
                     line,
                 }),
+                Piece::Ellipse { center, axes, line } => {
+                    drawing.ellipses.push(DrawingEllipse { center, axes, line })
+                }
                 Piece::Curve { entity, line } => drawing.curves.push(DrawingCurve { entity, line }),
                 other => edges.push(other),
             }
@@ -540,6 +676,17 @@ impl Reader<'_> {
             ));
         }
         join(&edges, &mut drawing);
+        if self.bulges.0 > 0 {
+            drawing.warnings.push(DrawingWarning::Bulges {
+                count: self.bulges.0,
+                line: self.bulges.1,
+            });
+        }
+        if let Some(line) = self.ellipse_options {
+            drawing
+                .warnings
+                .push(DrawingWarning::EllipseOptions { line });
+        }
         for (entity, count, line) in self.unsupported {
             drawing.warnings.push(DrawingWarning::Unsupported {
                 entity,
@@ -638,6 +785,29 @@ fn arc_piece(center: DVec2, radius: f64, start: f64, stop: f64, line: usize) -> 
     })
 }
 
+/// The arc of a polyline edge with a bulge: `bulge = tan(θ/4)` for the included angle `θ`,
+/// counter-clockwise from `from` to `to` when positive; `None` (a straight edge) for no bulge or
+/// no length.
+fn bulge_arc(from: DVec2, to: DVec2, bulge: f64, line: usize) -> Option<Piece> {
+    let chord = to - from;
+    if bulge == 0.0 || chord == DVec2::ZERO {
+        return None;
+    }
+    // The centre lies on the chord's perpendicular bisector, at (c/2)(1 − b²)/(2b) to the left
+    // of the chord (to the right for a negative bulge); the radius is c(1 + b²)/(4|b|).
+    let length = chord.length();
+    let center = 0.5 * (from + to) + chord.perp() * ((1.0 - bulge * bulge) / (4.0 * bulge));
+    let radius = length * (1.0 + bulge * bulge) / (4.0 * bulge.abs());
+    (center.is_finite() && radius.is_finite() && radius > 0.0).then_some(Piece::Arc {
+        from,
+        to,
+        center,
+        radius,
+        ccw: bulge > 0.0,
+        line,
+    })
+}
+
 /// An affine map of the plane: `p ↦ linear · p + offset`.
 #[derive(Clone, Copy, Debug)]
 struct Map {
@@ -722,12 +892,67 @@ impl Map {
                 radius: radius * k,
                 line: *line,
             },
-            Piece::Arc { line, .. } => Piece::Curve {
-                entity: "ARC in an unevenly scaled INSERT".into(),
+            // Any other invertible map turns a circle into an ellipse: its semi-diameters are the
+            // images of two perpendicular radii, and each point keeps its parameter (its angle).
+            Piece::Arc { line, .. }
+            | Piece::Circle { line, .. }
+            | Piece::EllipticArc { line, .. }
+            | Piece::Ellipse { line, .. }
+                if det == 0.0 || !det.is_finite() =>
+            {
+                Piece::Curve {
+                    entity: "curve in an INSERT of zero scale".into(),
+                    line: *line,
+                }
+            }
+            Piece::Arc {
+                from,
+                to,
+                center,
+                radius,
+                ccw,
+                line,
+            } => Piece::EllipticArc {
+                from: self.point(*from),
+                to: self.point(*to),
+                center: self.point(*center),
+                axes: [
+                    self.linear(DVec2::X * *radius),
+                    self.linear(DVec2::Y * *radius),
+                ],
+                forward: *ccw,
                 line: *line,
             },
-            Piece::Circle { line, .. } => Piece::Curve {
-                entity: "CIRCLE in an unevenly scaled INSERT".into(),
+            Piece::Circle {
+                center,
+                radius,
+                line,
+            } => Piece::Ellipse {
+                center: self.point(*center),
+                axes: [
+                    self.linear(DVec2::X * *radius),
+                    self.linear(DVec2::Y * *radius),
+                ],
+                line: *line,
+            },
+            Piece::EllipticArc {
+                from,
+                to,
+                center,
+                axes,
+                forward,
+                line,
+            } => Piece::EllipticArc {
+                from: self.point(*from),
+                to: self.point(*to),
+                center: self.point(*center),
+                axes: axes.map(|a| self.linear(a)),
+                forward: *forward,
+                line: *line,
+            },
+            Piece::Ellipse { center, axes, line } => Piece::Ellipse {
+                center: self.point(*center),
+                axes: axes.map(|a| self.linear(a)),
                 line: *line,
             },
             Piece::Curve { .. } => piece.clone(),
