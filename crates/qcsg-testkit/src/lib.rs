@@ -10,11 +10,14 @@
 //! - [`TriangleMesh`]: a triangle mesh read from STL with an exact-enough membership oracle
 //!   (the generalised winding number) and distances to it;
 //! - [`openscad`]: OpenSCAD 2021.01 as the oracle of meaning — its STL export of a scene, cached
-//!   by content.
+//!   by content;
+//! - [`cli`]: the end-to-end tests' runner of a binary (input, captured output, a deadline, a
+//!   capped address space).
 //!
 //! It is a dependency of tests and benchmarks only; nothing in the product depends on it.
 
 pub mod annotations;
+pub mod cli;
 mod files;
 mod flush;
 mod mesh;
