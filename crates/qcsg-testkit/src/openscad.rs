@@ -4,6 +4,11 @@
 //! under a folder the caller names, keyed by a hash of the scene's text, of every other file the
 //! scene may read, and of the `-D` definitions, so OpenSCAD runs again whenever any of them
 //! changes and always on a fresh checkout.
+//!
+//! A scene that qcsg reads as its input format means it where OpenSCAD misreads that input (a DXF
+//! polyline's bulges, which OpenSCAD draws as chords) names, in a line `// reference: PATH`
+//! (relative to the scene's folder), a scene that writes the same shape in constructs OpenSCAD
+//! reads as meant; OpenSCAD exports that one instead.
 
 use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
@@ -64,12 +69,32 @@ impl Export {
         }
     }
 
+    /// The file OpenSCAD exports: the one the scene's `// reference: PATH` line names, or the
+    /// scene itself.
+    pub fn source(&self) -> PathBuf {
+        std::fs::read_to_string(&self.scene)
+            .ok()
+            .and_then(|text| {
+                text.lines()
+                    .find_map(|l| l.trim().strip_prefix("// reference:"))
+                    .map(|path| {
+                        let dir = self.scene.parent().unwrap_or(Path::new("."));
+                        dir.join(path.trim())
+                    })
+            })
+            .unwrap_or_else(|| self.scene.clone())
+    }
+
     /// The key of this export's result.
     fn content_hash(&self) -> u64 {
         let mut hasher = DefaultHasher::new();
         std::fs::read(&self.scene)
             .unwrap_or_default()
             .hash(&mut hasher);
+        let source = self.source();
+        if source != self.scene {
+            std::fs::read(&source).unwrap_or_default().hash(&mut hasher);
+        }
         let mut inputs = self.inputs.clone();
         inputs.sort();
         for input in inputs {
@@ -110,7 +135,7 @@ impl Export {
         }
         let log_file = std::fs::File::create(&log).map_err(unavailable)?;
         let mut child = command
-            .arg(&self.scene)
+            .arg(self.source())
             .env_remove("DISPLAY")
             // Export needs no display; without this Qt may still look for one.
             .env(
