@@ -96,8 +96,9 @@ pub const POLYGON_OUTLINE: &str = "W0561";
 pub const MESH_FACES: &str = "W0562";
 /// A deprecated argument OpenSCAD still accepts with a warning (`polyhedron(triangles = …)`).
 pub const DEPRECATED_ARGUMENT: &str = "W0563";
-/// An imported DXF drawing with an open path (closed by a straight edge, as OpenSCAD closes it)
-/// or entities OpenSCAD does not read (skipped, as OpenSCAD skips them).
+/// An imported DXF drawing with an open path (closed by a straight edge, as OpenSCAD closes it),
+/// entities OpenSCAD does not read (skipped, as OpenSCAD skips them), or what OpenSCAD 2021.01
+/// reads otherwise than DXF means it (bulges, an ELLIPSE with `origin` or `scale`).
 pub const DRAWING_SKIPPED: &str = "W0564";
 /// `dxf_dim` or `dxf_cross` found no such dimension or cross in the drawing: `undef`, as OpenSCAD
 /// returns it.
@@ -204,7 +205,7 @@ pub const ALL: &[(&str, &str)] = &[
     ),
     (
         DRAWING_SKIPPED,
-        "imported DXF drawing with an open path or skipped entities",
+        "imported DXF drawing with an open path, skipped entities, or read otherwise than OpenSCAD reads it",
     ),
     (
         DRAWING_LOOKUP,
