@@ -1,5 +1,5 @@
 //! `import` of DXF drawings: the even–odd region of a layer as an exact 2-D shape (lines, arcs,
-//! circles), `origin` and `scale`, OpenSCAD's bundled example drawings, and every failure a
+//! circles, ellipses, bulged polylines), `origin` and `scale`, OpenSCAD's bundled example drawings, and every failure a
 //! diagnostic at the `file` argument.
 
 use std::path::{Path, PathBuf};
@@ -330,4 +330,132 @@ fn dxf_dim_and_dxf_cross_read_example009() {
         true,
     );
     assert_eq!(code, "E0566");
+}
+
+/// An ELLIPSE entity on layer `0`: centre, major axis vector, axis ratio, parameters.
+fn ellipse(c: [f64; 2], axis: [f64; 2], ratio: f64, params: [f64; 2]) -> Entity<'static> {
+    (
+        "ELLIPSE",
+        "0",
+        vec![
+            (10, c[0]),
+            (20, c[1]),
+            (11, axis[0]),
+            (21, axis[1]),
+            (40, ratio),
+            (41, params[0]),
+            (42, params[1]),
+        ],
+    )
+}
+
+#[test]
+fn ellipses_and_bulges_are_exact() {
+    use std::f64::consts::{PI, TAU};
+    let dir = scratch("ellipses-bulges");
+    // A full ellipse rotated by 30° (semi-axes 10 and 5) and the upper half of another, closed
+    // by its chord.
+    let (s, c) = 30f64.to_radians().sin_cos();
+    std::fs::write(
+        dir.join("ellipses.dxf"),
+        dxf(&[
+            ellipse([0.0, 0.0], [10.0 * c, 10.0 * s], 0.5, [0.0, TAU]),
+            ellipse([30.0, 0.0], [8.0, 0.0], 0.5, [0.0, PI]),
+        ]),
+    )
+    .unwrap();
+    let e = eval_in(
+        &dir,
+        "linear_extrude(1) import(\"ellipses.dxf\");",
+        &EvalOptions::default(),
+    );
+    // Points a thousandth inside and outside the ellipses' boundaries.
+    let on = |t: f64, k: f64| {
+        let (st, ct) = t.sin_cos();
+        let (x, y) = (10.0 * ct * k, 5.0 * st * k);
+        p(x * c - y * s, x * s + y * c, 0.5)
+    };
+    let mut cases = Vec::new();
+    for t in [0.0, 1.0, 2.5, 4.0] {
+        cases.push((on(t, 0.999), true));
+        cases.push((on(t, 1.001), false));
+    }
+    cases.extend([
+        (p(30.0, 3.99, 0.5), true),
+        (p(30.0, 4.01, 0.5), false),
+        (p(30.0, -0.01, 0.5), false),
+        (p(37.99, 0.01, 0.5), true),
+    ]);
+    check(&e, &cases);
+    // A closed LWPOLYLINE: a half circle out of the bottom edge of a 10 × 10 square (bulge 1),
+    // with warning W0564 that OpenSCAD 2021.01 draws the chord.
+    let mut text =
+        String::from("  0\nSECTION\n  2\nENTITIES\n  0\nLWPOLYLINE\n  8\n0\n 90\n4\n 70\n1\n");
+    for (x, y, bulge) in [(0, 0, "1"), (10, 0, "0"), (10, 10, "0"), (0, 10, "0")] {
+        text.push_str(&format!(" 10\n{x}\n 20\n{y}\n 42\n{bulge}\n"));
+    }
+    text.push_str("  0\nENDSEC\n  0\nEOF\n");
+    std::fs::write(dir.join("bulge.dxf"), text).unwrap();
+    let source = "linear_extrude(1) import(\"bulge.dxf\");";
+    let e = eval_in(&dir, source, &EvalOptions::default());
+    check(
+        &e,
+        &[
+            (p(5.0, -4.99, 0.5), true),
+            (p(5.0, -5.01, 0.5), false),
+            (p(1.0, -2.0, 0.5), true),
+            (p(0.5, -3.0, 0.5), false),
+            (p(5.0, 9.99, 0.5), true),
+        ],
+    );
+    let warning = e.diagnostics.iter().find(|d| d.code == "W0564").unwrap();
+    assert!(warning.message.contains("bulge"), "{}", warning.message);
+    let at = &source[warning.span.start as usize..warning.span.end as usize];
+    assert_eq!(at, "\"bulge.dxf\"");
+}
+
+#[test]
+fn malformed_and_crossing_ellipses_are_diagnostics_at_the_file_argument() {
+    use std::f64::consts::TAU;
+    let dir = scratch("bad-ellipses");
+    let options = EvalOptions::default();
+    for (name, entity, needle) in [
+        (
+            "ratio.dxf",
+            ellipse([0.0, 0.0], [1.0, 0.0], 0.0, [0.0, TAU]),
+            "axis ratio 0",
+        ),
+        (
+            "axis.dxf",
+            ellipse([0.0, 0.0], [0.0, 0.0], 0.5, [0.0, TAU]),
+            "major axis",
+        ),
+    ] {
+        std::fs::write(dir.join(name), dxf(&[entity])).unwrap();
+        let text = format!("import(\"{name}\");");
+        let e = eval_in(&dir, &text, &options);
+        let d = e.diagnostics.iter().find(|d| d.is_error()).unwrap();
+        let at = &text[d.span.start as usize..d.span.end as usize];
+        assert_eq!((d.code, at), ("E0567", format!("\"{name}\"").as_str()));
+        assert!(
+            d.message.contains(needle) && d.message.contains("line 5"),
+            "{}",
+            d.message
+        );
+    }
+    // Two ellipses that cross: no exact composition, E0301 naming both.
+    std::fs::write(
+        dir.join("cross.dxf"),
+        dxf(&[
+            ellipse([0.0, 0.0], [10.0, 0.0], 0.3, [0.0, TAU]),
+            ellipse([0.0, 0.0], [0.0, 10.0], 0.3, [0.0, TAU]),
+        ]),
+    )
+    .unwrap();
+    let text = "import(\"cross.dxf\");";
+    let e = eval_in(&dir, text, &options);
+    let d = e.diagnostics.iter().find(|d| d.is_error()).unwrap();
+    let at = &text[d.span.start as usize..d.span.end as usize];
+    assert_eq!((d.code, at), ("E0301", "\"cross.dxf\""), "{}", d.message);
+    assert!(d.message.contains("the ellipse"), "{}", d.message);
 }
