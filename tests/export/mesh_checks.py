@@ -8,9 +8,10 @@
   too), no triangle has zero area, and no two triangles cross each other (self-intersection).
 
 The self-intersection test is exact in its logic and floating-point in its arithmetic, with a
-margin `eps` (a length): two triangles cross when the segment that each cuts from the other's
-plane overlaps the other's by more than `eps`; coplanar ones (within `eps`) when their interiors
-overlap by more than `eps`; neighbours across an edge when they fold onto each other. Contact in a
+margin `eps` (a length, 1e-10 of the diagonal: the check's resolution): two triangles cross when
+the segment that each cuts from the other's plane overlaps the other's by more than `eps`;
+coplanar ones (within `eps`) when their interiors overlap by more than `eps`; neighbours across
+an edge when they fold onto each other and the lower of the two is more than `eps` high. Contact in a
 single point (a shared corner, two fans pinched at one position) is not a crossing. Candidate
 pairs come from overlapping bounding boxes, so every pair that can cross is tested.
 """
@@ -88,7 +89,7 @@ def check(vertices: np.ndarray, faces: np.ndarray) -> Report:
     # The margin: far above f64 rounding of centred coordinates, and above the rounding of the
     # world coordinates the file holds (8 ulps at the largest).
     largest = float(np.abs(vertices).max()) if len(vertices) else 0.0
-    eps = max(1e-9 * diagonal, 8 * np.spacing(largest))
+    eps = max(1e-10 * diagonal, 8 * np.spacing(largest))
     crossings, example = self_intersections(v, faces, eps)
     return Report(
         triangles=len(faces),
@@ -176,9 +177,14 @@ def self_intersections(v: np.ndarray, faces: np.ndarray, eps: float) -> tuple[in
     db[np.abs(db) <= eps] = 0
     crossing = np.zeros(len(pairs), dtype=bool)
 
-    # Neighbours across an edge cross only by folding onto each other.
+    # Neighbours across an edge cross only by folding onto each other; the overlap is then the
+    # lower of the two, which must be more than eps high to count.
     across = shared == 2
-    crossing[across] = np.all(db[across] == 0, axis=1) & (np.einsum("pk,pk->p", na[across], nb[across]) < 0)
+    heights = 2 * _areas(np.concatenate([a[across], b[across]])) / np.concatenate(
+        [_longest(a[across]), _longest(b[across])]).clip(min=np.finfo(float).tiny)
+    lower = np.minimum(*np.split(heights, 2)) if across.any() else heights
+    crossing[across] = (np.all(db[across] == 0, axis=1)
+                        & (np.einsum("pk,pk->p", na[across], nb[across]) < 0) & (lower > eps))
 
     apart = (shared < 2) & ~(np.all(da > 0, axis=1) | np.all(da < 0, axis=1) | np.all(db > 0, axis=1) | np.all(db < 0, axis=1))
     coplanar = apart & np.all(da == 0, axis=1) & np.all(db == 0, axis=1)
@@ -203,6 +209,14 @@ def self_intersections(v: np.ndarray, faces: np.ndarray, eps: float) -> tuple[in
     p = int(np.flatnonzero(crossing)[0])
     i, j = (int(x) for x in pairs[p])
     return count, (i, j, v[faces[i]].tolist(), v[faces[j]].tolist())
+
+
+def _areas(t: np.ndarray) -> np.ndarray:
+    return np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1) / 2
+
+
+def _longest(t: np.ndarray) -> np.ndarray:
+    return np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2).max(axis=1)
 
 
 def _unit_normals(t: np.ndarray) -> np.ndarray:
