@@ -45,8 +45,24 @@ def write_stl(path, vertices, triangles):
             f.write(b"\0\0")
 
 
+def read_stl(path):
+    """A binary STL's vertices (merged where bit-identical) and triangles, as numpy arrays."""
+    import numpy as np
+
+    with open(path, "rb") as f:
+        data = f.read()
+    (count,) = struct.unpack_from("<I", data, 80)
+    record = np.dtype([("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attr", "<u2")])
+    corners = np.frombuffer(data, dtype=record, count=count, offset=84)["corners"].reshape(-1, 3)
+    vertices, index = np.unique(corners, axis=0, return_inverse=True)
+    return vertices, index.reshape(-1, 3).astype(np.uint32)
+
+
 def manifold_build(m, node, segments):
     kind = node["kind"]
+    if kind == "stl":
+        vertices, triangles = read_stl(node["path"])
+        return m.Manifold(m.Mesh(vert_properties=vertices, tri_verts=triangles))
     if kind == "sphere":
         return m.Manifold.sphere(node["r"], segments)
     if kind == "cylinder":

@@ -9,6 +9,7 @@
 //!   off the CSG surface, non-finite output;
 //! - [`measure`]: one timed sampling with all its errors;
 //! - [`image`]: the ray tracer's frame and a CPU model of splat rendering to compare with it;
+//! - [`bumpy`]: closed non-convex test meshes of a chosen triangle count, as binary STL;
 //! - [`crease`]: the point of a feature curve nearest to a point, for meshes' distances;
 //! - [`mesh`]: STL meshes of a mesh-based peer and their Hausdorff distance to the exact surface;
 //! - [`openscad`]: OpenSCAD's CGAL export, the mesh-based peer, run when installed;
@@ -17,6 +18,7 @@
 //! - [`plot`]: log-log SVG plots and power-law fits for the report;
 //! - [`stability`]: the stability cases' header format (`// expect: …`) and running one case.
 
+pub mod bumpy;
 pub mod crease;
 pub mod image;
 pub mod measure;

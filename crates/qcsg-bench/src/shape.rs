@@ -39,6 +39,8 @@ pub enum Shape {
     Difference(Vec<Shape>),
     /// `intersection()`.
     Intersection(Vec<Shape>),
+    /// `import(path)` of a binary STL mesh (Manifold reads the same file).
+    Import(String),
 }
 
 fn num(x: f64) -> String {
@@ -101,6 +103,7 @@ impl Shape {
                 }
                 writeln!(out, "{pad}}}")
             }
+            Shape::Import(path) => writeln!(out, "{pad}import({path:?});"),
         };
     }
 
@@ -114,6 +117,7 @@ impl Shape {
             Shape::Union(_) => "union",
             Shape::Difference(_) => "difference",
             Shape::Intersection(_) => "intersection",
+            Shape::Import(_) => "stl",
         }
     }
 
@@ -142,6 +146,10 @@ impl Shape {
                 let inner: Vec<String> = c.iter().map(Shape::to_json).collect();
                 format!(r#"{{"kind":"{kind}","children":[{}]}}"#, inner.join(","))
             }
+            Shape::Import(path) => format!(
+                r#"{{"kind":"{kind}","path":{}}}"#,
+                serde_json::Value::from(path.as_str())
+            ),
         }
     }
 
@@ -150,7 +158,7 @@ impl Shape {
     pub fn largest_radius(&self) -> f64 {
         match self {
             Shape::Sphere(r) | Shape::Cylinder { r, .. } => *r,
-            Shape::Cube { .. } => 0.0,
+            Shape::Cube { .. } | Shape::Import(_) => 0.0,
             Shape::Translate(_, c) | Shape::Rotate(_, c) => c.largest_radius(),
             Shape::Union(c) | Shape::Difference(c) | Shape::Intersection(c) => {
                 c.iter().map(Shape::largest_radius).fold(0.0, f64::max)

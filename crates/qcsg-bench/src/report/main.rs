@@ -9,6 +9,7 @@
 
 mod error_time;
 mod families;
+mod mesh_scale;
 mod peer_meshes;
 mod peers;
 mod pruning;
@@ -62,6 +63,10 @@ struct Args {
     /// CPU splat model (its cost grows with the samples).
     #[arg(long, default_value_t = 2_000_000)]
     max_image_samples: usize,
+    /// Run only the imported-mesh scaling benchmark, which writes `docs/report/mesh_scale.md`
+    /// (and leaves `docs/report.md` as it is).
+    #[arg(long)]
+    mesh_scale: bool,
     /// Seconds each peer process (OpenSCAD, Python) may run.
     #[arg(long, default_value_t = 60)]
     peer_limit: u64,
@@ -227,6 +232,9 @@ fn run(args: &Args) -> Result<(), String> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../.."));
     let root = root.canonicalize().unwrap_or(root);
+    if args.mesh_scale {
+        return mesh_scale::run(&root, args.no_python_peers);
+    }
     let out_dir = root.join("docs/report");
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
