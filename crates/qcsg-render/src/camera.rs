@@ -309,6 +309,13 @@ impl Camera {
         self.projection
     }
 
+    /// Half the image height (at unit distance for perspective, in world units for
+    /// orthographic projection) and the width over the height: with the axes, how
+    /// [`Camera::ray`] maps pixels to rays.
+    pub fn screen_scale(&self) -> (f64, f64) {
+        (self.half_height, self.aspect)
+    }
+
     /// The size of one pixel in world units: on the plane at `distance` in front of the eye for
     /// perspective cameras, anywhere for orthographic ones.
     pub fn pixel_footprint(&self, distance: f64, size: ImageSize) -> f64 {

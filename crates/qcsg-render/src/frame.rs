@@ -9,9 +9,10 @@ use rayon::prelude::*;
 use crate::camera::Projection;
 use crate::camera::{Camera, ImageSize};
 use crate::eye::EyeValues;
-use crate::raytrace::{Hit, Ray, Scratch, trace_from};
+use crate::raytrace::{Hit, Ray, Scratch, trace_among};
 use crate::scene::{Layer, Scene};
 use crate::shade::{self, Rgb};
+use crate::tiles::FrameTiles;
 
 /// What the solid's surface is at a pixel: the DNF quadric and the term, or nothing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -118,12 +119,13 @@ pub fn render(
     progress: &(dyn Fn(u32) + Sync),
 ) -> Frame {
     // Every ray of a perspective frame starts at the eye: the quadrics' values there are
-    // computed once per frame.
-    let eyes = FrameEyes::new(scene, camera);
+    // computed once per frame; and each term's box is projected once, to the squares of
+    // pixels whose rays may cross it.
+    let layers = FrameLayers::new(scene, camera, size);
     let rows: Vec<Row> = (0..size.height())
         .into_par_iter()
         .map_init(Scratch::default, |scratch, y| {
-            let row = render_row(scene, camera, size, options, y, &eyes, scratch);
+            let row = render_row(scene, camera, size, options, y, &layers, scratch);
             progress(y);
             row
         })
@@ -149,7 +151,7 @@ fn render_row(
     size: ImageSize,
     options: &RenderOptions,
     y: u32,
-    eyes: &FrameEyes,
+    layers: &FrameLayers,
     scratch: &mut Scratch,
 ) -> Row {
     let width = size.width() as usize;
@@ -160,19 +162,23 @@ fn render_row(
     };
     for x in 0..size.width() {
         let ray = camera.ray(f64::from(x) + 0.5, f64::from(y) + 0.5, size);
+        let trace = |layer: &Option<Layer>, shared: &LayerFrame, scratch: &mut Scratch| {
+            let layer = layer.as_ref()?;
+            let candidates = shared.tiles.as_ref().map(|tiles| tiles.at(x, y));
+            trace_among(
+                layer.dnf(),
+                layer.index(),
+                &ray,
+                0.0,
+                shared.eye.as_ref(),
+                candidates,
+                scratch,
+            )
+        };
         let hits = LayerHits {
-            solid: scene
-                .solid
-                .as_ref()
-                .and_then(|layer| trace_layer(layer, &ray, eyes.solid.as_ref(), scratch)),
-            highlight: scene
-                .highlights
-                .as_ref()
-                .and_then(|layer| trace_layer(layer, &ray, eyes.highlights.as_ref(), scratch)),
-            background: scene
-                .backgrounds
-                .as_ref()
-                .and_then(|layer| trace_layer(layer, &ray, eyes.backgrounds.as_ref(), scratch)),
+            solid: trace(&scene.solid, &layers.solid, scratch),
+            highlight: trace(&scene.highlights, &layers.highlights, scratch),
+            background: trace(&scene.backgrounds, &layers.backgrounds, scratch),
         };
         let pixel = shade_pixel(scene, camera, options, &ray, &hits);
         row.rgb.extend(pixel.rgb);
@@ -291,30 +297,32 @@ pub fn frame_from_pixels(size: ImageSize, pixel: &(dyn Fn(u32, u32) -> Pixel + S
     frame
 }
 
-fn trace_layer(
-    layer: &Layer,
-    ray: &Ray,
-    eye: Option<&EyeValues>,
-    scratch: &mut Scratch,
-) -> Option<Hit> {
-    trace_from(layer.dnf(), layer.index(), ray, 0.0, eye, scratch)
+/// What every ray of a frame shares in one layer: the values of its quadrics at a perspective
+/// camera's eye (none for orthographic frames, whose rays start at different points), and the
+/// terms each square of pixels may see.
+#[derive(Default)]
+struct LayerFrame {
+    eye: Option<EyeValues>,
+    tiles: Option<FrameTiles>,
 }
 
-/// The values of each layer's quadrics at a perspective camera's eye (none for orthographic
-/// frames, whose rays start at different points).
-struct FrameEyes {
-    solid: Option<EyeValues>,
-    highlights: Option<EyeValues>,
-    backgrounds: Option<EyeValues>,
+/// [`LayerFrame`] of each layer.
+struct FrameLayers {
+    solid: LayerFrame,
+    highlights: LayerFrame,
+    backgrounds: LayerFrame,
 }
 
-impl FrameEyes {
-    fn new(scene: &Scene, camera: &Camera) -> Self {
+impl FrameLayers {
+    fn new(scene: &Scene, camera: &Camera, size: ImageSize) -> Self {
         let at = |layer: &Option<Layer>| {
             layer
                 .as_ref()
-                .filter(|_| camera.projection() == Projection::Perspective)
-                .map(|layer| EyeValues::new(layer.dnf(), camera.eye()))
+                .map_or_else(LayerFrame::default, |layer| LayerFrame {
+                    eye: (camera.projection() == Projection::Perspective)
+                        .then(|| EyeValues::new(layer.dnf(), camera.eye())),
+                    tiles: FrameTiles::new(layer.index().boxes(), camera, size),
+                })
         };
         Self {
             solid: at(&scene.solid),

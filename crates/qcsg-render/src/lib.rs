@@ -39,6 +39,7 @@ pub mod png;
 pub mod raytrace;
 pub mod scene;
 pub mod shade;
+pub mod tiles;
 
 pub use camera::{Camera, CameraError, ImageSize, Projection, View};
 pub use frame::{

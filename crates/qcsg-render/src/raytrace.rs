@@ -1,7 +1,8 @@
 //! The CPU reference ray tracer: exact CSG classification of a ray against a DNF.
 //!
-//! Per term whose box the ray crosses (found in an R-tree of the boxes, [`BoxIndex`]), the ray
-//! is clipped to the term's box, then the inside-sets of the term's literals along it are
+//! Per term whose box the ray crosses (found in an R-tree of the boxes, [`BoxIndex`], or for
+//! a frame's rays in the list of their square of pixels, [`FrameTiles`](crate::tiles::FrameTiles)),
+//! the ray is clipped to the term's box, then the inside-sets of the term's literals along it are
 //! intersected ([`interval`](crate::interval)); the terms' sets are united and the first point
 //! where the ray enters the union (in front of its start) is the hit. The quadric
 //! that bounds the interval there gives the normal — its gradient, which is outward because
@@ -176,6 +177,11 @@ impl LiteralBoxes {
 }
 
 impl TermIndex {
+    /// The terms' boxes, grown a little, as rays test them.
+    pub fn boxes(&self) -> &[Aabb] {
+        self.boxes.boxes()
+    }
+
     /// The index of `dnf`, with literal boxes for terms of more than `literals_above` literals.
     pub fn new(dnf: &Dnf, literals_above: usize) -> Self {
         let boxes = padded_boxes(dnf);
@@ -294,13 +300,32 @@ pub fn trace_from(
     eye: Option<&EyeValues>,
     scratch: &mut Scratch,
 ) -> Option<Hit> {
+    trace_among(dnf, index, ray, t_min, eye, None, scratch)
+}
+
+/// [`trace_from`] looking only at the terms of `candidates` (positions in
+/// [`TermIndex::boxes`], which must hold every term whose box the ray crosses: a frame's
+/// [`FrameTiles`](crate::tiles::FrameTiles)) instead of searching the tree: the same hit.
+pub fn trace_among(
+    dnf: &Dnf,
+    index: &TermIndex,
+    ray: &Ray,
+    t_min: f64,
+    eye: Option<&EyeValues>,
+    candidates: Option<&[u32]>,
+    scratch: &mut Scratch,
+) -> Option<Hit> {
     let eye = eye.and_then(|e| e.for_ray(ray));
     scratch.all.clear();
     scratch.terms.clear();
     scratch.entries.clear();
     let boxes = &index.boxes;
-    // A larger box holds a longer piece of the ray, so the search may skip what misses.
-    boxes.select(|b| clipped(ray, b, t_min).is_some(), &mut scratch.terms);
+    match candidates {
+        // Each is tested below as the tree's leaves are.
+        Some(candidates) => scratch.terms.extend_from_slice(candidates),
+        // A larger box holds a longer piece of the ray, so the search may skip what misses.
+        None => boxes.select(|b| clipped(ray, b, t_min).is_some(), &mut scratch.terms),
+    }
     scratch
         .entries
         .extend(scratch.terms.iter().filter_map(|&term_index| {

@@ -103,3 +103,98 @@ fn frames_hold_the_plainly_traced_pixels() {
         compare(&scene, &camera, size);
     }
 }
+
+/// A grid of small balls: many terms, each seen by a few pixels.
+fn balls() -> Scene {
+    let mut dag = Dag::new();
+    let mut parts = Vec::new();
+    for i in 0..8 {
+        for j in 0..6 {
+            let centre = DVec3::new(
+                f64::from(i) - 3.5,
+                f64::from(j) - 2.5,
+                0.3 * f64::from(i % 3),
+            );
+            parts.push(sphere(&mut dag, centre, 0.3 + 0.02 * f64::from(j)));
+        }
+    }
+    let root = dag.union(parts, Source::default());
+    dag.set_root(root.into());
+    Scene::from_dag(&mut dag, &DnfOptions::default()).unwrap()
+}
+
+/// Every term whose box a pixel's ray crosses (beyond its start) is among those the frame's
+/// square of that pixel lists, for cameras whose frame cuts boxes, and whose eye is among them
+/// or between them; and such frames hold the plainly traced pixels.
+#[test]
+fn squares_of_pixels_list_every_box_their_rays_cross() {
+    let scene = balls();
+    let layer = scene.solid.as_ref().unwrap();
+    let boxes = layer.index().boxes();
+    // Not a whole number of squares, so that the last row and column are partial.
+    let size = ImageSize::new(61, 45).unwrap();
+    let views = [
+        View::Iso,
+        View::Top,
+        View::Explicit {
+            eye: DVec3::new(-1.0, -4.0, 1.5),
+            center: DVec3::new(1.0, 1.0, 0.0),
+        },
+        // Among the balls: some boxes lie behind the eye, some around it.
+        View::Explicit {
+            eye: DVec3::new(0.0, 0.0, 0.2),
+            center: DVec3::new(3.0, 2.0, 0.2),
+        },
+        View::Explicit {
+            eye: DVec3::new(-0.5, -0.5, 0.0),
+            center: DVec3::new(-0.5, 3.0, 0.0),
+        },
+    ];
+    let mut listed = 0usize;
+    for projection in [Projection::Perspective, Projection::Orthographic] {
+        for view in &views {
+            let camera = Camera::fit(view, projection, &scene.bounds(), size).unwrap();
+            let tiles = qcsg_render::tiles::FrameTiles::new(boxes, &camera, size).unwrap();
+            for y in 0..size.height() {
+                for x in 0..size.width() {
+                    let ray = camera.ray(f64::from(x) + 0.5, f64::from(y) + 0.5, size);
+                    let list = tiles.at(x, y);
+                    listed += list.len();
+                    for (k, b) in boxes.iter().enumerate() {
+                        let crosses = ray
+                            .clip_to(b)
+                            .is_some_and(|(t_in, t_out)| t_in.max(0.0) < t_out);
+                        assert!(
+                            !crosses || list.contains(&(k as u32)),
+                            "{view:?} {projection:?}: pixel ({x}, {y}) crosses box {k}, unlisted"
+                        );
+                    }
+                }
+            }
+            compare(&scene, &camera, size);
+        }
+    }
+    // The lists are not every box everywhere (which would pass the test above trivially).
+    let pixels = 10 * size.pixel_count();
+    assert!(
+        listed < pixels * boxes.len() / 4,
+        "{listed} listed for {pixels} pixels and {} boxes",
+        boxes.len()
+    );
+}
+
+/// Lists that would grow too long (boxes over all of a large frame) are not made: the frame's
+/// rays search the tree instead.
+#[test]
+fn squares_of_pixels_give_way_to_the_tree_for_too_many_boxes() {
+    let size = ImageSize::new(4096, 4096).unwrap();
+    let bounds = Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0));
+    let camera = Camera::fit(&View::Iso, Projection::Perspective, &bounds, size).unwrap();
+    let squares = u64::from(size.width().div_ceil(qcsg_render::tiles::TILE)).pow(2);
+    let fits = (qcsg_render::tiles::MOST_LISTED / squares) as usize;
+    // Around the eye: seen by every pixel.
+    let around = Aabb::new(DVec3::splat(-1e3), DVec3::splat(1e3));
+    let over_all = |count: usize| vec![around; count];
+    assert!(qcsg_render::tiles::FrameTiles::new(&over_all(fits), &camera, size).is_some());
+    assert!(qcsg_render::tiles::FrameTiles::new(&over_all(fits + 1), &camera, size).is_none());
+}
