@@ -191,7 +191,10 @@ def self_intersections(v: np.ndarray, faces: np.ndarray, eps: float) -> tuple[in
     general = apart & ~coplanar
     if general.any():
         line = np.cross(na[general], nb[general])
-        line /= np.linalg.norm(line, axis=1)[:, None]
+        # A zero-area triangle has no normal, hence no line: it is counted as degenerate above,
+        # and its pairs here as not crossing.
+        length = np.linalg.norm(line, axis=1)
+        line /= np.where(length > 0, length, np.inf)[:, None]
         lo_a, hi_a = _interval(a[general], da[general], line)
         lo_b, hi_b = _interval(b[general], db[general], line)
         # A crossing passes through both interiors, so each triangle has corners strictly on

@@ -67,12 +67,14 @@ def scene_id(path: pathlib.Path) -> str:
     return str(path.relative_to(ROOT))
 
 
-def params():
+def params() -> list:
+    result = []
     for path in scenes():
         marks = []
         if path.name in KNOWN:
             marks.append(pytest.mark.xfail(reason=KNOWN[path.name], strict=True))
-        yield pytest.param(path, id=scene_id(path), marks=marks)
+        result.append(pytest.param(path, id=scene_id(path), marks=marks))
+    return result
 
 
 def normal_form(path: pathlib.Path) -> dict | None:
