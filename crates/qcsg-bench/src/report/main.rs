@@ -8,6 +8,7 @@
 //! made their environment; OpenSCAD when it is installed, its preview when Xvfb is.
 
 mod error_time;
+mod exports;
 mod families;
 mod mesh_scale;
 mod peer_meshes;
@@ -70,6 +71,10 @@ struct Args {
     /// Seconds each peer process (OpenSCAD, Python) may run.
     #[arg(long, default_value_t = 60)]
     peer_limit: u64,
+    /// Regenerate only section 9 (`qcsg export` beside the peers' meshes, the peers measured
+    /// again) in the existing report, leaving the other sections as they are.
+    #[arg(long)]
+    meshes_only: bool,
 }
 
 /// The sweeps of one run.
@@ -139,6 +144,72 @@ fn main() {
     if let Err(err) = run(&args) {
         eprintln!("qcsg-bench: {err}");
         std::process::exit(1);
+    }
+}
+
+/// What the peers' meshes of the benchmark scenes gave (section 2).
+struct PeerResults {
+    /// OpenSCAD's path and version, where it is installed and wanted.
+    openscad: Option<(PathBuf, String)>,
+    /// Per scene, OpenSCAD's exports over `$fn`.
+    openscad_rows: Vec<Vec<peers::PeerRow>>,
+    manifold: Result<python_peer::Installed, String>,
+    manifold_runs: Option<Vec<peers::PythonScene>>,
+    build123d: Result<python_peer::Installed, String>,
+    build123d_runs: Option<Vec<peers::PythonScene>>,
+}
+
+impl PeerResults {
+    /// Runs every installed peer over the scenes, each process within `limit`.
+    fn measure(
+        args: &Args,
+        cfg: &Config,
+        root: &std::path::Path,
+        scenes: &[Scene],
+        work: &std::path::Path,
+        limit: Duration,
+    ) -> Result<Self, String> {
+        let openscad = if args.no_openscad { None } else { find() };
+        let openscad_rows = match &openscad {
+            Some((program, _)) => peer_meshes::openscad(program, scenes, &cfg.fns, work, limit),
+            None => Vec::new(),
+        };
+        let python = |peer: Peer| {
+            if args.no_python_peers {
+                Err("left out (`--no-python-peers`)".to_owned())
+            } else {
+                python_peer::find(root, peer)
+            }
+        };
+        let manifold = python(Peer::Manifold);
+        let build123d = python(Peer::Build123d);
+        let manifold_runs = match &manifold {
+            Ok(m) => Some(peers::run_python(m, scenes, args.quick, work, limit)?),
+            Err(_) => None,
+        };
+        let build123d_runs = match &build123d {
+            Ok(b) => Some(peers::run_python(b, scenes, args.quick, work, limit)?),
+            Err(_) => None,
+        };
+        Ok(Self {
+            openscad,
+            openscad_rows,
+            manifold,
+            manifold_runs,
+            build123d,
+            build123d_runs,
+        })
+    }
+
+    fn peers(&self) -> peer_meshes::Peers<'_> {
+        peer_meshes::Peers {
+            openscad: self.openscad.as_ref().map(|(_, version)| version.as_str()),
+            openscad_rows: &self.openscad_rows,
+            manifold: &self.manifold,
+            manifold_runs: self.manifold_runs.as_deref(),
+            build123d: &self.build123d,
+            build123d_runs: self.build123d_runs.as_deref(),
+        }
     }
 }
 
@@ -272,37 +343,29 @@ fn run(args: &Args) -> Result<(), String> {
         });
     }
 
+    if args.meshes_only {
+        return meshes_only(args, &cfg, &root, &scenes, started, &machine, &load_start);
+    }
+
     // (a) error against run time.
     let sweep = error_time::measure_all(&scenes, &cfg, args.max_samples, args.max_image_samples)?;
 
-    // (b) OpenSCAD.
+    // (b) The peers.
     let limit = Duration::from_secs(args.peer_limit);
     let work = std::env::temp_dir().join(format!("qcsg-bench-{}", std::process::id()));
     std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
-    let peer = if args.no_openscad { None } else { find() };
-    let peer_rows = match &peer {
-        Some((program, _)) => peer_meshes::openscad(program, &scenes, &cfg.fns, &work, limit),
-        None => Vec::new(),
-    };
+    let measured = PeerResults::measure(args, &cfg, &root, &scenes, &work, limit)?;
+    let PeerResults {
+        openscad: peer,
+        openscad_rows: peer_rows,
+        manifold,
+        manifold_runs,
+        build123d,
+        build123d_runs,
+    } = &measured;
 
-    // (b) The Python peers.
-    let python = |peer: Peer| {
-        if args.no_python_peers {
-            Err("left out (`--no-python-peers`)".to_owned())
-        } else {
-            python_peer::find(&root, peer)
-        }
-    };
-    let manifold = python(Peer::Manifold);
-    let build123d = python(Peer::Build123d);
-    let manifold_runs = match &manifold {
-        Ok(m) => Some(peers::run_python(m, &scenes, args.quick, &work, limit)?),
-        Err(_) => None,
-    };
-    let build123d_runs = match &build123d {
-        Ok(b) => Some(peers::run_python(b, &scenes, args.quick, &work, limit)?),
-        Err(_) => None,
-    };
+    // (9) qcsg export beside the peers' meshes.
+    let export_rows = exports::measure(&scenes, &exports::tolerances(args.quick))?;
 
     // (c) Time to an image.
     let display = peer.as_ref().map(|_| Display::start());
@@ -369,14 +432,7 @@ fn run(args: &Args) -> Result<(), String> {
     }
 
     // (a) section.
-    let peers = peer_meshes::Peers {
-        openscad: peer.as_ref().map(|(_, version)| version.as_str()),
-        openscad_rows: &peer_rows,
-        manifold: &manifold,
-        manifold_runs: manifold_runs.as_deref(),
-        build123d: &build123d,
-        build123d_runs: build123d_runs.as_deref(),
-    };
+    let peers = measured.peers();
     plots.extend(error_time::write(
         &mut md, &out_dir, &cfg, &scenes, &sweep, &peers,
     )?);
@@ -406,6 +462,16 @@ fn run(args: &Args) -> Result<(), String> {
 
     // Stability.
     let stable = stability_table::stability_section(&mut md, &root)?;
+
+    // Meshes.
+    plots.extend(exports::write(
+        &mut md,
+        &out_dir,
+        &scenes,
+        &export_rows,
+        &peers,
+        "",
+    )?);
     let summary = summary::write(&summary::Inputs {
         scenes: &scenes,
         rows: &rows,
@@ -443,6 +509,55 @@ fn run(args: &Args) -> Result<(), String> {
         path.display(),
         plots.len(),
         secs(total)
+    );
+    Ok(())
+}
+
+/// `--meshes-only`: measures the peers' meshes and `qcsg export` again and replaces section 9
+/// of the existing report, with its own provenance.
+fn meshes_only(
+    args: &Args,
+    cfg: &Config,
+    root: &std::path::Path,
+    scenes: &[Scene],
+    started: Instant,
+    machine: &str,
+    load_start: &str,
+) -> Result<(), String> {
+    let limit = Duration::from_secs(args.peer_limit);
+    let work = std::env::temp_dir().join(format!("qcsg-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
+    let measured = PeerResults::measure(args, cfg, root, scenes, &work, limit)?;
+    let _ = std::fs::remove_dir_all(&work);
+    let export_rows = exports::measure(scenes, &exports::tolerances(args.quick))?;
+    let provenance = format!(
+        "This section was generated on its own by `cargo run --release -p qcsg-bench -- \
+         --meshes-only{}` in {:.0} s on {machine}, load average {load_start} at the start and {} \
+         at the end; it measured the peers' meshes again for its comparisons (section 2's tables \
+         come from the run that wrote the rest of the report, so their times differ by the \
+         machine's load).\n\n",
+        if args.quick { " --quick" } else { "" },
+        secs(started.elapsed()),
+        load_average()
+    );
+    let mut section = String::new();
+    let out_dir = root.join("docs/report");
+    exports::write(
+        &mut section,
+        &out_dir,
+        scenes,
+        &export_rows,
+        &measured.peers(),
+        &provenance,
+    )?;
+    let path = root.join("docs/report.md");
+    let report = std::fs::read_to_string(&path).unwrap_or_default();
+    std::fs::write(&path, exports::splice(&report, &section))
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    eprintln!(
+        "replaced section 9 of {} in {:.0} s",
+        path.display(),
+        secs(started.elapsed())
     );
     Ok(())
 }
