@@ -447,6 +447,26 @@ fn saves_of_the_file_and_its_includes_rebuild_and_errors_keep_the_last_image() {
     assert_eq!(kept.status, 200);
     assert_eq!(kept.body, after.body);
     assert_eq!(kept.headers["x-qcsg-generation"], generation.to_string());
+    let generation = broken["generation"].as_u64().unwrap();
+
+    // A save by renaming a new file over the old one, as many editors save.
+    let temporary = dir.join(".main.qcsg.new");
+    std::fs::write(&temporary, "include <part.qcsg>\npart();\n").unwrap();
+    std::fs::rename(&temporary, &main).unwrap();
+    let renamed = wait_for_change(&server, |e| e["generation"].as_u64() > Some(generation));
+    assert_eq!(renamed["ok"], true, "{renamed}");
+    let generation = renamed["generation"].as_u64().unwrap();
+
+    // A writer that keeps the file open: the rebuild comes without the save's end.
+    let mut open = std::fs::File::create(&main).unwrap();
+    open.write_all(b"sphere(1);\n").unwrap();
+    open.flush().unwrap();
+    // (A rename may be seen twice, so the wait is for the new solid, not the next rebuild.)
+    let written = wait_for_change(&server, |e| {
+        e["generation"].as_u64() > Some(generation) && e["quadrics"] == 1
+    });
+    assert_eq!(written["ok"], true, "{written}");
+    drop(open);
     drop(server);
     let _ = std::fs::remove_dir_all(&dir);
 }

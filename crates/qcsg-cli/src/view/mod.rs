@@ -32,8 +32,9 @@ use crate::compile::LimitArgs;
 use crate::render::{Choice, Device, Renderer, choose};
 use crate::{CommonArgs, EXIT_OK, EXIT_USAGE, program};
 
-/// How long the watcher waits after a change for the rest of a save's events.
-const DEBOUNCE: Duration = Duration::from_millis(25);
+/// How long a rebuild waits for the end of a save after a change that did not end one (a file
+/// truncated, created or written and still open); a save's end starts the rebuild at once.
+const SAVE_WAIT: Duration = Duration::from_millis(100);
 
 /// Arguments of `qcsg view`.
 #[derive(Debug, Args)]
@@ -195,11 +196,19 @@ async fn serve(args: ViewArgs, pool: rayon::ThreadPool, frames: http::Frames) ->
         frames,
     });
 
-    // Rebuild after changes: wait for the rest of a save's events, then compile once.
+    // Rebuild after changes: once a save has ended (or after a while without its end), gather
+    // the rest of its events, then compile once.
     let rebuilding = Arc::clone(&shared);
     tokio::spawn(async move {
-        while change_events.recv().await.is_some() {
-            tokio::time::sleep(DEBOUNCE).await;
+        while let Some(mut change) = change_events.recv().await {
+            let deadline = tokio::time::Instant::now() + SAVE_WAIT;
+            while change != watch::Change::Saved {
+                match tokio::time::timeout_at(deadline, change_events.recv()).await {
+                    Ok(Some(next)) => change = next,
+                    Ok(None) => return,
+                    Err(_) => break,
+                }
+            }
             while change_events.try_recv().is_ok() {}
             let previous = Arc::clone(
                 &rebuilding
