@@ -3,7 +3,10 @@
 Runs `target/release/qcsg view` (or `$QCSG_BIN`) and measures, as the page works: the time from a
 saved edit to the updated 800x600 frame (the `change` event, then `/frame.png`) for a 30-quadric
 scene; orbit frames per second at 640x480 for every gallery scene (frames asked one after the
-other around a circle); the server's resident memory over 1,000 edits. Standard library only.
+other around a circle); the server's resident memory over 1,000 edits. Beside each wall time it
+reports the server's CPU time (user + system, all its threads, from /proc) and the machine's load
+average, so that a run on a machine shared with other work can be read: on a loaded machine the
+wall times grow, the CPU time hardly. Standard library only.
 """
 
 import http.client
@@ -21,6 +24,7 @@ import urllib.parse
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 QCSG = os.environ.get("QCSG_BIN") or str(ROOT / "target" / "release" / "qcsg")
 DOC = ROOT / "docs" / "view.md"
+CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
 
 # A block drilled by three cylinders with a 6x4 grid of balls, as in docs/render.md.
 THIRTY = """size = {size};
@@ -70,44 +74,54 @@ class View:
                 return int(line.split()[1]) / 1024
         return float("nan")
 
+    def cpu_seconds(self):
+        """The server's CPU time so far, user and system, every thread (dead ones included)."""
+        fields = pathlib.Path(f"/proc/{self.process.pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS
+
     def close(self):
         self.process.kill()
         self.process.wait()
 
 
-def edit_to_frame(folder):
+def edit_to_frame(folder, edits=30):
+    """Wall and server CPU milliseconds of each of `edits` saved edits, to the updated frame."""
     path = folder / "thirty.qcsg"
     path.write_text(THIRTY.format(size=0.45))
     view = View(path)
     quadrics = view.latest["quadrics"]
-    times = []
-    for i in range(30):
+    walls, cpus = [], []
+    for i in range(edits):
         generation = view.latest["generation"]
+        cpu = view.cpu_seconds()
         started = time.perf_counter()
         path.write_text(THIRTY.format(size=0.40 + 0.002 * (i % 10)))
         view.wait_generation(generation)
         view.get("/frame.png", width=800, height=600)
-        times.append(1e3 * (time.perf_counter() - started))
+        walls.append(1e3 * (time.perf_counter() - started))
+        cpus.append(1e3 * (view.cpu_seconds() - cpu))
     view.close()
-    return quadrics, times
+    return quadrics, walls, cpus
 
 
-def orbit(path):
+def orbit(path, frames=24):
+    """Frames per second of an orbit at 640x480, in wall time and in the server's CPU time."""
     view = View(path)
     quadrics = view.latest["quadrics"]
     camera = json.loads(view.get("/camera", width=640, height=480))
     eye, center = camera["eye"], camera["center"]
     d = [e - c for e, c in zip(eye, center)]
     radius = math.hypot(d[0], d[1])
-    frames = 24
+    cpu = view.cpu_seconds()
     started = time.perf_counter()
     for i in range(frames):
         angle = math.atan2(d[1], d[0]) + 2 * math.pi * i / frames
         at = [center[0] + radius * math.cos(angle), center[1] + radius * math.sin(angle), eye[2]]
         view.get("/frame.png", width=640, height=480, camera=",".join(f"{v:.9g}" for v in at + center))
     took = time.perf_counter() - started
+    cpu = view.cpu_seconds() - cpu
     view.close()
-    return quadrics, frames / took
+    return quadrics, frames / took, cpu / frames
 
 
 def memory(folder, edits=1000):
@@ -127,29 +141,45 @@ def memory(folder, edits=1000):
     return samples
 
 
+def load():
+    """The machine's load average over the last minute."""
+    return os.getloadavg()[0]
+
+
+def percentile(values, fraction):
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, int(fraction * len(ordered)))]
+
+
 def main():
     lines = []
+    cores = os.cpu_count()
     with tempfile.TemporaryDirectory() as folder:
         folder = pathlib.Path(folder)
-        quadrics, times = edit_to_frame(folder)
-        times.sort()
+        before = load()
+        quadrics, walls, cpus = edit_to_frame(folder)
+        after = load()
+        binary = pathlib.Path(QCSG)
+        shown = binary.relative_to(ROOT) if binary.is_relative_to(ROOT) else binary
         lines.append(
-            f"Measured on {os.cpu_count()} cores ({platform.processor() or platform.machine()}), "
-            f"`{pathlib.Path(QCSG).relative_to(ROOT) if pathlib.Path(QCSG).is_relative_to(ROOT) else QCSG}`, "
-            f"{time.strftime('%Y-%m-%d')}.\n"
+            f"Measured on {cores} cores ({platform.processor() or platform.machine()}), "
+            f"`{shown}`, {time.strftime('%Y-%m-%d')}. CPU time is the server's (user and "
+            "system, all threads); the load average is the machine's over the last minute.\n"
         )
         lines.append(
             f"- Saved edit to updated 800×600 frame, 30-quadric scene ({quadrics} quadrics in the "
-            f"normal form), 30 edits: median {statistics.median(times):.0f} ms, "
-            f"90th percentile {times[int(0.9 * len(times))]:.0f} ms, worst {times[-1]:.0f} ms."
+            f"normal form), {len(walls)} edits, load average {before:.1f} → {after:.1f}: wall time "
+            f"median {statistics.median(walls):.0f} ms, 90th percentile {percentile(walls, 0.9):.0f} ms, "
+            f"worst {max(walls):.0f} ms; the server's CPU time per edit {statistics.mean(cpus):.0f} ms "
+            f"(mean; the kernel counts it in ticks of {1e3 / CLOCK_TICKS:.0f} ms)."
         )
         lines.append("")
-        lines.append("| gallery scene | quadrics | orbit frames/s at 640×480 |")
-        lines.append("| --- | --- | --- |")
+        lines.append("| gallery scene | quadrics | orbit frames/s at 640×480 | CPU ms per frame | load average |")
+        lines.append("| --- | --- | --- | --- | --- |")
         scenes = sorted(ROOT.glob("examples/*.qcsg")) + sorted(ROOT.glob("examples/*.scad"))
         for scene in scenes:
-            quadrics, fps = orbit(scene)
-            lines.append(f"| {scene.name} | {quadrics} | {fps:.1f} |")
+            quadrics, fps, cpu = orbit(scene)
+            lines.append(f"| {scene.name} | {quadrics} | {fps:.1f} | {1e3 * cpu:.0f} | {load():.1f} |")
         samples = memory(folder)
         lines.append("")
         lines.append(
