@@ -2,43 +2,28 @@
 //! unbounded solid, the term limit) is reported by `check` exactly as by `compile`, `render` and
 //! `sample`; `--no-dnf` and `--no-eval` stop earlier.
 
-use std::io::Write;
-use std::process::{Command, Stdio};
+use qcsg_testkit::cli::{Invocation, Run};
 
-/// Runs `qcsg ARGS -` with `program` on standard input; its exit status, standard output and
-/// standard error.
-fn run(program: &str, args: &[&str]) -> (i32, Vec<u8>, Vec<u8>) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+/// Runs `qcsg ARGS -` with `program` on standard input.
+fn run(program: &str, args: &[&str]) -> Run {
+    Invocation::new(env!("CARGO_BIN_EXE_qcsg"))
         .args(args)
         .arg("-")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("qcsg runs");
-    child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(program.as_bytes())
-        .expect("program written");
-    let output = child.wait_with_output().expect("qcsg ends");
-    let status = output.status.code().expect("an exit status");
-    (status, output.stdout, output.stderr)
+        .stdin(program)
+        .run()
 }
 
 /// The exit status and the diagnostics as (code, byte range) pairs from `--format json`.
 fn diagnostics(program: &str, args: &[&str]) -> (i32, Vec<(String, Vec<u64>)>) {
     let args = [args, &["--format", "json"]].concat();
-    let (status, stdout, stderr) = run(program, &args);
+    let run = run(program, &args);
     // `check` prints the array on standard output; commands whose output goes there print it on
     // standard error.
-    let text = if stdout.starts_with(b"[") {
-        stdout
+    let text = if run.stdout.starts_with(b"[") {
+        String::from_utf8_lossy(&run.stdout)
     } else {
-        stderr
+        run.stderr.as_str().into()
     };
-    let text = String::from_utf8_lossy(&text);
     let start = text
         .find('[')
         .unwrap_or_else(|| panic!("no JSON in {text}"));
@@ -58,15 +43,14 @@ fn diagnostics(program: &str, args: &[&str]) -> (i32, Vec<(String, Vec<u64>)>) {
             (d["code"].as_str().expect("a code").to_owned(), range)
         })
         .collect();
-    (status, found)
+    (run.status, found)
 }
 
 /// The codes and `line:column` positions of `compile`'s diagnostics (its `--format` is that of
 /// the emitted stage; diagnostics are for people).
 fn compile_reports(program: &str, args: &[&str], code: &str, at: &str) -> bool {
-    let (status, _, stderr) = run(program, &[&["compile", "--emit", "dnf"], args].concat());
-    let stderr = String::from_utf8_lossy(&stderr);
-    status == 1 && stderr.contains(code) && stderr.contains(at)
+    let run = run(program, &[&["compile", "--emit", "dnf"], args].concat());
+    run.status == 1 && run.stderr.contains(code) && run.stderr.contains(at)
 }
 
 const UNBOUNDED: &str = "union() { sphere(3); halfspace([0, 0, 1], 0); }\n";

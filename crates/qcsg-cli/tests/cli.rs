@@ -2,16 +2,9 @@
 //! JSON format (snapshots), and UTF-16 columns. The binary runs in `tests/fixtures/` so that file
 //! names in the output are short and stable; its standard error is a pipe, so it is colourless.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 
-/// What a run of the binary produced.
-struct Run {
-    status: i32,
-    stdout: String,
-    stderr: String,
-}
+use qcsg_testkit::cli::{Invocation, Run};
 
 fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures")
@@ -24,55 +17,36 @@ fn qcsg(args: &[&str], stdin: &str) -> Run {
 
 /// Runs `qcsg args…` with `QCSG_PATH` set to `search_path`, or unset.
 fn qcsg_with_path(args: &[&str], stdin: &str, search_path: Option<&str>) -> Run {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_qcsg"));
-    command
+    let mut run = Invocation::new(env!("CARGO_BIN_EXE_qcsg"))
         .args(args)
         .current_dir(fixtures())
-        .env_remove("QCSG_PATH")
-        .env_remove("COLUMNS");
+        .stdin(stdin);
     if let Some(search_path) = search_path {
-        command.env("QCSG_PATH", search_path);
+        run = run.env("QCSG_PATH", search_path);
     }
-    let mut child = command
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the qcsg binary starts");
-    // A run that does not read its input closes the pipe early; that is not a failure here.
-    let _ = child
-        .stdin
-        .take()
-        .expect("piped stdin")
-        .write_all(stdin.as_bytes());
-    let output = child.wait_with_output().expect("the qcsg binary finishes");
-    Run {
-        status: output.status.code().expect("exited, not killed"),
-        stdout: String::from_utf8(output.stdout).expect("UTF-8 stdout"),
-        stderr: String::from_utf8(output.stderr).expect("UTF-8 stderr"),
-    }
+    run.run()
 }
 
 fn json(run: &Run) -> Vec<serde_json::Value> {
-    serde_json::from_str(&run.stdout)
-        .unwrap_or_else(|e| panic!("stdout is not a JSON array ({e}):\n{}", run.stdout))
+    serde_json::from_str(run.stdout_text())
+        .unwrap_or_else(|e| panic!("stdout is not a JSON array ({e}):\n{}", run.stdout_text()))
 }
 
 #[test]
 fn clean_file_exits_0_with_a_summary() {
     let run = qcsg(&["check", "clean.qcsg"], "");
-    assert_eq!((run.status, run.stdout.as_str()), (0, ""), "{}", run.stderr);
+    assert_eq!((run.status, run.stdout_text()), (0, ""), "{}", run.stderr);
     assert_eq!(run.stderr, "0 errors, 0 warnings\n");
 
     let run = qcsg(&["check", "--format", "json", "clean.qcsg"], "");
     assert_eq!(
-        (run.status, run.stdout.as_str(), run.stderr.as_str()),
+        (run.status, run.stdout_text(), run.stderr.as_str()),
         (0, "[]\n", "")
     );
 
     let run = qcsg(&["check", "-q", "clean.qcsg"], "");
     assert_eq!(
-        (run.status, run.stdout.as_str(), run.stderr.as_str()),
+        (run.status, run.stdout_text(), run.stderr.as_str()),
         (0, "", "")
     );
 }
@@ -81,7 +55,7 @@ fn clean_file_exits_0_with_a_summary() {
 fn errors_exit_1_rendered_for_people() {
     let run = qcsg(&["check", "syntax_errors.qcsg"], "");
     assert_eq!(run.status, 1);
-    assert_eq!(run.stdout, "");
+    assert_eq!(run.stdout_text(), "");
     assert!(
         !run.stderr.contains('\u{1b}'),
         "no colour without a terminal"
@@ -113,7 +87,7 @@ fn errors_exit_1_as_json() {
         expected.sort_unstable();
         assert_eq!(keys, expected);
     }
-    insta::assert_snapshot!(run.stdout);
+    insta::assert_snapshot!(run.stdout_text());
 }
 
 #[test]
@@ -129,9 +103,9 @@ fn help_and_labels_in_included_files_are_rendered() {
         .iter()
         .flat_map(|d| d["labels"].as_array().unwrap())
         .find(|label| label["file"] == "lib/parts.qcsg")
-        .unwrap_or_else(|| panic!("a label in lib/parts.qcsg:\n{}", run.stdout));
+        .unwrap_or_else(|| panic!("a label in lib/parts.qcsg:\n{}", run.stdout_text()));
     assert_eq!(in_library["range"]["start"]["line"], 1);
-    insta::assert_snapshot!("names_json", run.stdout);
+    insta::assert_snapshot!("names_json", run.stdout_text());
 }
 
 #[test]
@@ -141,7 +115,7 @@ fn qcsg_path_is_searched_for_use_and_include() {
     assert!(
         json(&without).iter().any(|d| d["code"] == "E0401"),
         "{}",
-        without.stdout
+        without.stdout_text()
     );
 
     let library = fixtures().join("search_path");
@@ -164,7 +138,12 @@ fn json_columns_count_utf16_code_units() {
     let diagnostic = diagnostics
         .iter()
         .find(|d| d["byte_range"][0] == at)
-        .unwrap_or_else(|| panic!("a diagnostic at the `@` (byte {at}):\n{}", run.stdout));
+        .unwrap_or_else(|| {
+            panic!(
+                "a diagnostic at the `@` (byte {at}):\n{}",
+                run.stdout_text()
+            )
+        });
     let utf16: usize = text[line_start..at].encode_utf16().count();
     assert_ne!(
         utf16,
@@ -200,7 +179,7 @@ fn dash_reads_standard_input_as_stdin() {
     assert!(
         diagnostics.iter().all(|d| d["file"] == "<stdin>"),
         "{}",
-        run.stdout
+        run.stdout_text()
     );
 
     let run = qcsg(&["check", "-"], "cube(1);\n");

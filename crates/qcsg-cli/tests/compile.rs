@@ -2,48 +2,21 @@
 //! the limit flags and the diagnostics at the span that crossed a limit, and exit codes. Programs
 //! come on standard input (named `<stdin>` in diagnostics).
 
-use std::io::Write;
-use std::process::{Command, Stdio};
-
+use qcsg_testkit::cli::{Invocation, Run};
 use serde_json::Value;
-
-/// What a run of the binary produced.
-struct Run {
-    status: i32,
-    stdout: String,
-    stderr: String,
-}
 
 /// Runs `qcsg compile - args…` with `program` on standard input.
 fn compile(program: &str, args: &[&str]) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_qcsg"))
-        .arg("compile")
-        .arg("-")
+    Invocation::new(env!("CARGO_BIN_EXE_qcsg"))
+        .args(["compile", "-"])
         .args(args)
-        .env_remove("QCSG_PATH")
-        .env_remove("COLUMNS")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("qcsg runs");
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(program.as_bytes())
-        .unwrap();
-    let output = child.wait_with_output().expect("qcsg finishes");
-    Run {
-        status: output.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&output.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
-    }
+        .stdin(program)
+        .run()
 }
 
 fn json(run: &Run) -> Value {
     assert_eq!(run.status, 0, "{}", run.stderr);
-    serde_json::from_str(&run.stdout).unwrap_or_else(|e| panic!("{e}: {}", run.stdout))
+    serde_json::from_str(run.stdout_text()).unwrap_or_else(|e| panic!("{e}: {}", run.stdout_text()))
 }
 
 /// `error[CODE]` followed (in the excerpt header) by `<stdin>:LINE:COL`.
@@ -68,7 +41,7 @@ fn dnf_json_has_the_contract_fields() {
     let dnf = json(&run);
     let quadrics = dnf["quadrics"].as_array().expect("quadrics");
     // cube: 3 slabs, sphere(1.2): 1; the far sphere misses the cube's box and is pruned.
-    assert_eq!(quadrics.len(), 4, "{}", run.stdout);
+    assert_eq!(quadrics.len(), 4, "{}", run.stdout_text());
     for (i, q) in quadrics.iter().enumerate() {
         assert_eq!(q["id"], i);
         assert_eq!(q["origin"].as_array().unwrap().len(), 3);
@@ -116,10 +89,26 @@ fn dnf_text_is_one_term_per_line_with_kinds_and_sources() {
         &["--emit", "dnf"],
     );
     assert_eq!(run.status, 0, "{}", run.stderr);
-    assert!(run.stdout.contains(" sphere "), "{}", run.stdout);
-    assert!(run.stdout.contains(" slab "), "{}", run.stdout);
-    assert!(run.stdout.contains("<stdin>:1:1"), "{}", run.stdout);
-    assert!(run.stdout.contains("<stdin>:2:"), "{}", run.stdout);
+    assert!(
+        run.stdout_text().contains(" sphere "),
+        "{}",
+        run.stdout_text()
+    );
+    assert!(
+        run.stdout_text().contains(" slab "),
+        "{}",
+        run.stdout_text()
+    );
+    assert!(
+        run.stdout_text().contains("<stdin>:1:1"),
+        "{}",
+        run.stdout_text()
+    );
+    assert!(
+        run.stdout_text().contains("<stdin>:2:"),
+        "{}",
+        run.stdout_text()
+    );
 }
 
 #[test]
@@ -145,7 +134,7 @@ fn the_term_limit_is_an_error_at_the_part_that_crossed_it_and_a_flag_raises_it()
     // A block minus 8 cubes that all overlap: the normal form multiplies out.
     let program = "difference() {\n  cube(10);\n  for (i = [0 : 7]) translate([i / 2, i / 3, 1]) cube(3);\n}\n";
     let run = compile(program, &["--emit", "dnf", "--max-terms", "20"]);
-    assert_eq!(run.status, 1, "{}", run.stdout);
+    assert_eq!(run.status, 1, "{}", run.stdout_text());
     assert!(run.stdout.is_empty());
     // At the subtracted cube whose expansion crossed the limit.
     assert!(reports_at(&run, "E0601", "3:50"), "{}", run.stderr);

@@ -4,17 +4,11 @@
 //! 101), hang or read without bound. The time bounds are generous (the inputs are sized so that
 //! the quadratic or unbounded behaviour these tests guard against would take minutes).
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-/// What a run of the binary produced.
-struct Run {
-    status: i32,
-    stdout: String,
-    stderr: String,
-}
+use qcsg_testkit::cli::{Invocation, Run};
 
 /// The longest any run here may take.
 const DEADLINE: Duration = Duration::from_secs(20);
@@ -51,45 +45,12 @@ fn write(dir: &Path, name: &str, bytes: impl AsRef<[u8]>) {
 
 /// Runs `qcsg args…` in `dir` with `stdin` as standard input, killing it past [`DEADLINE`].
 fn qcsg_in(dir: &Path, args: &[&str], stdin: Stdio) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+    Invocation::new(env!("CARGO_BIN_EXE_qcsg"))
         .args(args)
         .current_dir(dir)
-        .env_remove("QCSG_PATH")
-        .env_remove("COLUMNS")
-        .stdin(stdin)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the qcsg binary starts");
-    // Drain the pipes on threads, so that a large output cannot stall the child.
-    let mut stdout = child.stdout.take().expect("piped stdout");
-    let mut stderr = child.stderr.take().expect("piped stderr");
-    let out = std::thread::spawn(move || {
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(&mut stdout, &mut bytes).map(|_| bytes)
-    });
-    let err = std::thread::spawn(move || {
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(&mut stderr, &mut bytes).map(|_| bytes)
-    });
-    let started = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("the child can be waited for") {
-            break status;
-        }
-        if started.elapsed() > DEADLINE {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("`qcsg {}` ran past {DEADLINE:?}", args.join(" "));
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    let text = |bytes: Vec<u8>| String::from_utf8(bytes).expect("UTF-8 output");
-    Run {
-        status: status.code().expect("exited, not killed"),
-        stdout: text(out.join().expect("reader").expect("stdout read")),
-        stderr: text(err.join().expect("reader").expect("stderr read")),
-    }
+        .stdin_from(stdin)
+        .deadline(DEADLINE)
+        .run()
 }
 
 fn qcsg(dir: &Path, args: &[&str]) -> Run {
@@ -97,8 +58,8 @@ fn qcsg(dir: &Path, args: &[&str]) -> Run {
 }
 
 fn json(run: &Run) -> Vec<serde_json::Value> {
-    serde_json::from_str(&run.stdout)
-        .unwrap_or_else(|e| panic!("stdout is not a JSON array ({e}):\n{}", run.stdout))
+    serde_json::from_str(run.stdout_text())
+        .unwrap_or_else(|e| panic!("stdout is not a JSON array ({e}):\n{}", run.stdout_text()))
 }
 
 /// The human output of a run never has a line that miette could not have drawn short.
@@ -347,18 +308,14 @@ fn invalid_utf8_is_an_error_at_the_byte_and_the_rest_is_checked() {
     assert_eq!(elements[0]["byte_range"], serde_json::json!([15, 18]));
 
     // Standard input too.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+    let run = Invocation::new(env!("CARGO_BIN_EXE_qcsg"))
         .args(["check", "-q", "-"])
         .current_dir(&*dir)
-        .stdin(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the qcsg binary starts");
-    let _ = child.stdin.take().expect("piped").write_all(latin1);
-    let output = child.wait_with_output().expect("the qcsg binary finishes");
-    assert_eq!(output.status.code(), Some(1));
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("<stdin>:2:9"), "{stderr}");
+        .stdin(&latin1[..])
+        .deadline(DEADLINE)
+        .run();
+    assert_eq!(run.status, 1);
+    assert!(run.stderr.contains("<stdin>:2:9"), "{}", run.stderr);
 
     // Formatting would write the replacement characters over the bytes: the file is left alone.
     let run = qcsg(&dir, &["fmt", "latin1.qcsg"]);

@@ -3,41 +3,19 @@
 //! JSON, byte-identical output for any thread count, and the exit codes of docs/cli.md (bad radius:
 //! usage error; errors in the program: 1), with no file left behind by a failed run.
 
-use std::io::Write;
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
 
+use qcsg_testkit::cli::{Invocation, Run};
 use serde_json::Value;
 
 /// A cube of side 2 minus a sphere of radius 1.3: four quadrics, one term, feature curves.
 const SCENE: &str = "difference() { cube(2, center = true); sphere(1.3); }\n";
 
-struct Run {
-    status: i32,
-    stdout: Vec<u8>,
-    stderr: String,
-}
-
 fn qcsg(args: &[&str], stdin: &str) -> Run {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+    Invocation::new(env!("CARGO_BIN_EXE_qcsg"))
         .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("qcsg runs");
-    // A run refused before reading its input closes the pipe early: that is not a failure.
-    let _ = child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(stdin.as_bytes());
-    let output = child.wait_with_output().expect("qcsg finishes");
-    Run {
-        status: output.status.code().unwrap_or(-1),
-        stdout: output.stdout,
-        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
-    }
+        .stdin(stdin)
+        .run()
 }
 
 fn scratch_dir(name: &str) -> PathBuf {

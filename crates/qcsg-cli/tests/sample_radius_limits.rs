@@ -7,9 +7,9 @@
 #![cfg(unix)]
 
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
+use qcsg_testkit::cli::{Invocation, Run};
 use serde_json::Value;
 
 /// The address space each run may take, in KiB.
@@ -18,44 +18,15 @@ const ADDRESS_SPACE_KIB: u64 = 1 << 20;
 /// Far above the milliseconds a refusal takes, far below the minutes an attempt would.
 const GENEROUS: Duration = Duration::from_secs(20);
 
-struct Run {
-    status: i32,
-    stdout: Vec<u8>,
-    stderr: String,
-    took: Duration,
-}
-
 /// `qcsg` with `args` (from the workspace root), in an address space of
 /// [`ADDRESS_SPACE_KIB`], with `stdin` as its standard input.
 fn qcsg_limited(args: &[&str], stdin: &str) -> Run {
-    use std::io::Write;
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let script = format!("ulimit -v {ADDRESS_SPACE_KIB} && exec \"$0\" \"$@\"");
-    let started = Instant::now();
-    let mut child = Command::new("sh")
-        .arg("-c")
-        .arg(script)
-        .arg(env!("CARGO_BIN_EXE_qcsg"))
+    Invocation::with_address_space(env!("CARGO_BIN_EXE_qcsg"), ADDRESS_SPACE_KIB)
         .args(args)
         .current_dir(root)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("sh runs");
-    // A run that does not read its input closes the pipe early: that is not a failure.
-    let _ = child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(stdin.as_bytes());
-    let output = child.wait_with_output().expect("qcsg finishes");
-    Run {
-        status: output.status.code().unwrap_or(-1),
-        stdout: output.stdout,
-        stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
-        took: started.elapsed(),
-    }
+        .stdin(stdin)
+        .run()
 }
 
 #[test]
