@@ -478,7 +478,7 @@ fn run(args: &Args) -> Result<(), String> {
         radii: &cfg.radii,
         stops: &stops,
         max_samples: args.max_samples,
-        openscad: &peer_rows,
+        openscad: peer_rows,
         manifold: manifold_runs.as_deref(),
         build123d: build123d_runs.as_deref(),
         images: &images,
