@@ -38,6 +38,9 @@ impl Analysis {
             self.offset(range.end) as u32,
         );
         let mut actions = Vec::new();
+        // Collected once: a document with thousands of undefined names must not walk its tree
+        // once per name.
+        let mut statements = None;
         for diagnostic in &self.sema.diagnostics {
             let span = diagnostic.span;
             if diagnostic.file != main || span.end < start || span.start > end {
@@ -54,7 +57,8 @@ impl Analysis {
             }
             match diagnostic.code {
                 codes::UNDEFINED_VARIABLE if !name.is_empty() => {
-                    let at = self.statement_line_start(span);
+                    let statements = statements.get_or_insert_with(|| self.statement_spans());
+                    let at = self.statement_line_start(statements, span);
                     let indent: String = self.text()[at..]
                         .chars()
                         .take_while(|c| *c == ' ' || *c == '\t')
@@ -91,25 +95,30 @@ impl Analysis {
         }
     }
 
-    /// The start of the line of the innermost statement in a block (or at top level) containing
-    /// `span`, where a declaration can go.
-    fn statement_line_start(&self, span: Span) -> usize {
-        let mut start = 0u32;
-        let mut consider = |stmts: &[qcsg_syntax::ast::Stmt]| {
-            for stmt in stmts {
-                if stmt.span.start <= span.start && span.end <= stmt.span.end {
-                    start = start.max(stmt.span.start);
-                }
-            }
-        };
-        consider(&self.tree().stmts);
+    /// The spans of the statements in blocks and at top level, sorted by their start.
+    fn statement_spans(&self) -> Vec<Span> {
+        let mut spans: Vec<Span> = self.tree().stmts.iter().map(|stmt| stmt.span).collect();
         walk(self.tree(), &mut |node| {
             if let Node::Stmt(stmt) = node
                 && let StmtKind::Block(stmts) = &stmt.kind
             {
-                consider(stmts);
+                spans.extend(stmts.iter().map(|stmt| stmt.span));
             }
         });
+        spans.sort_by_key(|span| span.start);
+        spans
+    }
+
+    /// The start of the line of the innermost statement in a block (or at top level) containing
+    /// `span`, where a declaration can go. Statements nest, so the innermost is the one that
+    /// starts last among those containing `span`: the first found going back from `span`.
+    fn statement_line_start(&self, statements: &[Span], span: Span) -> usize {
+        let before = statements.partition_point(|stmt| stmt.start <= span.start);
+        let start = statements[..before]
+            .iter()
+            .rev()
+            .find(|stmt| span.end <= stmt.end)
+            .map_or(0, |stmt| stmt.start);
         let text = self.text();
         text[..start as usize].rfind('\n').map_or(0, |i| i + 1)
     }
