@@ -304,8 +304,8 @@ pub fn ball_union(n: usize) -> Shape {
 mod tests {
     use super::*;
     use crate::pipeline::{compile_file, compile_source};
-    use crate::reference::Rng;
     use qcsg_csg::DnfOptions;
+    use qcsg_testkit::Rng;
 
     #[test]
     fn benchmark_trees_are_the_scene_files() {
@@ -323,7 +323,7 @@ mod tests {
             let mut rng = Rng::new(7);
             let mut inside = 0;
             for _ in 0..20_000 {
-                let p = rng.point_in(&b);
+                let p = rng.in_box(b.min, b.max);
                 assert_eq!(file.contains(p), tree.contains(p), "{name} at {p:?}");
                 inside += usize::from(file.contains(p));
             }

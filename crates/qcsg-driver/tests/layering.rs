@@ -22,8 +22,18 @@ fn allowed() -> BTreeMap<&'static str, Vec<&'static str>> {
         ("qcsg-quadric", vec![]),
         ("qcsg-mesh", vec![]),
         // Test helpers: a file loader over memory (the loader's trait), the language suite's
-        // annotations (diagnostics, analyses) and oracle meshes (the point-triangle distance).
-        ("qcsg-testkit", vec!["qcsg-diag", "qcsg-sema", "qcsg-mesh"]),
+        // annotations (diagnostics, analyses), oracle meshes (the point-triangle distance) and
+        // reference points on a DNF's surface (membership, line-quadric roots).
+        (
+            "qcsg-testkit",
+            vec![
+                "qcsg-diag",
+                "qcsg-sema",
+                "qcsg-mesh",
+                "qcsg-csg",
+                "qcsg-quadric",
+            ],
+        ),
         ("qcsg-syntax", vec!["qcsg-diag"]),
         ("qcsg-sema", vec!["qcsg-diag", "qcsg-syntax"]),
         ("qcsg-csg", vec!["qcsg-diag", "qcsg-quadric", "qcsg-mesh"]),

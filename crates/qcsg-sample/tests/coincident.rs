@@ -108,11 +108,11 @@ fn against_clean(flush: &Sampling, clean: &Dnf, r: f64, diag: f64) -> Result<(),
     let slack = 1e-9 * diag;
     let missing = refs
         .iter()
-        .filter(|(_, x)| {
+        .filter(|point| {
             !flush
                 .samples
                 .iter()
-                .any(|s| (s.position - *x).length() <= s.radius + slack)
+                .any(|s| (s.position - point.position).length() <= s.radius + slack)
         })
         .count();
     if missing > 0 {

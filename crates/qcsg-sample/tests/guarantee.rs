@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{check_samples, diagonal, reference_points, uncovered};
+use common::{SurfacePoint, check_samples, diagonal, reference_points, uncovered};
 use qcsg_csg::Dnf;
 use qcsg_sample::{Sampling, resample, sample};
 
@@ -150,11 +150,13 @@ fn rim_of_a_wall_1e9_thick() {
         .expect("the cutting plane") as u32;
     // The ring lies between the spheres' sections with the plane z = 0.3.
     let middle = (0.5 * ((1.0f64 + 1e-9).powi(2) + 1.0) - 0.09).sqrt();
-    let ring: Vec<(u32, qcsg_quadric::DVec3)> = (0..720)
+    let ring: Vec<SurfacePoint> = (0..720)
         .map(|k| {
             let angle = f64::from(k) * std::f64::consts::TAU / 720.0;
-            let p = qcsg_quadric::DVec3::new(middle * angle.cos(), middle * angle.sin(), 0.3);
-            (plane, p)
+            SurfacePoint {
+                quadric: plane,
+                position: qcsg_quadric::DVec3::new(middle * angle.cos(), middle * angle.sin(), 0.3),
+            }
         })
         .collect();
     let diag = diagonal(&dnf);

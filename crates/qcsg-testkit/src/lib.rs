@@ -12,7 +12,10 @@
 //! - [`openscad`]: OpenSCAD 2021.01 as the oracle of meaning — its STL export of a scene, cached
 //!   by content;
 //! - [`cli`]: the end-to-end tests' runner of a binary (input, captured output, a deadline, a
-//!   capped address space).
+//!   capped address space);
+//! - [`reference`]: points on a DNF's surface and on its feature curves, found by exact
+//!   line-quadric intersections and membership alone: the oracle of coverage and distance that
+//!   the sampler's tests and the benchmarks measure against.
 //!
 //! It is a dependency of tests and benchmarks only; nothing in the product depends on it.
 
@@ -22,6 +25,7 @@ mod files;
 mod flush;
 mod mesh;
 pub mod openscad;
+pub mod reference;
 mod rng;
 
 pub use files::MemoryFiles;

@@ -10,6 +10,7 @@ use qcsg_quadric::{DMat4, DVec3, Quadric};
 use qcsg_sample::{Sample, Samples};
 
 pub use qcsg_testkit::Rng;
+pub use qcsg_testkit::reference::{SurfacePoint, edge_points, reference_points};
 
 pub fn at() -> Source {
     Source::default()
@@ -208,105 +209,6 @@ pub fn check_samples(dnf: &Dnf, samples: &Samples, tol: f64) -> (f64, usize) {
     (worst, off_surface)
 }
 
-/// Reference points on the CSG surface by ray casting the DNF: every root of every quadric on
-/// random lines where the solid changes across the hit (`±eps` along the ray).
-pub fn reference_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> {
-    ray_hits(dnf, rays, seed).0
-}
-
-/// A point on the quadric with the given index.
-pub type Hit = (u32, DVec3);
-
-/// Ray hits on the quadrics: those where the solid changes across the hit (on the CSG surface)
-/// and those where it does not (on the quadric, off the CSG surface).
-pub fn ray_hits(dnf: &Dnf, rays: usize, seed: u64) -> (Vec<Hit>, Vec<Hit>) {
-    let diag = diagonal(dnf);
-    let eps = 1e-9 * diag;
-    let mut rng = Rng::new(seed);
-    let mut out = Vec::new();
-    let mut off = Vec::new();
-    let half = 0.5 * (dnf.bounds.max - dnf.bounds.min) * 1.05;
-    let widened = Aabb::from_centre_half(dnf.bounds.centre(), half);
-    for _ in 0..rays {
-        let origin = rng.in_box(widened.min, widened.max);
-        let v = rng.direction();
-        for (qi, entry) in dnf.quadrics.iter().enumerate() {
-            for t in entry.quadric.intersect_line(origin, v).roots() {
-                let x = origin + t * v;
-                if !dnf.bounds.contains(x) {
-                    continue;
-                }
-                if dnf.contains(x - eps * v) != dnf.contains(x + eps * v) {
-                    out.push((qi as u32, x));
-                } else {
-                    off.push((qi as u32, x));
-                }
-            }
-        }
-    }
-    (out, off)
-}
-
-/// Whether the solid changes across quadric `q` at `x` (`±eps` along the normal).
-fn on_csg_surface(dnf: &Dnf, q: &Quadric, x: DVec3, eps: f64) -> Option<bool> {
-    let n = q.normal(x)?;
-    Some(dnf.contains(x - eps * n) != dnf.contains(x + eps * n))
-}
-
-/// The point of `q` nearest to `x` along the normal at `x` (a projection for nearby points).
-fn project(q: &Quadric, x: DVec3) -> Option<DVec3> {
-    let n = q.normal(x)?;
-    let t = q
-        .intersect_line(x, n)
-        .roots()
-        .into_iter()
-        .min_by(|a, b| a.abs().total_cmp(&b.abs()))?;
-    Some(x + t * n)
-}
-
-/// Reference points on the feature curves, where coverage is hardest: bisection along the
-/// quadric between a ray hit on the CSG surface and a nearby hit on the same quadric off it,
-/// keeping the last point on the CSG surface (within about `1e-12` of the diagonal of a curve).
-pub fn edge_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> {
-    let diag = diagonal(dnf);
-    let eps = 1e-9 * diag;
-    let (on, off) = ray_hits(dnf, rays, seed);
-    let mut out = Vec::new();
-    for (k, &(q_index, a)) in on.iter().enumerate() {
-        let q = dnf.quadrics[q_index as usize].quadric;
-        // The next off-surface hit on the same quadric within a fifth of the diagonal.
-        let Some(&(_, b)) = off
-            .iter()
-            .cycle()
-            .skip(k % off.len().max(1))
-            .take(off.len())
-            .find(|(qi, b)| *qi == q_index && (*b - a).length() < 0.2 * diag)
-        else {
-            continue;
-        };
-        let (mut inside, mut outside) = (a, b);
-        let mut ok = true;
-        for _ in 0..45 {
-            let Some(m) = project(&q, 0.5 * (inside + outside)) else {
-                ok = false;
-                break;
-            };
-            match on_csg_surface(dnf, &q, m, eps) {
-                Some(true) => inside = m,
-                Some(false) => outside = m,
-                None => {
-                    ok = false;
-                    break;
-                }
-            }
-        }
-        if ok && (inside - outside).length() < 1e-6 * diag {
-            out.push((q_index, inside));
-        }
-    }
-    out
-}
-
 /// Reference points not inside the disc of a sample of the same quadric: the sample's own
 /// radius (at most `r`, smaller where the sampler reduced it), plus `r · 1e-9 + slack`. A
 /// renderer draws each sample at its own radius, on its own side of the quadric, clipped to its
@@ -316,7 +218,7 @@ pub fn edge_points(dnf: &Dnf, rays: usize, seed: u64) -> Vec<(u32, DVec3)> {
 pub fn uncovered(
     dnf: &Dnf,
     samples: &Samples,
-    refs: &[(u32, DVec3)],
+    refs: &[SurfacePoint],
     r: f64,
     slack: f64,
 ) -> Vec<(u32, DVec3, f64)> {
@@ -331,7 +233,11 @@ pub fn uncovered(
         grid.entry(key(s.position)).or_default().push(i);
     }
     let mut missing = Vec::new();
-    for &(q, p) in refs {
+    for &SurfacePoint {
+        quadric: q,
+        position: p,
+    } in refs
+    {
         let (cx, cy, cz) = key(p);
         let mut best = f64::INFINITY;
         // A splat draws the side of its quadric it lies on: the sample's normal must agree
@@ -641,7 +547,7 @@ pub fn programs_in(directory: &str) -> Vec<std::path::PathBuf> {
 pub fn uncovered_on_any(
     dnf: &Dnf,
     samples: &Samples,
-    refs: &[(u32, DVec3)],
+    refs: &[SurfacePoint],
     r: f64,
     slack: f64,
 ) -> Vec<(u32, DVec3, f64)> {
@@ -650,7 +556,13 @@ pub fn uncovered_on_any(
         let through: Vec<u32> = (0..dnf.quadrics.len() as u32)
             .filter(|&j| j != q && surface_residual(&dnf.quadrics[j as usize].quadric, p) <= slack)
             .collect();
-        let again: Vec<(u32, DVec3)> = through.iter().map(|&j| (j, p)).collect();
+        let again: Vec<SurfacePoint> = through
+            .iter()
+            .map(|&j| SurfacePoint {
+                quadric: j,
+                position: p,
+            })
+            .collect();
         if through.is_empty() || uncovered(dnf, samples, &again, r, slack).len() == again.len() {
             missing.push((q, p, distance));
         }
