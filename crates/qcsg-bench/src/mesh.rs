@@ -16,6 +16,7 @@ use std::collections::HashMap;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use qcsg_csg::Dnf;
+use qcsg_mesh::closest_point_on_triangle;
 use qcsg_quadric::DVec3;
 
 use crate::crease;
@@ -81,59 +82,6 @@ pub fn parse_stl(bytes: &[u8]) -> Result<Mesh, String> {
     Ok(Mesh { triangles })
 }
 
-/// The distance from `p` to the triangle `t` (exact, by regions of the triangle's plane).
-pub fn point_triangle_distance(p: DVec3, t: &[DVec3; 3]) -> f64 {
-    let [a, b, c] = *t;
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return ap.length();
-    }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return bp.length();
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        let v = d1 / (d1 - d3);
-        return (p - (a + v * ab)).length();
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return cp.length();
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        let w = d2 / (d2 - d6);
-        return (p - (a + w * ac)).length();
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (p - (b + w * (c - b))).length();
-    }
-    let denom = va + vb + vc;
-    if denom == 0.0 || !denom.is_finite() {
-        // A degenerate triangle: the nearest of its edges.
-        return [(a, b), (b, c), (c, a)]
-            .iter()
-            .map(|&(u, v)| {
-                let d = v - u;
-                let s = if d.length_squared() > 0.0 {
-                    ((p - u).dot(d) / d.length_squared()).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                (p - (u + s * d)).length()
-            })
-            .fold(f64::INFINITY, f64::min);
-    }
-    let (v, w) = (vb / denom, vc / denom);
-    (p - (a + v * ab + w * ac)).length()
-}
-
 /// Triangles bucketed in a uniform grid, for nearest-triangle queries.
 struct TriangleGrid<'a> {
     mesh: &'a Mesh,
@@ -193,10 +141,8 @@ impl<'a> TriangleGrid<'a> {
                         let key = (centre.0 + x, centre.1 + y, centre.2 + z);
                         if let Some(list) = self.cells.get(&key) {
                             for &i in list {
-                                best = best.min(point_triangle_distance(
-                                    p,
-                                    &self.mesh.triangles[i as usize],
-                                ));
+                                let triangle = &self.mesh.triangles[i as usize];
+                                best = best.min(closest_point_on_triangle(p, triangle).distance(p));
                             }
                         }
                     }
@@ -382,19 +328,6 @@ pub fn mesh_distance(dnf: &Dnf, mesh: &Mesh, refs: &[SurfacePoint], spacing: f64
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn point_triangle_distance_by_region() {
-        let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
-        assert!((point_triangle_distance(DVec3::new(0.2, 0.2, 3.0), &t) - 3.0).abs() < 1e-15);
-        assert!(
-            (point_triangle_distance(DVec3::new(-1.0, -1.0, 0.0), &t) - 2f64.sqrt()).abs() < 1e-15
-        );
-        assert!(
-            (point_triangle_distance(DVec3::new(1.0, 1.0, 0.0), &t) - 0.5f64.sqrt()).abs() < 1e-15
-        );
-        assert!((point_triangle_distance(DVec3::new(0.5, -2.0, 0.0), &t) - 2.0).abs() < 1e-15);
-    }
 
     #[test]
     fn ascii_stl_parses() {
