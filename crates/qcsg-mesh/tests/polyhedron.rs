@@ -69,16 +69,33 @@ fn distance_to_mesh(mesh: &Mesh, p: DVec3) -> f64 {
 
 fn check_membership(mesh: &Mesh, samples: usize, seed: u64) -> Polyhedron {
     let polyhedron = polyhedron_cells(mesh, &MeshLimits::default()).expect("a valid mesh");
-    let (lo, hi) = mesh.points.iter().fold(
+    let (lo, hi) = mesh_box(mesh);
+    let margin = (hi - lo) * 0.1;
+    check_membership_in(mesh, &polyhedron, lo - margin, hi + margin, samples, seed);
+    polyhedron
+}
+
+fn mesh_box(mesh: &Mesh) -> (DVec3, DVec3) {
+    mesh.points.iter().fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(lo, hi), &p| (lo.min(p), hi.max(p)),
-    );
+    )
+}
+
+/// Checks `samples` random points of the box `[from, to]` against the oracle.
+fn check_membership_in(
+    mesh: &Mesh,
+    polyhedron: &Polyhedron,
+    from: DVec3,
+    to: DVec3,
+    samples: usize,
+    seed: u64,
+) {
+    let (lo, hi) = mesh_box(mesh);
     let size = (hi - lo).max_element();
-    let margin = (hi - lo) * 0.1;
     let mut rng = Rng::new(seed);
     for _ in 0..samples {
-        let p =
-            lo - margin + (hi - lo + 2.0 * margin) * DVec3::new(rng.unit(), rng.unit(), rng.unit());
+        let p = from + (to - from) * DVec3::new(rng.unit(), rng.unit(), rng.unit());
         if distance_to_mesh(mesh, p) < 1e-7 * size {
             continue;
         }
@@ -102,7 +119,6 @@ fn check_membership(mesh: &Mesh, samples: usize, seed: u64) -> Polyhedron {
             );
         }
     }
-    polyhedron
 }
 
 /// A box with OpenSCAD's documented face order (clockwise seen from outside).
@@ -224,6 +240,42 @@ fn dented_sphere(rings: usize, segments: usize, dent: f64) -> Mesh {
     clockwise(Mesh { points, faces })
 }
 
+/// A sphere of `slices` × `slices + 1` whose radius undulates with longitude at every latitude:
+/// each pole is a fan of `slices` thin triangles whose outer ends rise and fall, so the solid
+/// near the pole is a non-convex cone.
+fn wiggly_sphere(slices: usize) -> Mesh {
+    let stacks = slices + 1;
+    let radius = |theta: f64, phi: f64| {
+        1.0 + 0.15 * (5.0 * theta).sin() * (4.0 * phi).sin() + 0.05 * (13.0 * phi).sin()
+    };
+    let mut points = vec![DVec3::new(0.0, 0.0, 1.0), DVec3::new(0.0, 0.0, -1.0)];
+    for i in 1..stacks {
+        let theta = std::f64::consts::PI * i as f64 / stacks as f64;
+        for j in 0..slices {
+            let phi = std::f64::consts::TAU * j as f64 / slices as f64;
+            points.push(
+                radius(theta, phi)
+                    * DVec3::new(
+                        theta.sin() * phi.cos(),
+                        theta.sin() * phi.sin(),
+                        theta.cos(),
+                    ),
+            );
+        }
+    }
+    let ring = |i: usize, j: usize| 2 + (i - 1) * slices + j % slices;
+    let mut faces = Vec::new();
+    for j in 0..slices {
+        faces.push(vec![0, ring(1, j), ring(1, j + 1)]);
+        faces.push(vec![1, ring(stacks - 1, j + 1), ring(stacks - 1, j)]);
+        for i in 1..stacks - 1 {
+            faces.push(vec![ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)]);
+            faces.push(vec![ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)]);
+        }
+    }
+    clockwise(Mesh { points, faces })
+}
+
 fn transformed(mesh: &Mesh, scale: f64, offset: DVec3) -> Mesh {
     Mesh {
         points: mesh.points.iter().map(|&p| p * scale + offset).collect(),
@@ -311,6 +363,35 @@ fn a_large_mesh_gives_linearly_many_small_cells() {
         polyhedron.cells.len()
     );
     assert!(max_planes(&polyhedron) <= 12);
+}
+
+#[test]
+fn fans_around_a_pole_match_the_oracle_near_the_pole() {
+    // Every triangle of a pole's fan meets the regions around the pole at the pole itself; the
+    // partition leaves such triangles out of a region they do not reach into, which must not
+    // change what the cells contain there.
+    let mesh = wiggly_sphere(40);
+    let polyhedron = check_membership(&mesh, 500, 21);
+    assert!(polyhedron.warnings.is_empty(), "{:?}", polyhedron.warnings);
+    assert!(
+        polyhedron.cells.len() <= 5 * mesh.faces.len(),
+        "{} cells for {} triangles",
+        polyhedron.cells.len(),
+        mesh.faces.len()
+    );
+    for (k, pole) in [DVec3::Z, DVec3::NEG_Z].into_iter().enumerate() {
+        for reach in [0.2, 0.02] {
+            let corner = DVec3::splat(reach);
+            check_membership_in(
+                &mesh,
+                &polyhedron,
+                pole - corner,
+                pole + corner,
+                1000,
+                30 + k as u64,
+            );
+        }
+    }
 }
 
 #[test]

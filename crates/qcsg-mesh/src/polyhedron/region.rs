@@ -144,40 +144,73 @@ impl Polytope {
         )
     }
 
-    /// Whether the triangle may touch the closed polytope: the triangle clipped by every face
-    /// plane, each widened by its tolerance, leaves something (never false when it touches).
+    /// Whether the triangle may reach into the polytope's interior: the triangle clipped by
+    /// every face plane, each moved inwards by its tolerance, leaves something.
+    ///
+    /// A triangle that meets the polytope only on its boundary (a fan's triangle at the vertex
+    /// the fan shares with the region, a neighbour along a wall) cannot change the parity inside
+    /// it, so it is left out: keeping every triangle through a vertex of the region made the
+    /// regions around a fan's centre multiply with the square of the fan, each holding all of
+    /// it. Within the tolerance the decision is the same one [`Polytope::split`] makes for a
+    /// plane that grazes a region: what it leaves out lies within rounding of the surface.
     pub(super) fn may_touch(
         &self,
         triangle: [DVec3; 3],
         tolerance: impl Fn(&Plane) -> f64,
     ) -> bool {
-        let mut polygon: Vec<DVec3> = triangle.to_vec();
-        let mut next: Vec<DVec3> = Vec::with_capacity(8);
-        for face in &self.faces {
+        // Clipping by a half-space adds at most one corner: buffers on the stack suffice for
+        // all but the rare region of many faces, and this runs for every triangle of every
+        // region twice.
+        const ON_STACK: usize = 32;
+        let capacity = self.faces.len() + 3;
+        if capacity <= ON_STACK {
+            let mut a = [DVec3::ZERO; ON_STACK];
+            let mut b = [DVec3::ZERO; ON_STACK];
+            self.clip_leaves_something(triangle, &tolerance, &mut a, &mut b)
+        } else {
+            let mut a = vec![DVec3::ZERO; capacity];
+            let mut b = vec![DVec3::ZERO; capacity];
+            self.clip_leaves_something(triangle, &tolerance, &mut a, &mut b)
+        }
+    }
+
+    /// [`Polytope::may_touch`] with two buffers of at least `faces + 3` points.
+    fn clip_leaves_something<'b>(
+        &self,
+        triangle: [DVec3; 3],
+        tolerance: &impl Fn(&Plane) -> f64,
+        mut polygon: &'b mut [DVec3],
+        mut next: &'b mut [DVec3],
+    ) -> bool {
+        polygon[..3].copy_from_slice(&triangle);
+        let mut n = 3;
+        // Newest face first: the parent's triangles all reach past the older ones, and a split's
+        // cap is the face last added.
+        for face in self.faces.iter().rev() {
             let slack = tolerance(&face.plane);
-            let values: Vec<f64> = polygon
-                .iter()
-                .map(|&v| face.plane.value(v) - slack)
-                .collect();
-            if values.iter().all(|&d| d <= 0.0) {
+            let value = |v: DVec3| face.plane.value(v) + slack;
+            let outside = polygon[..n].iter().filter(|&&v| value(v) > 0.0).count();
+            if outside == 0 {
                 continue;
             }
-            if values.iter().all(|&d| d > 0.0) {
+            if outside == n {
                 return false;
             }
-            next.clear();
-            let n = polygon.len();
+            let mut m = 0;
             for i in 0..n {
                 let (v, w) = (polygon[i], polygon[(i + 1) % n]);
-                let (dv, dw) = (values[i], values[(i + 1) % n]);
+                let (dv, dw) = (value(v), value(w));
                 if dv <= 0.0 {
-                    next.push(v);
+                    next[m] = v;
+                    m += 1;
                 }
                 if (dv <= 0.0) != (dw <= 0.0) {
-                    next.push(v + (w - v) * (dv / (dv - dw)));
+                    next[m] = v + (w - v) * (dv / (dv - dw));
+                    m += 1;
                 }
             }
             std::mem::swap(&mut polygon, &mut next);
+            n = m;
         }
         true
     }
