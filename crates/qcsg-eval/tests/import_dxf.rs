@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use qcsg_csg::{DnfOptions, build_dnf};
 use qcsg_eval::{EvalOptions, Evaluation};
+use qcsg_testkit::dxf::{arc, circle, dxf, ellipse, line};
 
 mod common;
 
@@ -38,55 +39,19 @@ fn first(
     )
 }
 
-/// One entity: its kind, its layer and its `(code, value)` pairs.
-type Entity<'s> = (&'s str, &'s str, Vec<(i32, f64)>);
-
-/// A DXF file of `entities`.
-fn dxf(entities: &[Entity<'_>]) -> String {
-    let mut text = String::from("  0\nSECTION\n  2\nENTITIES\n");
-    for (kind, layer, pairs) in entities {
-        text.push_str(&format!("  0\n{kind}\n  8\n{layer}\n"));
-        for (c, v) in pairs {
-            text.push_str(&format!(" {c}\n{v:?}\n"));
-        }
-    }
-    text.push_str("  0\nENDSEC\n  0\nEOF\n");
-    text
-}
-
-fn line(layer: &str, a: [f64; 2], b: [f64; 2]) -> Entity<'_> {
-    (
-        "LINE",
-        layer,
-        vec![(10, a[0]), (20, a[1]), (11, b[0]), (21, b[1])],
-    )
-}
-
-fn circle(layer: &str, c: [f64; 2], r: f64) -> Entity<'_> {
-    ("CIRCLE", layer, vec![(10, c[0]), (20, c[1]), (40, r)])
-}
-
-fn arc(layer: &str, c: [f64; 2], r: f64, a: f64, b: f64) -> Entity<'_> {
-    (
-        "ARC",
-        layer,
-        vec![(10, c[0]), (20, c[1]), (40, r), (50, a), (51, b)],
-    )
-}
-
 /// A plate: a 20 × 10 rectangle with its right end rounded (a half circle about (20, 5)), a hole
 /// of radius 2 at (5, 5) and, on layer `b`, a square elsewhere.
 fn plate() -> String {
     dxf(&[
-        line("a", [0.0, 0.0], [20.0, 0.0]),
-        arc("a", [20.0, 5.0], 5.0, 270.0, 90.0),
-        line("a", [20.0, 10.0], [0.0, 10.0]),
-        line("a", [0.0, 10.0], [0.0, 0.0]),
-        circle("a", [5.0, 5.0], 2.0),
-        line("b", [40.0, 0.0], [41.0, 0.0]),
-        line("b", [41.0, 0.0], [41.0, 1.0]),
-        line("b", [41.0, 1.0], [40.0, 1.0]),
-        line("b", [40.0, 1.0], [40.0, 0.0]),
+        line([0.0, 0.0], [20.0, 0.0]).on("a"),
+        arc([20.0, 5.0], 5.0, 270.0, 90.0).on("a"),
+        line([20.0, 10.0], [0.0, 10.0]).on("a"),
+        line([0.0, 10.0], [0.0, 0.0]).on("a"),
+        circle([5.0, 5.0], 2.0).on("a"),
+        line([40.0, 0.0], [41.0, 0.0]).on("b"),
+        line([41.0, 0.0], [41.0, 1.0]).on("b"),
+        line([41.0, 1.0], [40.0, 1.0]).on("b"),
+        line([40.0, 1.0], [40.0, 0.0]).on("b"),
     ])
 }
 
@@ -206,7 +171,7 @@ fn failures_are_diagnostics_at_the_file_argument() {
     // Two circles that cross: no exact composition, E0301 naming both DXF lines.
     std::fs::write(
         dir.join("cross.dxf"),
-        dxf(&[circle("0", [0.0, 0.0], 1.0), circle("0", [1.5, 0.0], 1.0)]),
+        dxf(&[circle([0.0, 0.0], 1.0), circle([1.5, 0.0], 1.0)]),
     )
     .unwrap();
     let (code, at, message) = first(&dir, "import(file = \"cross.dxf\");", &options, true);
@@ -238,10 +203,7 @@ fn failures_are_diagnostics_at_the_file_argument() {
     // An open path is closed, with warning W0564.
     std::fs::write(
         dir.join("open.dxf"),
-        dxf(&[
-            line("0", [0.0, 0.0], [1.0, 0.0]),
-            line("0", [1.0, 0.0], [1.0, 1.0]),
-        ]),
+        dxf(&[line([0.0, 0.0], [1.0, 0.0]), line([1.0, 0.0], [1.0, 1.0])]),
     )
     .unwrap();
     let (code, at, _) = first(&dir, "import(\"open.dxf\");", &options, false);
@@ -252,11 +214,11 @@ fn failures_are_diagnostics_at_the_file_argument() {
 fn a_far_drawing_and_a_tiny_one() {
     let dir = scratch("stiff");
     let far = dxf(&[
-        line("0", [1e6, 1e6], [1e6 + 2.0, 1e6]),
-        arc("0", [1e6 + 2.0, 1e6 + 1.0], 1.0, 270.0, 90.0),
-        line("0", [1e6 + 2.0, 1e6 + 2.0], [1e6, 1e6 + 2.0]),
-        line("0", [1e6, 1e6 + 2.0], [1e6, 1e6]),
-        circle("0", [1e6 + 1.0, 1e6 + 1.0], 0.5),
+        line([1e6, 1e6], [1e6 + 2.0, 1e6]),
+        arc([1e6 + 2.0, 1e6 + 1.0], 1.0, 270.0, 90.0),
+        line([1e6 + 2.0, 1e6 + 2.0], [1e6, 1e6 + 2.0]),
+        line([1e6, 1e6 + 2.0], [1e6, 1e6]),
+        circle([1e6 + 1.0, 1e6 + 1.0], 0.5),
     ]);
     std::fs::write(dir.join("far.dxf"), far).unwrap();
     let e = eval_in(
@@ -275,11 +237,11 @@ fn a_far_drawing_and_a_tiny_one() {
         ],
     );
     let tiny = dxf(&[
-        line("0", [0.0, 0.0], [2e-6, 0.0]),
-        arc("0", [2e-6, 1e-6], 1e-6, 270.0, 90.0),
-        line("0", [2e-6, 2e-6], [0.0, 2e-6]),
-        line("0", [0.0, 2e-6], [0.0, 0.0]),
-        circle("0", [1e-6, 1e-6], 0.5e-6),
+        line([0.0, 0.0], [2e-6, 0.0]),
+        arc([2e-6, 1e-6], 1e-6, 270.0, 90.0),
+        line([2e-6, 2e-6], [0.0, 2e-6]),
+        line([0.0, 2e-6], [0.0, 0.0]),
+        circle([1e-6, 1e-6], 0.5e-6),
     ]);
     std::fs::write(dir.join("tiny.dxf"), tiny).unwrap();
     let e = eval_in(
@@ -332,23 +294,6 @@ fn dxf_dim_and_dxf_cross_read_example009() {
     assert_eq!(code, "E0566");
 }
 
-/// An ELLIPSE entity on layer `0`: centre, major axis vector, axis ratio, parameters.
-fn ellipse(c: [f64; 2], axis: [f64; 2], ratio: f64, params: [f64; 2]) -> Entity<'static> {
-    (
-        "ELLIPSE",
-        "0",
-        vec![
-            (10, c[0]),
-            (20, c[1]),
-            (11, axis[0]),
-            (21, axis[1]),
-            (40, ratio),
-            (41, params[0]),
-            (42, params[1]),
-        ],
-    )
-}
-
 #[test]
 fn ellipses_and_bulges_are_exact() {
     use std::f64::consts::{PI, TAU};
@@ -359,8 +304,8 @@ fn ellipses_and_bulges_are_exact() {
     std::fs::write(
         dir.join("ellipses.dxf"),
         dxf(&[
-            ellipse([0.0, 0.0], [10.0 * c, 10.0 * s], 0.5, [0.0, TAU]),
-            ellipse([30.0, 0.0], [8.0, 0.0], 0.5, [0.0, PI]),
+            ellipse([0.0, 0.0], [10.0 * c, 10.0 * s], 0.5, 0.0, TAU),
+            ellipse([30.0, 0.0], [8.0, 0.0], 0.5, 0.0, PI),
         ]),
     )
     .unwrap();
@@ -422,12 +367,12 @@ fn malformed_and_crossing_ellipses_are_diagnostics_at_the_file_argument() {
     for (name, entity, needle) in [
         (
             "ratio.dxf",
-            ellipse([0.0, 0.0], [1.0, 0.0], 0.0, [0.0, TAU]),
+            ellipse([0.0, 0.0], [1.0, 0.0], 0.0, 0.0, TAU),
             "axis ratio 0",
         ),
         (
             "axis.dxf",
-            ellipse([0.0, 0.0], [0.0, 0.0], 0.5, [0.0, TAU]),
+            ellipse([0.0, 0.0], [0.0, 0.0], 0.5, 0.0, TAU),
             "major axis",
         ),
     ] {
@@ -447,8 +392,8 @@ fn malformed_and_crossing_ellipses_are_diagnostics_at_the_file_argument() {
     std::fs::write(
         dir.join("cross.dxf"),
         dxf(&[
-            ellipse([0.0, 0.0], [10.0, 0.0], 0.3, [0.0, TAU]),
-            ellipse([0.0, 0.0], [0.0, 10.0], 0.3, [0.0, TAU]),
+            ellipse([0.0, 0.0], [10.0, 0.0], 0.3, 0.0, TAU),
+            ellipse([0.0, 0.0], [0.0, 10.0], 0.3, 0.0, TAU),
         ]),
     )
     .unwrap();

@@ -9,6 +9,7 @@ use qcsg_mesh::{
     Drawing, DrawingLimits, DrawingOptions, EllipticArc, PolygonLimits, RegionError,
     drawing_region, read_dxf,
 };
+use qcsg_testkit::dxf::{self, Entity, arc, circle, ellipse, line};
 
 /// The coordinates of `p` in an ellipse's frame (on the unit circle for its points), and the
 /// ellipse's semi-minor axis.
@@ -160,42 +161,19 @@ fn example009_layers_with_arcs_and_circles() {
     }
 }
 
-/// A DXF drawing of `entities`, each `(kind, [(code, value)])`.
-fn dxf(entities: &[(&str, Vec<(i32, f64)>)]) -> Drawing {
-    let mut text = String::from("  0\nSECTION\n  2\nENTITIES\n");
-    for (kind, pairs) in entities {
-        text.push_str(&format!("  0\n{kind}\n  8\n0\n"));
-        for (c, v) in pairs {
-            text.push_str(&format!(" {c}\n{v:?}\n"));
-        }
-    }
-    text.push_str("  0\nENDSEC\n  0\nEOF\n");
+/// A DXF drawing of `entities`, as the reader gives it.
+fn dxf(entities: &[Entity]) -> Drawing {
     read_dxf(
-        text.as_bytes(),
+        dxf::dxf(entities).as_bytes(),
         &DrawingOptions::default(),
         &DrawingLimits::default(),
     )
     .unwrap()
 }
 
-fn line(a: [f64; 2], b: [f64; 2]) -> (&'static str, Vec<(i32, f64)>) {
-    ("LINE", vec![(10, a[0]), (20, a[1]), (11, b[0]), (21, b[1])])
-}
-
-fn arc(c: [f64; 2], r: f64, start: f64, stop: f64) -> (&'static str, Vec<(i32, f64)>) {
-    (
-        "ARC",
-        vec![(10, c[0]), (20, c[1]), (40, r), (50, start), (51, stop)],
-    )
-}
-
-fn circle(c: [f64; 2], r: f64) -> (&'static str, Vec<(i32, f64)>) {
-    ("CIRCLE", vec![(10, c[0]), (20, c[1]), (40, r)])
-}
-
 /// A rectangle `[0, w] × [0, h]` with corners rounded by `r` (tangent arcs), moved by `at` and
 /// scaled by `s`, with a hole of radius `hole` at its centre and an island inside that hole.
-fn rounded(at: [f64; 2], s: f64, concave: bool) -> Vec<(&'static str, Vec<(i32, f64)>)> {
+fn rounded(at: [f64; 2], s: f64, concave: bool) -> Vec<Entity> {
     let p = |x: f64, y: f64| [at[0] + s * x, at[1] + s * y];
     let (w, h, r) = (10.0, 6.0, 1.0);
     let mut e = vec![
@@ -328,28 +306,6 @@ fn ellipses_and_bulges_of_the_conformance_drawings() {
     compare(&d, DVec2::new(-12.0, -12.0), DVec2::new(82.0, 37.0));
     let d = scene_drawing("bulges.dxf");
     compare(&d, DVec2::new(-2.0, -16.0), DVec2::new(52.0, 22.0));
-}
-
-/// An ELLIPSE entity.
-fn ellipse(
-    c: [f64; 2],
-    axis: [f64; 2],
-    ratio: f64,
-    start: f64,
-    stop: f64,
-) -> (&'static str, Vec<(i32, f64)>) {
-    (
-        "ELLIPSE",
-        vec![
-            (10, c[0]),
-            (20, c[1]),
-            (11, axis[0]),
-            (21, axis[1]),
-            (40, ratio),
-            (41, start),
-            (42, stop),
-        ],
-    )
 }
 
 #[test]

@@ -6,6 +6,7 @@
 //!   every consumer of the DNF must show alike;
 //! - [`annotations`]: the language suite's inline expectations, parsed and matched against a
 //!   check's diagnostics;
+//! - [`dxf`]: DXF drawings of lines, arcs, circles and ellipses, written for the readers' tests;
 //! - [`MemoryFiles`]: files from memory for `include` / `use`, as an editor's unsaved buffers;
 //! - [`TriangleMesh`]: a triangle mesh read from STL with an exact-enough membership oracle
 //!   (the generalised winding number) and distances to it;
@@ -21,6 +22,7 @@
 
 pub mod annotations;
 pub mod cli;
+pub mod dxf;
 mod files;
 mod flush;
 mod mesh;
