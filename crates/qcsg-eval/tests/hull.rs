@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{codes, eval};
+use common::{assert_refused_at_both_parts, codes, eval};
 use glam::DVec3;
 use qcsg_csg::{DnfOptions, build_dnf};
 use qcsg_testkit::Rng;
@@ -399,17 +399,6 @@ fn a_pair_that_is_not_quadric_together_is_named_at_both_parts() {
             "cylinder(h = 1, r = 1)",
         ),
     ] {
-        let e = eval(text);
-        assert_eq!(codes(&e), vec!["E0301"], "{text}: {:?}", e.diagnostics);
-        let d = &e.diagnostics[0];
-        let labels: Vec<&str> = d
-            .labels
-            .iter()
-            .map(|l| &text[l.span.start as usize..l.span.end as usize])
-            .collect();
-        assert_eq!(labels.len(), 2, "{text}: {labels:?}");
-        assert!(labels[0].starts_with(first), "{text}: {labels:?}");
-        assert!(labels[1].starts_with(second), "{text}: {labels:?}");
-        assert!(d.help.is_some(), "{text}");
+        assert_refused_at_both_parts(text, [first, second]);
     }
 }

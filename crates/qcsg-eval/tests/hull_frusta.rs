@@ -6,7 +6,7 @@ mod common;
 mod support;
 
 use common::{codes, eval};
-use glam::{DMat4, DVec3, EulerRot};
+use glam::{DMat4, DVec3};
 use qcsg_testkit::Rng;
 use support::Convex;
 
@@ -97,27 +97,9 @@ fn turned_far_tiny_and_stiff_hulls_match_the_sampled_hull() {
         ball: 0.0,
         balls: Vec::new(),
     };
-    for (outer, frame) in [
-        (String::new(), DMat4::IDENTITY),
-        (
-            "rotate([30, 60, 10])".to_string(),
-            DMat4::from_euler(
-                EulerRot::ZYX,
-                10f64.to_radians(),
-                60f64.to_radians(),
-                30f64.to_radians(),
-            ),
-        ),
-        (
-            "translate([1e6, -2e6, 5e5]) rotate([90, 0, 0])".to_string(),
-            DMat4::from_translation(DVec3::new(1e6, -2e6, 5e5))
-                * DMat4::from_rotation_x(90f64.to_radians()),
-        ),
-        (
-            "scale(1e-3)".to_string(),
-            DMat4::from_scale(DVec3::splat(1e-3)),
-        ),
-    ] {
+    let placements =
+        std::iter::once((String::new(), DMat4::IDENTITY)).chain(support::turned_far_and_tiny());
+    for (outer, frame) in placements {
         let text = format!("{outer} {tapered}");
         let (i, o) = support::compare(&text, std::slice::from_ref(&set), frame, &mut rng);
         assert!(i > 10 && o > 10, "{text}: {i} in, {o} out");

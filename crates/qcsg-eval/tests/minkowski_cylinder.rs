@@ -8,7 +8,7 @@
 mod common;
 mod support;
 
-use common::{codes, eval};
+use common::assert_refused_at_both_parts;
 use glam::{DMat4, DVec3, EulerRot};
 use qcsg_testkit::Rng;
 use support::{Convex, DIRECTIONS, directions};
@@ -255,26 +255,7 @@ fn turned_far_and_tiny_sums_match_the_sampled_sum() {
     };
     let (cyl, part) = cylinder(DVec3::ZERO, 1.0, 0.5);
     let sum = format!("minkowski() {{ {} {cyl} }}", b.scad());
-    for (outer, frame) in [
-        (
-            "rotate([30, 60, 10])".to_string(),
-            DMat4::from_euler(
-                EulerRot::ZYX,
-                10f64.to_radians(),
-                60f64.to_radians(),
-                30f64.to_radians(),
-            ),
-        ),
-        (
-            "translate([1e6, -2e6, 5e5]) rotate([90, 0, 0])".to_string(),
-            DMat4::from_translation(DVec3::new(1e6, -2e6, 5e5))
-                * DMat4::from_rotation_x(90f64.to_radians()),
-        ),
-        (
-            "scale(1e-3)".to_string(),
-            DMat4::from_scale(DVec3::splat(1e-3)),
-        ),
-    ] {
+    for (outer, frame) in support::turned_far_and_tiny() {
         let text = format!("{outer} {sum}");
         let (i, o) = compare(
             &text,
@@ -300,17 +281,6 @@ fn a_cylinder_with_a_ball_or_a_crossed_cylinder_is_named_at_both_parts() {
             "cylinder(h = 2, r = 1)",
         ),
     ] {
-        let e = eval(text);
-        assert_eq!(codes(&e), vec!["E0301"], "{text}: {:?}", e.diagnostics);
-        let d = &e.diagnostics[0];
-        let labels: Vec<&str> = d
-            .labels
-            .iter()
-            .map(|l| &text[l.span.start as usize..l.span.end as usize])
-            .collect();
-        assert_eq!(labels.len(), 2, "{text}: {labels:?}");
-        assert!(labels[0].starts_with(first), "{text}: {labels:?}");
-        assert!(labels[1].starts_with(second), "{text}: {labels:?}");
-        assert!(d.help.is_some(), "{text}");
+        assert_refused_at_both_parts(text, [first, second]);
     }
 }

@@ -71,3 +71,20 @@ pub fn membership(text: &str, cases: &[(DVec3, bool)]) -> Vec<&'static str> {
     }
     codes(&e)
 }
+
+/// Asserts that `text` is refused with E0301 alone, with help, and with one label at each part
+/// that cannot be combined: the label's text starts with `parts[0]`, then `parts[1]`.
+pub fn assert_refused_at_both_parts(text: &str, parts: [&str; 2]) {
+    let e = eval(text);
+    assert_eq!(codes(&e), vec!["E0301"], "{text}: {:?}", e.diagnostics);
+    let d = &e.diagnostics[0];
+    let labels: Vec<&str> = d
+        .labels
+        .iter()
+        .map(|l| &text[l.span.start as usize..l.span.end as usize])
+        .collect();
+    assert_eq!(labels.len(), 2, "{text}: {labels:?}");
+    assert!(labels[0].starts_with(parts[0]), "{text}: {labels:?}");
+    assert!(labels[1].starts_with(parts[1]), "{text}: {labels:?}");
+    assert!(d.help.is_some(), "{text}");
+}

@@ -7,7 +7,7 @@
 // Each test file uses the helpers it needs.
 #![allow(dead_code)]
 
-use glam::{DMat4, DVec3};
+use glam::{DMat4, DVec3, EulerRot};
 use qcsg_csg::{DnfOptions, build_dnf};
 use qcsg_testkit::Rng;
 
@@ -37,6 +37,31 @@ pub fn directions(n: usize) -> (Vec<DVec3>, f64) {
 /// The lattices of [`DIRECTIONS`].
 pub fn lattices() -> Vec<(Vec<DVec3>, f64)> {
     DIRECTIONS.iter().map(|&n| directions(n)).collect()
+}
+
+/// The placements a result must survive, as OpenSCAD text and the matrix it means: turned about
+/// every axis, far from the origin, and tiny.
+pub fn turned_far_and_tiny() -> [(String, DMat4); 3] {
+    [
+        (
+            "rotate([30, 60, 10])".to_string(),
+            DMat4::from_euler(
+                EulerRot::ZYX,
+                10f64.to_radians(),
+                60f64.to_radians(),
+                30f64.to_radians(),
+            ),
+        ),
+        (
+            "translate([1e6, -2e6, 5e5]) rotate([90, 0, 0])".to_string(),
+            DMat4::from_translation(DVec3::new(1e6, -2e6, 5e5))
+                * DMat4::from_rotation_x(90f64.to_radians()),
+        ),
+        (
+            "scale(1e-3)".to_string(),
+            DMat4::from_scale(DVec3::splat(1e-3)),
+        ),
+    ]
 }
 
 /// A convex set: the hull of discs square to z (centre, radius) and of balls, grown by a ball.
