@@ -3,7 +3,7 @@
 //! directory, a device, too large, malformed, an open mesh, another format) a diagnostic at the
 //! `file` argument.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use glam::DVec3;
 use qcsg_csg::{DnfOptions, build_dnf};
@@ -11,27 +11,11 @@ use qcsg_eval::{EvalOptions, Evaluation};
 
 mod common;
 
-use common::eval_in;
+use common::{eval_in, first_error};
 
 /// A fresh directory for one test.
 fn scratch(name: &str) -> PathBuf {
     common::scratch("import-tests", name)
-}
-
-/// The first error of evaluating `text` in `dir`: code, the text it points at, message, help.
-fn first_error(dir: &Path, text: &str, options: &EvalOptions) -> (&'static str, String, String) {
-    let e = eval_in(dir, text, options);
-    let d = e
-        .diagnostics
-        .iter()
-        .find(|d| d.is_error())
-        .unwrap_or_else(|| panic!("{text}: no error in {:?}", e.diagnostics));
-    let message = format!("{} / {}", d.message, d.help.clone().unwrap_or_default());
-    (
-        d.code,
-        text[d.span.start as usize..d.span.end as usize].to_owned(),
-        message,
-    )
 }
 
 /// The unit tetrahedron's triangles, counter-clockwise seen from outside (STL's and OFF's order).

@@ -3,7 +3,7 @@
 //! relationships; and every bad package a diagnostic at the `file` argument.
 
 use std::io::{Cursor, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use glam::DVec3;
 use qcsg_csg::{DnfOptions, build_dnf};
@@ -11,7 +11,7 @@ use qcsg_eval::EvalOptions;
 
 mod common;
 
-use common::eval_in;
+use common::{eval_in, first_error};
 
 fn scratch(name: &str) -> PathBuf {
     common::scratch("import-3mf-tests", name)
@@ -68,22 +68,6 @@ fn tetra(id: u32, d: f64) -> String {
         id,
         &[[d, d, d], [1.0 + d, d, d], [d, 1.0 + d, d], [d, d, 1.0 + d]],
         &[[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
-    )
-}
-
-/// The first error of evaluating `text` in `dir`: code, the text it points at, message and help.
-fn first_error(dir: &Path, text: &str, options: &EvalOptions) -> (&'static str, String, String) {
-    let e = eval_in(dir, text, options);
-    let d = e
-        .diagnostics
-        .iter()
-        .find(|d| d.is_error())
-        .unwrap_or_else(|| panic!("{text}: no error in {:?}", e.diagnostics));
-    let message = format!("{} / {}", d.message, d.help.clone().unwrap_or_default());
-    (
-        d.code,
-        text[d.span.start as usize..d.span.end as usize].to_owned(),
-        message,
     )
 }
 

@@ -11,32 +11,11 @@ use qcsg_testkit::dxf::{arc, circle, dxf, ellipse, line};
 
 mod common;
 
-use common::{eval_in, p};
+use common::{eval_in, first_diagnostic, p};
 
 /// A fresh directory for one test.
 fn scratch(name: &str) -> PathBuf {
     common::scratch("import-dxf-tests", name)
-}
-
-/// The first diagnostic of `code`'s severity class: code, the text it points at, message + help.
-fn first(
-    dir: &Path,
-    text: &str,
-    options: &EvalOptions,
-    error: bool,
-) -> (&'static str, String, String) {
-    let e = eval_in(dir, text, options);
-    let d = e
-        .diagnostics
-        .iter()
-        .find(|d| d.is_error() == error)
-        .unwrap_or_else(|| panic!("{text}: nothing in {:?}", e.diagnostics));
-    let message = format!("{} / {}", d.message, d.help.clone().unwrap_or_default());
-    (
-        d.code,
-        text[d.span.start as usize..d.span.end as usize].to_owned(),
-        message,
-    )
 }
 
 /// A plate: a 20 × 10 rectangle with its right end rounded (a half circle about (20, 5)), a hole
@@ -174,7 +153,8 @@ fn failures_are_diagnostics_at_the_file_argument() {
         dxf(&[circle([0.0, 0.0], 1.0), circle([1.5, 0.0], 1.0)]),
     )
     .unwrap();
-    let (code, at, message) = first(&dir, "import(file = \"cross.dxf\");", &options, true);
+    let (code, at, message) =
+        first_diagnostic(&dir, "import(file = \"cross.dxf\");", &options, true);
     assert_eq!((code, at.as_str()), ("E0301", "\"cross.dxf\""), "{message}");
     assert!(
         message.contains("DXF line 5") && message.contains("DXF line 15"),
@@ -186,11 +166,11 @@ fn failures_are_diagnostics_at_the_file_argument() {
         "  0\nSECTION\n  2\nENTITIES\n  0\nLINE\n 10\nx\n",
     )
     .unwrap();
-    let (code, at, message) = first(&dir, "import(\"bad.dxf\");", &options, true);
+    let (code, at, message) = first_diagnostic(&dir, "import(\"bad.dxf\");", &options, true);
     assert_eq!((code, at.as_str()), ("E0567", "\"bad.dxf\""), "{message}");
     assert!(message.contains("line 8"), "{message}");
     // A missing file: E0566.
-    let (code, _, _) = first(&dir, "import(\"none.dxf\");", &options, true);
+    let (code, _, _) = first_diagnostic(&dir, "import(\"none.dxf\");", &options, true);
     assert_eq!(code, "E0566");
     // The vector-length limit bounds entities: E0558.
     std::fs::write(dir.join("plate.dxf"), plate()).unwrap();
@@ -198,7 +178,7 @@ fn failures_are_diagnostics_at_the_file_argument() {
         max_vector_len: 3,
         ..EvalOptions::default()
     };
-    let (code, at, message) = first(&dir, "import(\"plate.dxf\");", &few, true);
+    let (code, at, message) = first_diagnostic(&dir, "import(\"plate.dxf\");", &few, true);
     assert_eq!((code, at.as_str()), ("E0558", "\"plate.dxf\""), "{message}");
     // An open path is closed, with warning W0564.
     std::fs::write(
@@ -206,7 +186,7 @@ fn failures_are_diagnostics_at_the_file_argument() {
         dxf(&[line([0.0, 0.0], [1.0, 0.0]), line([1.0, 0.0], [1.0, 1.0])]),
     )
     .unwrap();
-    let (code, at, _) = first(&dir, "import(\"open.dxf\");", &options, false);
+    let (code, at, _) = first_diagnostic(&dir, "import(\"open.dxf\");", &options, false);
     assert_eq!((code, at.as_str()), ("W0564", "\"open.dxf\""));
 }
 
@@ -285,7 +265,7 @@ fn dxf_dim_and_dxf_cross_read_example009() {
     // As OpenSCAD 2021.01 echoes it.
     assert_eq!(echo, ["ECHO: 22, 57.5288, [0, -40], [0, 0], undef"]);
     assert!(e.diagnostics.iter().any(|d| d.code == "W0565"));
-    let (code, _, _) = first(
+    let (code, _, _) = first_diagnostic(
         &dir,
         "echo(dxf_dim(file = \"none.dxf\"));",
         &EvalOptions::default(),

@@ -23,6 +23,37 @@ pub fn eval_in(dir: &Path, text: &str, options: &EvalOptions) -> Evaluation {
     eval_named(&main.to_string_lossy(), text, options)
 }
 
+/// The first error of evaluating `text` in `dir` (with `error` false, the first warning or
+/// note): its code, the text it points at, and its message and help joined by ` / `.
+pub fn first_diagnostic(
+    dir: &Path,
+    text: &str,
+    options: &EvalOptions,
+    error: bool,
+) -> (&'static str, String, String) {
+    let e = eval_in(dir, text, options);
+    let d = e
+        .diagnostics
+        .iter()
+        .find(|d| d.is_error() == error)
+        .unwrap_or_else(|| panic!("{text}: nothing of its kind in {:?}", e.diagnostics));
+    let message = format!("{} / {}", d.message, d.help.clone().unwrap_or_default());
+    (
+        d.code,
+        text[d.span.start as usize..d.span.end as usize].to_owned(),
+        message,
+    )
+}
+
+/// [`first_diagnostic`]'s first error.
+pub fn first_error(
+    dir: &Path,
+    text: &str,
+    options: &EvalOptions,
+) -> (&'static str, String, String) {
+    first_diagnostic(dir, text, options, true)
+}
+
 /// A fresh directory `name` of the test group `group`.
 pub fn scratch(group: &str, name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
