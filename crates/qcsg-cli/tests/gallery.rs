@@ -11,7 +11,8 @@
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+use qcsg_testkit::cli::Invocation;
 
 /// The largest mean absolute difference per channel, in 8-bit steps.
 const MAX_MEAN_DIFFERENCE: f64 = 0.5;
@@ -121,9 +122,14 @@ fn scratch_dir(name: &str) -> PathBuf {
     dir
 }
 
+/// A run of the built `qcsg`.
+fn qcsg() -> Invocation {
+    Invocation::new(env!("CARGO_BIN_EXE_qcsg"))
+}
+
 /// Renders the example's preview into `out` with the built `qcsg`; the error is its stderr.
 fn render(example: &Example, out: &Path) -> Result<(), String> {
-    let output = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+    let run = qcsg()
         .arg("render")
         .arg(&example.path)
         .arg("-o")
@@ -131,12 +137,11 @@ fn render(example: &Example, out: &Path) -> Result<(), String> {
         .args(REFERENCE_RENDERER)
         .args(&example.preview_args)
         .arg("-q")
-        .output()
-        .expect("qcsg runs");
-    if output.status.success() {
+        .run();
+    if run.status == 0 {
         Ok(())
     } else {
-        Err(String::from_utf8_lossy(&output.stderr).into_owned())
+        Err(run.stderr)
     }
 }
 
@@ -204,24 +209,23 @@ fn the_gallery_has_at_least_fifteen_examples() {
 fn every_example_checks_clean() {
     let mut failures = Vec::new();
     for example in examples() {
-        let output = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+        let run = qcsg()
             .args(["check", "--format", "json"])
             .arg(&example.path)
-            .output()
-            .expect("qcsg runs");
-        let diagnostics: Vec<serde_json::Value> = serde_json::from_slice(&output.stdout)
+            .run();
+        let diagnostics: Vec<serde_json::Value> = serde_json::from_slice(&run.stdout)
             .unwrap_or_else(|e| panic!("{}: check output is not JSON: {e}", example.file_name));
         let codes: BTreeSet<String> = diagnostics
             .iter()
             .filter(|d| d["severity"] != "info")
             .map(|d| d["code"].as_str().unwrap_or("?").to_owned())
             .collect();
-        if !output.status.success() || codes != example.expected_warnings {
+        if run.status != 0 || codes != example.expected_warnings {
             failures.push(format!(
-                "{}: expected {:?} from `qcsg check`, got exit {:?} and:\n{}",
+                "{}: expected {:?} from `qcsg check`, got exit {} and:\n{}",
                 example.file_name,
                 example.expected_warnings,
-                output.status.code(),
+                run.status,
                 serde_json::to_string_pretty(&diagnostics).unwrap()
             ));
         }
@@ -234,12 +238,8 @@ fn every_example_is_formatted() {
     // Examples are what new users copy: they follow the house style of `qcsg fmt`.
     let mut unformatted = Vec::new();
     for example in examples() {
-        let output = Command::new(env!("CARGO_BIN_EXE_qcsg"))
-            .args(["fmt", "--check"])
-            .arg(&example.path)
-            .output()
-            .expect("qcsg runs");
-        if !output.status.success() {
+        let run = qcsg().args(["fmt", "--check"]).arg(&example.path).run();
+        if run.status != 0 {
             unformatted.push(example.file_name);
         }
     }

@@ -11,12 +11,15 @@ use std::time::{Duration, Instant};
 
 use qcsg_lsp::preview::{Preview, ViewRequest};
 use qcsg_render::{ImageSize, PixelId, Projection, View};
+use qcsg_testkit::cli::Invocation;
 
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// A running `qcsg view`, stopped when dropped.
+/// A running `qcsg view`, stopped when dropped. It is spawned here rather than by the tests'
+/// runner ([`Invocation`]), which waits for its binary to end and reads its output whole: a
+/// server is talked to while it runs, from the port on the first line it prints.
 struct Server {
     child: Child,
     port: u16,
@@ -136,21 +139,25 @@ fn render_cli(file: &Path, args: &[&str]) -> Vec<u8> {
     render_with(file, &[&["--renderer", "raytrace"], args].concat())
 }
 
+/// A run of the built `qcsg` that ends by itself (a server is a [`Server`]).
+fn qcsg() -> Invocation {
+    Invocation::new(env!("CARGO_BIN_EXE_qcsg"))
+}
+
 /// `qcsg render FILE -o - ARGS`'s PNG.
 fn render_with(file: &Path, args: &[&str]) -> Vec<u8> {
-    let output = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+    let run = qcsg()
         .arg("render")
         .arg(file)
         .args(["-o", "-", "--quiet"])
         .args(args)
-        .output()
-        .expect("qcsg render runs");
+        .run();
     assert!(
-        output.status.success(),
+        run.status == 0,
         "qcsg render {args:?} failed: {}",
-        String::from_utf8_lossy(&output.stderr)
+        run.stderr
     );
-    output.stdout
+    run.stdout
 }
 
 #[test]
@@ -512,13 +519,12 @@ fn a_program_that_never_compiled_answers_409_with_its_errors() {
 
 /// The renderer `qcsg render --device auto` picks on this machine, from what it says.
 fn renderer_of_render_auto(file: &Path) -> &'static str {
-    let output = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+    let run = qcsg()
         .arg("render")
         .arg(file)
         .args(["-o", "-", "--size", "16,12"])
-        .output()
-        .expect("qcsg render runs");
-    let said = String::from_utf8_lossy(&output.stderr);
+        .run();
+    let said = run.stderr;
     if said.contains("with the splat renderer") {
         "splat"
     } else if said.contains("with the CPU ray tracer") {
@@ -539,14 +545,13 @@ fn the_renderer_is_chosen_as_qcsg_render_chooses_it() {
         renderer_of_render_auto(&file)
     );
     // A request that cannot be met stops the server at its start, as it stops `qcsg render`.
-    let refused = Command::new(env!("CARGO_BIN_EXE_qcsg"))
+    let refused = qcsg()
         .arg("view")
         .arg(&file)
         .args(["--no-open", "--renderer", "raytrace", "--device", "gpu"])
-        .output()
-        .expect("qcsg view runs");
-    assert_eq!(refused.status.code(), Some(2));
-    let said = String::from_utf8_lossy(&refused.stderr);
+        .run();
+    assert_eq!(refused.status, 2);
+    let said = refused.stderr;
     assert!(
         said.contains("the ray tracer runs on the CPU only"),
         "{said}"
