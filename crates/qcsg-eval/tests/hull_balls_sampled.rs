@@ -17,11 +17,7 @@ fn random_balls_and_cubes_match_the_sampled_hull() {
         let mut text = String::from("hull() {");
         let mut set = Convex::default();
         for _ in 0..2 + case % 4 {
-            let c = DVec3::new(
-                rng.range(-4.0, 4.0),
-                rng.range(-4.0, 4.0),
-                rng.range(-4.0, 4.0),
-            );
+            let c = rng.in_box(DVec3::splat(-4.0), DVec3::splat(4.0));
             let r = rng.range(0.2, 2.0);
             text += &format!(
                 " translate([{:e}, {:e}, {:e}]) sphere({:e});",
@@ -30,11 +26,7 @@ fn random_balls_and_cubes_match_the_sampled_hull() {
             set.balls.push((c, r));
         }
         if case % 2 == 1 {
-            let at = DVec3::new(
-                rng.range(-4.0, 4.0),
-                rng.range(-4.0, 4.0),
-                rng.range(-4.0, 4.0),
-            );
+            let at = rng.in_box(DVec3::splat(-4.0), DVec3::splat(4.0));
             let size = rng.range(0.5, 2.0);
             text += &format!(
                 " translate([{:e}, {:e}, {:e}]) cube({:e});",

@@ -23,20 +23,12 @@ struct Box3 {
 impl Box3 {
     fn random(rng: &mut Rng, turn_all: bool) -> Box3 {
         let angles = if turn_all {
-            DVec3::new(
-                rng.range(0.0, 360.0),
-                rng.range(0.0, 360.0),
-                rng.range(0.0, 360.0),
-            )
+            rng.in_box(DVec3::splat(0.0), DVec3::splat(360.0))
         } else {
             DVec3::new(0.0, 0.0, rng.range(0.0, 360.0))
         };
         Box3 {
-            at: DVec3::new(
-                rng.range(-2.0, 2.0),
-                rng.range(-2.0, 2.0),
-                rng.range(-2.0, 2.0),
-            ),
+            at: rng.in_box(DVec3::splat(-2.0), DVec3::splat(2.0)),
             angles,
             size: DVec3::new(
                 rng.range(0.5, 4.0),
@@ -121,11 +113,7 @@ fn random_boxes_with_a_cylinder_match_the_sampled_sum() {
     let (mut inside, mut outside) = (0, 0);
     for case in 0..10 {
         let b = Box3::random(&mut rng, case % 2 == 1);
-        let at = DVec3::new(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-        );
+        let at = rng.in_box(DVec3::splat(-1.0), DVec3::splat(1.0));
         let (cyl, part) = cylinder(at, rng.range(0.3, 1.5), rng.range(0.1, 2.0));
         let text = format!("minkowski() {{ {} {cyl} }}", b.scad());
         let (i, o) = compare(
@@ -202,11 +190,7 @@ fn boxes_with_a_cone_match_the_sampled_sum() {
     let (mut inside, mut outside) = (0, 0);
     for case in 0..8 {
         let b = Box3::random(&mut rng, case % 2 == 1);
-        let at = DVec3::new(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-        );
+        let at = rng.in_box(DVec3::splat(-1.0), DVec3::splat(1.0));
         // A frustum either way up, and a cone to a point.
         let (r1, r2) = match case % 3 {
             0 => (rng.range(0.3, 1.5), rng.range(0.1, 0.3)),
