@@ -33,8 +33,6 @@ KNOWN = {
     "surface after three refinements (not diagnosed), so the export fails",
     "rounded_enclosure.scad": "three triangles of zero area in the mesh (minkowski sums' rounded "
     "corners cut by boxes, not diagnosed)",
-    "seed20261206_008.qcsg": "one triangle of zero area (three collinear corners) on the face of "
-    "a rotated box that a flush pocket cuts at its edge (docs/export.md)",
 }
 
 # Surfaces the exporter meshes as level sets; a scene with more than MAX_LEVEL_SETS of them

@@ -20,11 +20,13 @@
 //! read out, in f64 throughout; the file formats decide what precision is written
 //! ([`formats`]).
 
+mod collinear;
 pub mod deviation;
 pub mod formats;
 mod literal;
 pub mod topology;
 
+use manifold_rust::csg_tree::CsgNode;
 use manifold_rust::manifold::Manifold;
 use manifold_rust::types::{Error as ManifoldError, OpType};
 use qcsg_csg::{Aabb, Dnf};
@@ -284,7 +286,7 @@ fn mesh_dnf(
             result
         })
         .collect::<Result<_, _>>()?;
-    let mut solid = Manifold::batch_boolean(&terms, OpType::Add);
+    let mut solid = union_all(terms);
     check_status(&solid)?;
     // Far from the world origin, an edge shorter than a few ulps of the world coordinates
     // collapses when the mesh is moved back, leaving triangles of zero area: such edges are
@@ -320,10 +322,29 @@ fn mesh_dnf(
         .chunks_exact(3)
         .map(|t| [t[0], t[1], t[2]])
         .collect();
-    Ok(TriangleMesh {
+    let mut mesh = TriangleMesh {
         vertices,
         triangles,
-    })
+    };
+    collinear::remove_collinear(&mut mesh);
+    Ok(mesh)
+}
+
+/// The union of the terms. `Manifold::batch_boolean` folds its list one by one, so the
+/// growing result is copied and searched again for every term: quadratic in the terms. The CSG
+/// tree's n-ary union composes the terms whose boxes are disjoint without any boolean and
+/// unites the rest smallest first, as Manifold's own batch union does.
+fn union_all(terms: Vec<Manifold>) -> Manifold {
+    let leaves: Vec<CsgNode> = terms
+        .into_iter()
+        .filter(|m| !m.is_empty())
+        .map(|m| CsgNode::leaf(m.into_impl()))
+        .collect();
+    if leaves.is_empty() {
+        Manifold::empty()
+    } else {
+        Manifold::from_impl(CsgNode::op_n(OpType::Add, leaves).evaluate())
+    }
 }
 
 /// What every term of a pass shares.
@@ -415,6 +436,10 @@ fn mesh_term(
         let kind = dnf.quadrics[l as usize].quadric.kind();
         (kind != qcsg_quadric::QuadricKind::Plane, l)
     });
+    // Subtracted one by one, n holes would each be cut from a mesh that already holds the
+    // others: quadratic in the holes. They are united first (disjoint ones merely composed)
+    // and subtracted once, after the other literals have shrunk the solid.
+    let mut holes = Vec::new();
     for l in literals {
         let job = literal::LiteralJob {
             quadric: &dnf.quadrics[l as usize].quadric,
@@ -427,11 +452,21 @@ fn mesh_term(
             tolerance: context.tolerance,
             max_triangles: context.max_triangles,
         };
+        if let Some(hole) = literal::hole(&job)? {
+            holes.push(hole);
+            continue;
+        }
         solid = literal::apply(&solid, &job)?;
         check_status(&solid)?;
         if solid.is_empty() {
             break;
         }
+    }
+    if !solid.is_empty() && !holes.is_empty() {
+        let cut = union_all(holes);
+        check_status(&cut)?;
+        solid = solid.difference(&cut);
+        check_status(&solid)?;
     }
     Ok(without_flat_parts(
         solid,

@@ -154,6 +154,26 @@ pub(crate) fn apply(solid: &Manifold, job: &LiteralJob) -> Result<Manifold, Expo
     })
 }
 
+/// The closed mesh that the literal cuts out of the term, when it is the outside of an
+/// ellipsoid or an elliptic cylinder (a ball or a hole subtracted); `None` for every other
+/// literal, which [`apply`] applies. The term subtracts all its holes at once.
+pub(crate) fn hole(job: &LiteralJob) -> Result<Option<Manifold>, ExportError> {
+    let q = job.quadric;
+    let frame = PrincipalFrame::new(q, &Tolerances::default());
+    let kind = classify_frame(&frame, &Tolerances::default());
+    let centre = frame.centre - job.origin;
+    // As `apply` decides it, so that a literal is a hole exactly where `apply` would subtract.
+    if q.value(centre + job.origin) < 0.0 {
+        return Ok(None);
+    }
+    use QuadricKind as K;
+    Ok(match kind {
+        K::Sphere | K::Spheroid | K::Ellipsoid => Some(ellipsoid(&frame, centre, job)?),
+        K::EllipticCylinder => Some(cylinder(&frame, centre, job)?),
+        _ => None,
+    })
+}
+
 /// Intersects with `mesh` when the literal's solid is its inside, else subtracts it.
 fn combine(solid: &Manifold, mesh: &Manifold, inside: bool) -> Manifold {
     if inside {
