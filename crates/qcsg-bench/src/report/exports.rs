@@ -258,13 +258,19 @@ pub fn write(
 /// Replaces the section in `report` (from [`HEADING`] to the next `## ` heading, or the end) by
 /// `section`, or appends it where the report has none.
 pub fn splice(report: &str, section: &str) -> String {
-    let Some(start) = report.find(HEADING) else {
+    splice_section(report, HEADING, section)
+}
+
+/// Replaces the section that starts at `heading` (up to the next `## ` heading, or the end) by
+/// `section`, or appends it where the report has none.
+pub fn splice_section(report: &str, heading: &str, section: &str) -> String {
+    let Some(start) = report.find(heading) else {
         return format!("{}\n\n{section}", report.trim_end());
     };
-    let rest = &report[start + HEADING.len()..];
+    let rest = &report[start + heading.len()..];
     let end = rest
         .find("\n## ")
-        .map_or(report.len(), |i| start + HEADING.len() + i + 1);
+        .map_or(report.len(), |i| start + heading.len() + i + 1);
     format!("{}{section}{}", &report[..start], &report[end..])
 }
 

@@ -8,6 +8,7 @@
 //! made their environment; OpenSCAD when it is installed, its preview when Xvfb is.
 
 mod error_time;
+mod export_families;
 mod exports;
 mod families;
 mod mesh_scale;
@@ -75,6 +76,11 @@ struct Args {
     /// again) in the existing report, leaving the other sections as they are.
     #[arg(long)]
     meshes_only: bool,
+    /// Regenerate only section 9.1 (the scaling families through `qcsg export` beside
+    /// Manifold at equal error) in the existing report; with `--quick`, only the two smallest
+    /// sizes of each family.
+    #[arg(long)]
+    export_families: bool,
 }
 
 /// The sweeps of one run.
@@ -309,6 +315,9 @@ fn run(args: &Args) -> Result<(), String> {
     let out_dir = root.join("docs/report");
     std::fs::create_dir_all(&out_dir)
         .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
+    if args.export_families {
+        return export_families_only(args, &root, started);
+    }
     let scene_dir = root.join("crates/qcsg-bench/scenes");
     let threads = rayon::current_num_threads();
     let machine = machine();
@@ -393,6 +402,14 @@ fn run(args: &Args) -> Result<(), String> {
         &work.join("families"),
         limit,
     )?;
+    // (9.1) The families through `qcsg export` beside Manifold.
+    let export_family_list = export_families::families(args.quick);
+    let export_family_rows = export_families::measure(
+        &export_family_list,
+        manifold.as_ref().ok(),
+        &work.join("export-families"),
+        limit,
+    )?;
     let _ = std::fs::remove_dir_all(&work);
 
     // Header.
@@ -470,6 +487,14 @@ fn run(args: &Args) -> Result<(), String> {
         &scenes,
         &export_rows,
         &peers,
+        "",
+    )?);
+    plots.extend(export_families::write(
+        &mut md,
+        &out_dir,
+        &export_family_list,
+        &export_family_rows,
+        manifold.as_ref().map_err(String::as_str),
         "",
     )?);
     let summary = summary::write(&summary::Inputs {
@@ -556,6 +581,57 @@ fn meshes_only(
         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     eprintln!(
         "replaced section 9 of {} in {:.0} s",
+        path.display(),
+        secs(started.elapsed())
+    );
+    Ok(())
+}
+
+/// `--export-families`: measures the families through `qcsg export` and Manifold and replaces
+/// section 9.1 of the existing report, with its own provenance.
+fn export_families_only(
+    args: &Args,
+    root: &std::path::Path,
+    started: Instant,
+) -> Result<(), String> {
+    let machine = machine();
+    let load_start = load_average();
+    let limit = Duration::from_secs(args.peer_limit);
+    let manifold = if args.no_python_peers {
+        Err("left out (`--no-python-peers`)".to_owned())
+    } else {
+        python_peer::find(root, Peer::Manifold)
+    };
+    let work = std::env::temp_dir().join(format!("qcsg-bench-{}", std::process::id()));
+    let families = export_families::families(args.quick);
+    let rows = export_families::measure(&families, manifold.as_ref().ok(), &work, limit)?;
+    let _ = std::fs::remove_dir_all(&work);
+    let provenance = format!(
+        "This section was generated on its own by `cargo run --release -p qcsg-bench -- \
+         --export-families{}` in {:.0} s on {machine}, load average {load_start} at the start \
+         and {} at the end.\n\n",
+        if args.quick { " --quick" } else { "" },
+        secs(started.elapsed()),
+        load_average()
+    );
+    let mut section = String::new();
+    export_families::write(
+        &mut section,
+        &root.join("docs/report"),
+        &families,
+        &rows,
+        manifold.as_ref().map_err(String::as_str),
+        &provenance,
+    )?;
+    let path = root.join("docs/report.md");
+    let report = std::fs::read_to_string(&path).unwrap_or_default();
+    std::fs::write(
+        &path,
+        exports::splice_section(&report, export_families::HEADING, &section),
+    )
+    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    eprintln!(
+        "replaced section 9.1 of {} in {:.0} s",
         path.display(),
         secs(started.elapsed())
     );
