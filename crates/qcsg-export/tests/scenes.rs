@@ -152,3 +152,67 @@ fn every_scene_exports_a_closed_mesh_within_the_tolerance() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// A cube's DNF, from source.
+fn cube_dnf() -> qcsg_csg::Dnf {
+    let compiled = qcsg_driver::compile(
+        "cube.scad",
+        "cube(2, center = true);".into(),
+        &qcsg_driver::Options::default(),
+        &qcsg_sema::FsLoader,
+        qcsg_driver::Stage::Dnf,
+    );
+    compiled.solid().expect("a cube").clone()
+}
+
+#[test]
+fn the_solid_bounds_the_mesh_where_the_surface_points_are_too_sparse() {
+    use qcsg_export::{TriangleMesh, measure_deviation, measure_deviation_of_solid};
+    use qcsg_quadric::DVec3;
+    let dnf = cube_dnf();
+    // The cube's 12 faces, and one surface point only: at a corner.
+    let vertices: Vec<DVec3> = (0..8)
+        .map(|i| {
+            DVec3::new(
+                if i & 1 == 0 { -1.0 } else { 1.0 },
+                if i & 2 == 0 { -1.0 } else { 1.0 },
+                if i & 4 == 0 { -1.0 } else { 1.0 },
+            )
+        })
+        .collect();
+    let faces = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let triangles = faces
+        .iter()
+        .flat_map(|[a, b, c, d]| [[*a, *b, *c], [*a, *c, *d]])
+        .collect();
+    let surface = TriangleMesh {
+        vertices,
+        triangles,
+    };
+    let points = [DVec3::ONE];
+    let tolerance = 0.01;
+    let from_points = measure_deviation(&surface, &points, 0.0, tolerance, tolerance / 8.0);
+    assert!(from_points.mesh_to_surface > 1.0, "{from_points:?}");
+    let from_solid =
+        measure_deviation_of_solid(&dnf, &surface, &points, 0.0, tolerance, tolerance / 8.0);
+    assert!(from_solid.mesh_to_surface <= tolerance, "{from_solid:?}");
+
+    // A wall through the middle of the cube is a whole unit from its surface.
+    let wall = TriangleMesh {
+        vertices: vec![
+            DVec3::new(-0.9, -0.9, 0.0),
+            DVec3::new(0.9, -0.9, 0.0),
+            DVec3::new(0.0, 0.9, 0.0),
+        ],
+        triangles: vec![[0, 1, 2]],
+    };
+    let inside = measure_deviation_of_solid(&dnf, &wall, &points, 0.0, tolerance, tolerance / 8.0);
+    assert!(inside.mesh_to_surface >= 0.9, "{inside:?}");
+}
