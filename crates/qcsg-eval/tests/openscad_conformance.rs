@@ -32,7 +32,6 @@ use glam::DVec3;
 use qcsg_csg::{Dag, Dnf, DnfOptions, build_dnf};
 use qcsg_eval::{EvalOptions, evaluate};
 use qcsg_export::{ExportOptions, export, topology};
-use qcsg_quadric::QuadricKind as K;
 use qcsg_sema::{CheckOptions, FsLoader, check_file};
 use qcsg_testkit::openscad::{Export, tessellation_tolerance};
 use qcsg_testkit::{Rng, TriangleMesh};
@@ -329,17 +328,7 @@ fn compare_export(scene: &Path, openscad: &TriangleMesh) -> Result<String, Strin
     let level_sets = dnf
         .quadrics
         .iter()
-        .filter(|q| {
-            matches!(
-                q.quadric.kind(),
-                K::ParabolicCylinder
-                    | K::HyperbolicCylinder
-                    | K::EllipticParaboloid
-                    | K::HyperbolicParaboloid
-                    | K::HyperboloidOneSheet
-                    | K::HyperboloidTwoSheets
-            )
-        })
+        .filter(|q| qcsg_export::meshed_as_level_set(q.quadric.kind()))
         .count();
     if level_sets > MAX_LEVEL_SETS {
         return Ok(format!(

@@ -34,6 +34,7 @@ use qcsg_quadric::DVec3;
 use rayon::prelude::*;
 
 pub use deviation::{Deviation, measure_deviation, measure_deviation_of_solid};
+pub use literal::meshed_as_level_set;
 pub use topology::{Topology, topology};
 
 /// The default limit on the triangles of the mesh (and of one literal's mesh).

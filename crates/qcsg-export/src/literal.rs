@@ -57,6 +57,21 @@ fn v3(p: DVec3) -> Vec3 {
     Vec3::new(p.x, p.y, p.z)
 }
 
+/// Whether [`apply`] meshes a quadric of this kind as a level set: the kinds with no
+/// closed-form inscribed polyhedron, which cost far more triangles and time than the others.
+pub fn meshed_as_level_set(kind: QuadricKind) -> bool {
+    use QuadricKind as K;
+    matches!(
+        kind,
+        K::HyperbolicCylinder
+            | K::ParabolicCylinder
+            | K::HyperboloidOneSheet
+            | K::HyperboloidTwoSheets
+            | K::EllipticParaboloid
+            | K::HyperbolicParaboloid
+    )
+}
+
 /// Applies the literal to `solid` (the term so far).
 pub(crate) fn apply(solid: &Manifold, job: &LiteralJob) -> Result<Manifold, ExportError> {
     let q = job.quadric;

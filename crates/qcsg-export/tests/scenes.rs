@@ -71,18 +71,7 @@ fn check(path: &Path) -> Result<String, String> {
     let level_sets = dnf
         .quadrics
         .iter()
-        .filter(|q| {
-            use qcsg_quadric::QuadricKind as K;
-            matches!(
-                q.quadric.kind(),
-                K::ParabolicCylinder
-                    | K::HyperbolicCylinder
-                    | K::EllipticParaboloid
-                    | K::HyperbolicParaboloid
-                    | K::HyperboloidOneSheet
-                    | K::HyperboloidTwoSheets
-            )
-        })
+        .filter(|q| qcsg_export::meshed_as_level_set(q.quadric.kind()))
         .count();
     if level_sets > MAX_LEVEL_SETS {
         return Ok(format!("skipped: {level_sets} level-set surfaces"));
