@@ -14,10 +14,11 @@ use qcsg_bench::pipeline::compile_source;
 use qcsg_bench::plot::{Plot, Series};
 use qcsg_bench::python_peer::{self, Installed};
 use qcsg_bench::reference::diagonal;
-use qcsg_bench::shape::{Shape, ball_union, cube_minus_balls, plate_with_holes};
+use qcsg_bench::shape::Shape;
 use qcsg_csg::DnfOptions;
 use qcsg_export::{ExportOptions, Progress, export};
 
+use crate::families::Family;
 use crate::peers::PeerRow;
 use crate::{Scene, fit_text, ms, one_thread, sci, secs};
 
@@ -32,41 +33,6 @@ pub const TOLERANCE: f64 = 1e-2;
 
 /// Random lines for each size's exact reference points (plus the lines through each quadric).
 const RAYS: usize = 2000;
-
-/// A family: its name, what its count counts, its sizes and its tree at a size.
-pub struct Family {
-    pub name: &'static str,
-    pub unit: &'static str,
-    pub sizes: Vec<usize>,
-    pub make: fn(usize) -> Shape,
-}
-
-/// Section 4's families; quick, their two smallest sizes: the oracle's reference points
-/// (exact lines through every quadric, each tested against the whole solid) grow faster than
-/// the primitives, and take minutes from a few hundred of them.
-pub fn families(quick: bool) -> Vec<Family> {
-    let take = |v: Vec<usize>| if quick { v[..2].to_vec() } else { v };
-    vec![
-        Family {
-            name: "plate with holes",
-            unit: "holes",
-            sizes: take(vec![16, 64, 256, 1024]),
-            make: plate_with_holes,
-        },
-        Family {
-            name: "cube minus balls",
-            unit: "balls",
-            sizes: take(vec![15, 60, 240, 960]),
-            make: cube_minus_balls,
-        },
-        Family {
-            name: "union of balls",
-            unit: "balls",
-            sizes: take(vec![27, 125, 343, 1000]),
-            make: ball_union,
-        },
-    ]
-}
 
 /// One size of one family.
 pub struct SizeRow {

@@ -403,7 +403,7 @@ fn run(args: &Args) -> Result<(), String> {
         limit,
     )?;
     // (9.1) The families through `qcsg export` beside Manifold.
-    let export_family_list = export_families::families(args.quick);
+    let export_family_list = families::families(args.quick);
     let export_family_rows = export_families::measure(
         &export_family_list,
         manifold.as_ref().ok(),
@@ -603,7 +603,7 @@ fn export_families_only(
         python_peer::find(root, Peer::Manifold)
     };
     let work = std::env::temp_dir().join(format!("qcsg-bench-{}", std::process::id()));
-    let families = export_families::families(args.quick);
+    let families = families::families(args.quick);
     let rows = export_families::measure(&families, manifold.as_ref().ok(), &work, limit)?;
     let _ = std::fs::remove_dir_all(&work);
     let provenance = format!(
