@@ -52,14 +52,12 @@ enum Expected {
     Agrees,
     /// Refused with E0301/E0302 only, for this construct (named in a message).
     Refused(&'static str),
-    /// Fails with this error code, for the reason given.
-    Fails(&'static str, &'static str),
     /// Compiles and every point compared agrees, but the sample leaves about
     /// `MIN_POINTS_PER_SIDE` or fewer on one side (thin letters), for the reason given.
     Sparse(&'static str),
 }
 
-use Expected::{Agrees, Fails, Refused, Sparse};
+use Expected::{Agrees, Refused, Sparse};
 
 /// Every example, by its path below the examples folder.
 const EXPECTED: &[(&str, Expected)] = &[
@@ -100,13 +98,7 @@ const EXPECTED: &[(&str, Expected)] = &[
     ("Old/example007.scad", Agrees),
     ("Old/example008.scad", Agrees),
     ("Old/example009.scad", Refused("twist")),
-    (
-        "Old/example010.scad",
-        Fails(
-            "E0601",
-            "the intersection of two 46 × 46 height maps has about 200,000 DNF terms, pairs of their cells whose boxes meet (cut into common cells it is more), above the default limit of 100,000",
-        ),
-    ),
+    ("Old/example010.scad", Agrees),
     ("Old/example011.scad", Agrees),
     ("Old/example012.scad", Agrees),
     ("Old/example013.scad", Agrees),
@@ -430,16 +422,6 @@ fn verdict(expected: Expected, outcome: &Outcome) -> Result<(), String> {
             }
             Ok(())
         }
-        (Fails(code, _), Outcome::Errors(errors)) => {
-            if errors.iter().any(|e| e.starts_with(code)) {
-                Ok(())
-            } else {
-                Err(format!("expected {code}, got {errors:?}"))
-            }
-        }
-        (Fails(code, why), Outcome::Compared { .. } | Outcome::BothEmpty) => Err(format!(
-            "expected {code} ({why}), but it compiles: update the table"
-        )),
         (Sparse(why), Outcome::BothEmpty) => Err(format!(
             "expected too few points ({why}), but both are empty: update the table"
         )),
