@@ -325,11 +325,7 @@ const WALLS: &str = "the mesh keeps walls where touching cells of a polygon, imp
 /// the export, or why it fails.
 fn compare_export(scene: &Path, openscad: &TriangleMesh) -> Result<String, String> {
     let Solid { text, dnf, .. } = solid(scene)?;
-    let level_sets = dnf
-        .quadrics
-        .iter()
-        .filter(|q| qcsg_export::meshed_as_level_set(q.quadric.kind()))
-        .count();
+    let level_sets = qcsg_export::level_set_surfaces(&dnf);
     if level_sets > MAX_LEVEL_SETS {
         return Ok(format!(
             "skipped: {level_sets} surfaces meshed as level sets"
@@ -348,14 +344,7 @@ fn compare_export(scene: &Path, openscad: &TriangleMesh) -> Result<String, Strin
     if !topology.is_closed_solid() {
         return Err(format!("the exported mesh bounds no solid: {topology:?}"));
     }
-    let mesh = TriangleMesh::new(
-        exported
-            .mesh
-            .triangles
-            .iter()
-            .map(|t| exported.mesh.corners(t))
-            .collect(),
-    )?;
+    let mesh = TriangleMesh::new(exported.mesh.triangle_soup())?;
     let mut comparison = Comparison::new();
     for p in test_points(&text, openscad) {
         if openscad.is_within(p, openscad_tolerance) || mesh.is_within(p, tolerance) {

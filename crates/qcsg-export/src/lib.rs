@@ -34,7 +34,7 @@ use qcsg_quadric::DVec3;
 use rayon::prelude::*;
 
 pub use deviation::{Deviation, measure_deviation, measure_deviation_of_solid};
-pub use literal::meshed_as_level_set;
+pub use literal::{level_set_surfaces, meshed_as_level_set};
 pub use topology::{Topology, topology};
 
 /// The default limit on the triangles of the mesh (and of one literal's mesh).
@@ -86,6 +86,11 @@ impl TriangleMesh {
     /// The triangle's corners.
     pub fn corners(&self, t: &[u32; 3]) -> [DVec3; 3] {
         t.map(|i| self.vertices[i as usize])
+    }
+
+    /// Every triangle's corners, in order: the mesh as a triangle soup.
+    pub fn triangle_soup(&self) -> Vec<[DVec3; 3]> {
+        self.triangles.iter().map(|t| self.corners(t)).collect()
     }
 }
 

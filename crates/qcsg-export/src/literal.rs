@@ -72,6 +72,14 @@ pub fn meshed_as_level_set(kind: QuadricKind) -> bool {
     )
 }
 
+/// How many of the solid's quadrics [`apply`] meshes as level sets.
+pub fn level_set_surfaces(dnf: &qcsg_csg::Dnf) -> usize {
+    dnf.quadrics
+        .iter()
+        .filter(|q| meshed_as_level_set(q.quadric.kind()))
+        .count()
+}
+
 /// Applies the literal to `solid` (the term so far).
 pub(crate) fn apply(solid: &Manifold, job: &LiteralJob) -> Result<Manifold, ExportError> {
     let q = job.quadric;

@@ -68,11 +68,7 @@ fn check(path: &Path) -> Result<String, String> {
         return Ok("unbounded".into());
     }
     // Text is made of parabolic cylinders, each a level set: too slow for a debug-build test.
-    let level_sets = dnf
-        .quadrics
-        .iter()
-        .filter(|q| qcsg_export::meshed_as_level_set(q.quadric.kind()))
-        .count();
+    let level_sets = qcsg_export::level_set_surfaces(dnf);
     if level_sets > MAX_LEVEL_SETS {
         return Ok(format!("skipped: {level_sets} level-set surfaces"));
     }
@@ -86,7 +82,7 @@ fn check(path: &Path) -> Result<String, String> {
         return Err(format!("not a closed solid: {topo:?}"));
     }
     let soup = Mesh {
-        triangles: mesh.triangles.iter().map(|t| mesh.corners(t)).collect(),
+        triangles: mesh.triangle_soup(),
     };
     // The oracle's mesh-to-surface distance is an upper bound that is loose near feature
     // curves when its reference points are sparse (a mesh point whose projection onto a quadric

@@ -135,12 +135,7 @@ pub fn measure(
             let (qcsg, passes) = match result {
                 Ok(exported) => {
                     let soup = Mesh {
-                        triangles: exported
-                            .mesh
-                            .triangles
-                            .iter()
-                            .map(|t| exported.mesh.corners(t))
-                            .collect(),
+                        triangles: exported.mesh.triangle_soup(),
                     };
                     (
                         PeerRow::of_mesh(&scene, setting, "ok", time, &soup),

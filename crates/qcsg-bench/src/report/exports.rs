@@ -57,12 +57,7 @@ pub fn measure(scenes: &[Scene], relative: &[f64]) -> Result<Vec<Vec<ExportRow>>
             let row = match result {
                 Ok(exported) => {
                     let soup = Mesh {
-                        triangles: exported
-                            .mesh
-                            .triangles
-                            .iter()
-                            .map(|t| exported.mesh.corners(t))
-                            .collect(),
+                        triangles: exported.mesh.triangle_soup(),
                     };
                     ExportRow {
                         tolerance: t,
