@@ -138,14 +138,14 @@ impl Partition<'_> {
                 let plane = halving_plane(&region.polytope);
                 // A region too thin to halve is treated as it stands.
                 if let Some((low, high)) = region.polytope.split(plane, self.tolerance(&plane)) {
-                    stack.extend(self.children(&region, low, high, None));
+                    stack.extend(self.children(&region, plane, low, high, None));
                     continue;
                 }
             }
             if region.triangles.len() > LEAF_TRIANGLES {
                 let plane = self.median_plane(&region);
                 if let Some((low, high)) = region.polytope.split(plane, self.tolerance(&plane)) {
-                    let children = self.children(&region, low, high, None);
+                    let children = self.children(&region, plane, low, high, None);
                     let total = region.triangles.len();
                     // Where every triangle reaches both sides (a fan around one point), the
                     // triangles' own planes separate them instead.
@@ -166,7 +166,7 @@ impl Partition<'_> {
             let plane = self.triangles[splitter as usize].plane;
             match region.polytope.split(plane, self.tolerance(&plane)) {
                 Some((low, high)) => {
-                    stack.extend(self.children(&region, low, high, Some(splitter)))
+                    stack.extend(self.children(&region, plane, low, high, Some(splitter)))
                 }
                 None => {
                     // The plane misses the region's interior: so does the triangle.
@@ -178,10 +178,11 @@ impl Partition<'_> {
         }
     }
 
-    /// The two children of `parent` cut along a triangle's plane (`splitter`) or a free plane.
+    /// The two children of `parent` cut by `plane`, a triangle's (`splitter`) or a free one.
     fn children(
         &self,
         parent: &Region,
+        plane: Plane,
         low: Polytope,
         high: Polytope,
         splitter: Option<u32>,
@@ -206,12 +207,25 @@ impl Partition<'_> {
             .copied()
             .filter(|&i| !on_wall(&self.triangles[i as usize]))
             .collect();
-        [low, high].map(|polytope| {
+        [(low, plane), (high, plane.flipped())].map(|(polytope, side)| {
+            let slack = self.tolerance(&side);
             let triangles: Vec<u32> = kept
                 .iter()
                 .copied()
                 .filter(|&i| {
-                    polytope.may_touch(self.triangles[i as usize].corners, |h| self.tolerance(h))
+                    let corners = self.triangles[i as usize].corners;
+                    // Every triangle of the parent reaches into the parent: one wholly on this
+                    // side of the cut reaches into the child too, and one wholly beyond it does
+                    // not, so only those the cut crosses need clipping by every face.
+                    let beyond = corners
+                        .iter()
+                        .filter(|&&c| side.value(c) + slack > 0.0)
+                        .count();
+                    match beyond {
+                        0 => true,
+                        3 => false,
+                        _ => polytope.may_touch(corners, |h| self.tolerance(h)),
+                    }
                 })
                 .collect();
             let reference = polytope.interior_point();
