@@ -164,14 +164,14 @@ fn render_row(
         let ray = camera.ray(f64::from(x) + 0.5, f64::from(y) + 0.5, size);
         let trace = |layer: &Option<Layer>, shared: &LayerFrame, scratch: &mut Scratch| {
             let layer = layer.as_ref()?;
-            let candidates = shared.tiles.as_ref().map(|tiles| tiles.at(x, y));
+            let square = shared.tiles.as_ref().map(|tiles| tiles.square(x, y));
             trace_among(
                 layer.dnf(),
                 layer.index(),
                 &ray,
                 0.0,
                 shared.eye.as_ref(),
-                candidates,
+                square,
                 scratch,
             )
         };
@@ -321,7 +321,7 @@ impl FrameLayers {
                 .map_or_else(LayerFrame::default, |layer| LayerFrame {
                     eye: (camera.projection() == Projection::Perspective)
                         .then(|| EyeValues::new(layer.dnf(), camera.eye())),
-                    tiles: FrameTiles::new(layer.index().boxes(), camera, size),
+                    tiles: FrameTiles::with_literals(layer.index(), camera, size),
                 })
         };
         Self {

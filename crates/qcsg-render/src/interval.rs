@@ -65,13 +65,18 @@ pub fn literal_intervals(
     range: Interval,
     out: &mut Vec<Interval>,
 ) {
-    Literal::Own(quadric).intervals(id, ray, range, None, out);
+    let mut roots = [0.0; 4];
+    let count = Literal::Own(quadric).roots(id, ray, None, &mut roots);
+    Literal::Own(quadric).intervals(id, ray, range, &roots[..count], out);
 }
 
 /// [`literal_intervals`] for the DNF quadric `id` (whose quadric is `quadric`), read through the
 /// surfaces its sheets lie on (see the module docs). A quadric that `surfaces` does not
 /// describe, or without a surface, is read by itself. `eye`: the values of the DNF's quadrics
 /// and surfaces at the ray's start, when they were computed for it (the same results, sooner).
+/// `roots`: the crossings found along this ray so far, by DNF quadric id (a literal read in
+/// several terms is crossed once per ray: its roots do not depend on the term's range).
+#[allow(clippy::too_many_arguments)]
 pub fn surface_literal_intervals(
     surfaces: &Surfaces,
     quadric: &Quadric,
@@ -79,9 +84,48 @@ pub fn surface_literal_intervals(
     ray: &Ray,
     range: Interval,
     eye: Option<&EyeValues>,
+    roots: &mut RayRoots,
     out: &mut Vec<Interval>,
 ) {
-    Literal::of(surfaces, quadric, id).intervals(id, ray, range, eye, out);
+    let literal = Literal::of(surfaces, quadric, id);
+    let found = roots.of(id, |found| literal.roots(id, ray, eye, found));
+    literal.intervals(id, ray, range, found, out);
+}
+
+/// The crossings of the literals' surfaces along one ray, by DNF quadric id, found when first
+/// asked for. [`RayRoots::next_ray`] forgets them all at once (a counter, not a clearing).
+#[derive(Clone, Debug, Default)]
+pub struct RayRoots {
+    ray: u32,
+    /// Per id: the ray they were found for, how many, the roots ascending.
+    found: Vec<(u32, u8, [f64; 4])>,
+}
+
+impl RayRoots {
+    /// Forgets the roots of the previous ray (of any DNF).
+    pub fn next_ray(&mut self) {
+        self.ray = self.ray.wrapping_add(1);
+        if self.ray == 0 {
+            // Once in 2^32 rays: entries of ray 0 could be taken for this ray's.
+            self.found.iter_mut().for_each(|entry| entry.0 = u32::MAX);
+            self.ray = 1;
+        }
+    }
+
+    /// The roots of `id` along the current ray, found by `find` (which writes them and returns
+    /// how many) unless they are known.
+    fn of(&mut self, id: u32, find: impl FnOnce(&mut [f64; 4]) -> usize) -> &[f64] {
+        let k = id as usize;
+        if k >= self.found.len() {
+            self.found.resize(k + 1, (u32::MAX, 0, [0.0; 4]));
+        }
+        let entry = &mut self.found[k];
+        if entry.0 != self.ray {
+            let count = find(&mut entry.2);
+            *entry = (self.ray, count as u8, entry.2);
+        }
+        &entry.2[..usize::from(entry.1)]
+    }
 }
 
 /// How a literal's roots and sign are read.
@@ -173,20 +217,19 @@ impl<'a> Literal<'a> {
         }
     }
 
+    /// The pieces of `range` inside the literal, given its `roots` along `ray` (ascending).
     fn intervals(
         &self,
         id: u32,
         ray: &Ray,
         range: Interval,
-        eye: Option<&EyeValues>,
+        roots: &[f64],
         out: &mut Vec<Interval>,
     ) {
         out.clear();
-        let mut roots = [0.0; 4];
-        let count = self.roots(id, ray, eye, &mut roots);
         let mut cuts = [0.0; 4];
         let mut cut_count = 0;
-        for &t in &roots[..count] {
+        for &t in roots {
             if t > range.start && t < range.end && (cut_count == 0 || cuts[cut_count - 1] < t) {
                 cuts[cut_count] = t;
                 cut_count += 1;

@@ -32,6 +32,7 @@
 //! ```
 
 pub mod camera;
+mod cull;
 pub mod eye;
 pub mod frame;
 pub mod interval;

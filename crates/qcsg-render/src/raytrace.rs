@@ -8,7 +8,10 @@
 //! that bounds the interval there gives the normal — its gradient, which is outward because
 //! complements are folded into the literal's sign — and the colour. Intervals that merely
 //! touch are merged, so touching solids show no inner faces; tangent roots and zero-length
-//! intervals make no surface.
+//! intervals make no surface. A term is left out where the ray misses the box of where it may
+//! hold ([`crate::cull`]), and of a term of several literals only those that may fail along the
+//! ray are read; a literal read in several terms is crossed once per ray
+//! ([`RayRoots`](crate::interval::RayRoots)).
 //!
 //! Literals are intersected through the surfaces the compiler found them on
 //! ([`qcsg_csg::coincident`]), so literals of one surface cross it at one parameter: a hit is
@@ -21,7 +24,9 @@ use qcsg_csg::{Aabb, BoxIndex, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
 
 use crate::eye::EyeValues;
-use crate::interval::{Boundary, Interval, intersect_into, surface_literal_intervals};
+
+use crate::interval::{Boundary, Interval, RayRoots, intersect_into, surface_literal_intervals};
+use crate::tiles::{Square, TermBoxes};
 
 /// A ray `origin + t · direction`, `t ≥ 0`; the direction is unit length for the renderer, so
 /// that `t` is a distance.
@@ -108,11 +113,18 @@ impl Hit {
 #[derive(Clone, Debug, Default)]
 pub struct Scratch {
     terms: Vec<u32>,
-    entries: Vec<(f64, f64, u32)>,
-    deferred: Vec<(f64, f64, u32)>,
+    entries: Vec<Entry>,
+    deferred: Vec<Entry>,
     term: TermBuffers,
     all: Vec<(Interval, u32)>,
 }
+
+/// Where a ray enters and leaves a term's box, the term, and its position in the square's list
+/// ([`NO_SQUARE`] when the terms were not taken from a square).
+type Entry = (f64, f64, u32, u32);
+
+/// The position of a term found without a square.
+const NO_SQUARE: u32 = u32::MAX;
 
 /// The buffers of one term's intervals along a ray.
 #[derive(Clone, Debug, Default)]
@@ -121,6 +133,7 @@ struct TermBuffers {
     current: Vec<Interval>,
     literal: Vec<Interval>,
     merged: Vec<Interval>,
+    roots: RayRoots,
 }
 
 /// What `dnf`'s rays look at ([`TermIndex`]), with literal boxes for the terms of more than
@@ -130,7 +143,7 @@ pub fn term_index(dnf: &Dnf) -> TermIndex {
 }
 
 /// Terms with more literals than this keep where each literal may fail.
-pub const LITERAL_INDEX_ABOVE: usize = 16;
+pub const LITERAL_INDEX_ABOVE: usize = 4;
 
 /// Terms with more literals than this keep those boxes in an R-tree; the others in a list,
 /// which a ray walks (cheaper than a tree search for a few boxes).
@@ -145,7 +158,19 @@ const LITERAL_TREE_ABOVE: usize = 32;
 #[derive(Clone, Debug)]
 pub struct TermIndex {
     boxes: BoxIndex,
-    literals: Vec<Option<LiteralBoxes>>,
+    /// Per term, a box around where it may hold, when smaller than its box
+    /// ([`crate::cull`]); the boxes of a frame's squares of pixels are these.
+    holds: Vec<Option<Aabb>>,
+    /// Per term, the box of `holds` or else the term's box.
+    square_boxes: Vec<Aabb>,
+    literals: Vec<Option<TermLiterals>>,
+}
+
+/// Where each literal of a term may fail, and the literals (DNF quadric ids, the term's).
+#[derive(Clone, Debug)]
+struct TermLiterals {
+    boxes: LiteralBoxes,
+    ids: Vec<u32>,
 }
 
 /// Where each literal of a term may fail.
@@ -158,6 +183,14 @@ enum LiteralBoxes {
 }
 
 impl LiteralBoxes {
+    /// The boxes, in the term's literal order.
+    fn all(&self) -> &[Aabb] {
+        match self {
+            Self::Indexed(index) => index.boxes(),
+            Self::Listed(boxes) => boxes,
+        }
+    }
+
     /// Writes into `out` the positions, ascending, of the literals whose box `meets` accepts.
     fn select(&self, meets: impl Fn(&Aabb) -> bool, out: &mut Vec<u32>) {
         match self {
@@ -184,6 +217,11 @@ impl TermIndex {
 
     /// The index of `dnf`, with literal boxes for terms of more than `literals_above` literals.
     pub fn new(dnf: &Dnf, literals_above: usize) -> Self {
+        Self::build(dnf, literals_above, true)
+    }
+
+    /// [`TermIndex::new`], with boxes of where each term may hold if `cull`.
+    fn build(dnf: &Dnf, literals_above: usize, cull: bool) -> Self {
         let boxes = padded_boxes(dnf);
         let literals = dnf
             .terms
@@ -194,24 +232,66 @@ impl TermIndex {
                 (count > literals_above && bounds.is_bounded()).then(|| {
                     // A few literals are cheap to read anyway: coarser boxes, found sooner.
                     let many = count > LITERAL_TREE_ABOVE;
-                    let splits = if many { FAIL_SPLITS } else { FEW_FAIL_SPLITS };
+                    let splits = if many {
+                        FAIL_SPLITS
+                    } else if count > FEWER_ABOVE {
+                        FEW_FAIL_SPLITS
+                    } else {
+                        FEWER_FAIL_SPLITS
+                    };
                     let fails = term.literals.iter().map(|&id| {
                         dnf.quadrics
                             .get(id as usize)
                             .map_or(*bounds, |q| where_it_fails(&q.quadric, bounds, splits))
                     });
-                    if many {
+                    let boxes = if many {
                         LiteralBoxes::Indexed(BoxIndex::new(fails.collect()))
                     } else {
                         LiteralBoxes::Listed(fails.collect())
+                    };
+                    TermLiterals {
+                        boxes,
+                        ids: term.literals.clone(),
                     }
                 })
             })
             .collect();
+        let holds: Vec<Option<Aabb>> = if cull {
+            dnf.terms
+                .iter()
+                .zip(&boxes)
+                .map(|(term, bounds)| crate::cull::where_it_may_hold(dnf, term, bounds))
+                .collect()
+        } else {
+            vec![None; boxes.len()]
+        };
+        let square_boxes = holds
+            .iter()
+            .zip(&boxes)
+            .map(|(holds, bounds)| holds.unwrap_or(*bounds))
+            .collect();
         Self {
             boxes: BoxIndex::new(boxes),
+            holds,
+            square_boxes,
             literals,
         }
+    }
+
+    /// The index of `dnf` without shortcuts: no literal boxes, no boxes of where terms hold.
+    pub fn plain(dnf: &Dnf) -> Self {
+        Self::build(dnf, usize::MAX, false)
+    }
+}
+
+impl TermBoxes for TermIndex {
+    fn square_boxes(&self) -> &[Aabb] {
+        &self.square_boxes
+    }
+
+    fn literal_boxes(&self, term: usize) -> Option<(&[Aabb], &[u32])> {
+        let literals = self.literals.get(term)?.as_ref()?;
+        Some((literals.boxes.all(), &literals.ids))
     }
 }
 
@@ -220,6 +300,11 @@ impl TermIndex {
 const FAIL_SPLITS: u32 = 24;
 /// The same for a term of few literals: down to 1/2^4.
 const FEW_FAIL_SPLITS: u32 = 12;
+/// The same for a term of at most [`FEWER_ABOVE`] literals: down to 1/2^3 (a scene of
+/// hundreds of such terms pays for the bisections at each rebuild).
+const FEWER_FAIL_SPLITS: u32 = 8;
+/// Terms of more literals than this have their literal boxes bisected further.
+const FEWER_ABOVE: usize = 16;
 
 /// A box around the points of `bounds` where `q ≤ 0` fails or holds only up to its surface:
 /// the union of the pieces of `bounds`, bisected along their longest side, that
@@ -303,36 +388,57 @@ pub fn trace_from(
     trace_among(dnf, index, ray, t_min, eye, None, scratch)
 }
 
-/// [`trace_from`] looking only at the terms of `candidates` (positions in
-/// [`TermIndex::boxes`], which must hold every term whose box the ray crosses: a frame's
-/// [`FrameTiles`](crate::tiles::FrameTiles)) instead of searching the tree: the same hit.
+/// [`trace_from`] looking only at the terms of `square` (positions in [`TermIndex::boxes`],
+/// which must hold every term whose box the ray crosses: a frame's
+/// [`FrameTiles`](crate::tiles::FrameTiles)) instead of searching the tree, and at the literals
+/// the square lists for them: the same hit.
 pub fn trace_among(
     dnf: &Dnf,
     index: &TermIndex,
     ray: &Ray,
     t_min: f64,
     eye: Option<&EyeValues>,
-    candidates: Option<&[u32]>,
+    square: Option<Square<'_>>,
     scratch: &mut Scratch,
 ) -> Option<Hit> {
     let eye = eye.and_then(|e| e.for_ray(ray));
+    scratch.term.roots.next_ray();
     scratch.all.clear();
     scratch.terms.clear();
     scratch.entries.clear();
     let boxes = &index.boxes;
-    match candidates {
-        // Each is tested below as the tree's leaves are.
-        Some(candidates) => scratch.terms.extend_from_slice(candidates),
-        // A larger box holds a longer piece of the ray, so the search may skip what misses.
-        None => boxes.select(|b| clipped(ray, b, t_min).is_some(), &mut scratch.terms),
+    let listed = |entry: &Entry| {
+        square
+            .filter(|_| entry.3 != NO_SQUARE)
+            .and_then(|s| s.literals(entry.3 as usize))
+    };
+    let entry = |(k, &term_index): (usize, &u32)| {
+        let bounds = boxes.boxes().get(term_index as usize)?;
+        let (t_in, t_out) = clipped(ray, bounds, t_min)?;
+        // A ray that misses where the term may hold finds it empty: it is left out.
+        if let Some(Some(holds)) = index.holds.get(term_index as usize) {
+            ray.clip_to(holds).filter(|&(_, out)| out >= t_min)?;
+        }
+        Some((t_in, t_out, term_index, k as u32))
+    };
+    match square {
+        // Each is tested as the tree's leaves are.
+        Some(square) => scratch
+            .entries
+            .extend(square.boxes.iter().enumerate().filter_map(entry)),
+        None => {
+            // A larger box holds a longer piece of the ray, so the search may skip what misses.
+            boxes.select(|b| clipped(ray, b, t_min).is_some(), &mut scratch.terms);
+            scratch.entries.extend(
+                scratch
+                    .terms
+                    .iter()
+                    .enumerate()
+                    .filter_map(entry)
+                    .map(|(t_in, t_out, term, _)| (t_in, t_out, term, NO_SQUARE)),
+            );
+        }
     }
-    scratch
-        .entries
-        .extend(scratch.terms.iter().filter_map(|&term_index| {
-            let bounds = boxes.boxes().get(term_index as usize)?;
-            let (t_in, t_out) = clipped(ray, bounds, t_min)?;
-            Some((t_in, t_out, term_index))
-        }));
     // Front to back, by where the ray enters each term's box: once a term's interval begins
     // at `nearest` (and is a hit, not the ray's start inside the solid), a term whose box the
     // ray enters beyond it holds no interval that begins before it, so it cannot change the
@@ -345,7 +451,7 @@ pub fn trace_among(
     let mut nearest = f64::INFINITY;
     let mut from_start = false;
     scratch.deferred.clear();
-    for &(t_in, t_out, term_index) in &scratch.entries {
+    for &(t_in, t_out, term_index, k) in &scratch.entries {
         if !from_start && t_in > nearest {
             break;
         }
@@ -359,12 +465,13 @@ pub fn trace_among(
             index,
             ray,
             (t_in, t_out, term_index),
+            listed(&(t_in, t_out, term_index, k)),
             eye,
             cutoff,
             &mut scratch.term,
         );
         if !read {
-            scratch.deferred.push((t_in, t_out, term_index));
+            scratch.deferred.push((t_in, t_out, term_index, k));
             continue;
         }
         for interval in &scratch.term.current {
@@ -379,12 +486,14 @@ pub fn trace_among(
             .extend(scratch.term.current.iter().map(|&i| (i, term_index)));
     }
     if from_start {
-        for &(t_in, t_out, term_index) in &scratch.deferred {
+        for deferred in &scratch.deferred {
+            let (t_in, t_out, term_index, _) = *deferred;
             term_intervals(
                 dnf,
                 index,
                 ray,
                 (t_in, t_out, term_index),
+                listed(deferred),
                 eye,
                 f64::INFINITY,
                 &mut scratch.term,
@@ -425,12 +534,15 @@ pub fn trace_among(
 
 /// Writes into `buffers.current` the intervals of the term `term_index` along the piece
 /// `(t_in, t_out)` of `ray` in its box; returns `false`, leaving them unfinished, as soon as
-/// every one begins beyond `cutoff`.
+/// every one begins beyond `cutoff`. `listed`: the literals that may fail along the ray in the
+/// term's box, when its square of pixels lists them (the others hold along all of it).
+#[allow(clippy::too_many_arguments)]
 fn term_intervals(
     dnf: &Dnf,
     index: &TermIndex,
     ray: &Ray,
     (t_in, t_out, term_index): (f64, f64, u32),
+    listed: Option<&[u32]>,
     eye: Option<&EyeValues>,
     cutoff: f64,
     buffers: &mut TermBuffers,
@@ -443,17 +555,19 @@ fn term_intervals(
     // Of a term of several literals, those whose failing part the ray's piece misses hold
     // along all of it: they change nothing.
     buffers.literals.clear();
-    match index.literals.get(term_index as usize) {
-        Some(Some(fails)) => {
+    let literals = match (listed, index.literals.get(term_index as usize)) {
+        (Some(listed), _) => listed,
+        (None, Some(Some(fails))) => {
             let meets = |b: &Aabb| ray.clip_to(b).is_some_and(|(a, c)| a <= t_out && c >= t_in);
-            fails.select(meets, &mut buffers.literals);
+            fails.boxes.select(meets, &mut buffers.literals);
             for k in &mut buffers.literals {
                 *k = term.literals[*k as usize];
             }
+            &buffers.literals
         }
-        _ => buffers.literals.extend_from_slice(&term.literals),
-    }
-    for &id in &buffers.literals {
+        _ => &term.literals,
+    };
+    for &id in literals {
         let Some(literal) = dnf.quadrics.get(id as usize) else {
             continue;
         };
@@ -464,6 +578,7 @@ fn term_intervals(
             ray,
             Interval::clip(t_in, t_out),
             eye,
+            &mut buffers.roots,
             &mut buffers.literal,
         );
         intersect_into(&buffers.current, &buffers.literal, &mut buffers.merged);

@@ -2,7 +2,9 @@
 //! at the eye computed once per perspective frame, the terms of a few literals read only where
 //! their literals may fail, a term left as soon as it cannot begin before the nearest entry
 //! found) holds, bit for bit, the depth and ids that tracing each pixel's ray without any of
-//! them gives, in both projections and from inside the solid.
+//! them gives, in both projections and from inside the solid. So do the boxes of where each
+//! term may hold (smaller than its box for the cells of a polygon) and the literals each square
+//! of pixels lists for its terms.
 
 #[path = "common/mod.rs"]
 mod common;
@@ -10,6 +12,7 @@ mod common;
 use qcsg_csg::{Aabb, Dag, DnfOptions, Edge, Source};
 use qcsg_quadric::{DVec3, Quadric};
 use qcsg_render::raytrace::{Scratch, TermIndex};
+use qcsg_render::tiles::{FrameTiles, TermBoxes};
 use qcsg_render::{Camera, ImageSize, Projection, RenderOptions, Scene, View, render, trace};
 
 fn sphere(dag: &mut Dag, centre: DVec3, radius: f64) -> Edge {
@@ -44,7 +47,7 @@ fn scene() -> Scene {
 fn compare(scene: &Scene, camera: &Camera, size: ImageSize) -> usize {
     let frame = render(scene, camera, size, &RenderOptions::default(), &|_| {});
     let layer = scene.solid.as_ref().unwrap();
-    let plain = TermIndex::new(layer.dnf(), usize::MAX);
+    let plain = TermIndex::plain(layer.dnf());
     let mut scratch = Scratch::default();
     let mut hits = 0;
     for y in 0..size.height() {
@@ -154,7 +157,7 @@ fn squares_of_pixels_list_every_box_their_rays_cross() {
     for projection in [Projection::Perspective, Projection::Orthographic] {
         for view in &views {
             let camera = Camera::fit(view, projection, &scene.bounds(), size).unwrap();
-            let tiles = qcsg_render::tiles::FrameTiles::new(boxes, &camera, size).unwrap();
+            let tiles = FrameTiles::new(boxes, &camera, size).unwrap();
             for y in 0..size.height() {
                 for x in 0..size.width() {
                     let ray = camera.ray(f64::from(x) + 0.5, f64::from(y) + 0.5, size);
@@ -195,6 +198,77 @@ fn squares_of_pixels_give_way_to_the_tree_for_too_many_boxes() {
     // Around the eye: seen by every pixel.
     let around = Aabb::new(DVec3::splat(-1e3), DVec3::splat(1e3));
     let over_all = |count: usize| vec![around; count];
-    assert!(qcsg_render::tiles::FrameTiles::new(&over_all(fits), &camera, size).is_some());
-    assert!(qcsg_render::tiles::FrameTiles::new(&over_all(fits + 1), &camera, size).is_none());
+    assert!(FrameTiles::new(&over_all(fits), &camera, size).is_some());
+    assert!(FrameTiles::new(&over_all(fits + 1), &camera, size).is_none());
+}
+
+/// A plate cut by a hexagon, two triangles and round holes, extruded (as
+/// `examples/laser_cut_plate.scad`): the polygons' cells are terms of a few literals whose
+/// boxes are much larger than the cells.
+fn polygon_plate() -> Scene {
+    let text = "linear_extrude(height = 3) difference() {
+        square([40, 24], center = true);
+        polygon([for (a = [0 : 60 : 300]) 6 * [cos(a), sin(a)]]);
+        for (m = [0, 1]) mirror([m, 0]) translate([12, 0]) polygon([[-3, -5], [4, 0], [-3, 5]]);
+        for (x = [-16, 16], y = [-8, 8]) translate([x, y]) circle(d = 3);
+    }";
+    let options = qcsg_driver::Options::from_env(Vec::new());
+    let compilation = qcsg_driver::compile(
+        "plate.scad",
+        text.to_owned(),
+        &options,
+        &qcsg_sema::FsLoader,
+        qcsg_driver::Stage::Dnf,
+    );
+    assert!(!compilation.analysis.has_errors());
+    Scene::from_layers(compilation.layers.unwrap())
+}
+
+#[test]
+fn polygon_cells_hold_the_plainly_traced_pixels() {
+    let scene = polygon_plate();
+    let layer = scene.solid.as_ref().unwrap();
+    let index = layer.index();
+    // Some terms hold in a box smaller than theirs, and some keep literal boxes: the
+    // comparisons below exercise both.
+    let volume = |b: &Aabb| (b.max - b.min).element_product();
+    let smaller = index
+        .boxes()
+        .iter()
+        .zip(index.square_boxes())
+        .filter(|(own, holds)| volume(holds) < 0.5 * volume(own))
+        .count();
+    assert!(smaller >= 4, "{smaller} terms hold in a smaller box");
+    let size = ImageSize::new(64, 48).unwrap();
+    let bounds = scene.bounds();
+    let mut hits = 0;
+    let mut listed = false;
+    let views = [
+        View::Iso,
+        View::Top,
+        View::Explicit {
+            eye: DVec3::new(30.0, -40.0, 12.0),
+            center: DVec3::new(2.0, 1.0, 1.5),
+        },
+        // Within the plate's thickness, along it: rays graze the cells' faces.
+        View::Explicit {
+            eye: DVec3::new(-60.0, 3.0, 1.5),
+            center: DVec3::new(0.0, 0.0, 1.5),
+        },
+    ];
+    for projection in [Projection::Perspective, Projection::Orthographic] {
+        for view in &views {
+            let camera = Camera::fit(view, projection, &bounds, size).unwrap();
+            let tiles = FrameTiles::with_literals(index, &camera, size).unwrap();
+            listed |= (0..size.height()).step_by(8).any(|y| {
+                (0..size.width()).step_by(8).any(|x| {
+                    let square = tiles.square(x, y);
+                    (0..square.boxes.len()).any(|k| square.literals(k).is_some())
+                })
+            });
+            hits += compare(&scene, &camera, size);
+        }
+    }
+    assert!(listed, "no square lists the literals of its terms");
+    assert!(hits > 3000, "{hits} pixels show the solid");
 }
