@@ -8,7 +8,9 @@
 //! 2. the terms are intersections of their literals' meshes and the solid is the union of the
 //!    terms, computed by Manifold's exact booleans, which return a 2-manifold, oriented mesh;
 //!    where two surfaces meet, their meshes' intersection is a chain of mesh edges, so a
-//!    drilled hole's rim is a sharp edge of the mesh;
+//!    drilled hole's rim is a sharp edge of the mesh; plane faces that a term shares with
+//!    another (cells of one polygon or imported mesh) are grown a little first, so that the
+//!    union merges touching pieces instead of keeping a wall between them ([`growth`]);
 //! 3. the result is measured against the exact surface both ways ([`deviation`]): from the
 //!    sampler's points, which come within `T/2` of every surface point, to the mesh, and from
 //!    points spread over every triangle to the nearest of those points (an upper bound on the
@@ -23,6 +25,7 @@
 mod collinear;
 pub mod deviation;
 pub mod formats;
+mod growth;
 mod literal;
 pub mod topology;
 
@@ -307,6 +310,7 @@ fn mesh_dnf(
     let origin = dnf.bounds.centre();
     let scene = Aabb::new(dnf.bounds.min - origin, dnf.bounds.max - origin);
     let planes = sheet_planes(dnf, origin);
+    let shared = growth::SharedFaces::new(dnf);
     let terms: Vec<Manifold> = dnf
         .terms
         .par_iter()
@@ -315,6 +319,7 @@ fn mesh_dnf(
                 origin,
                 scene,
                 planes: &planes,
+                shared: &shared,
                 tolerance: literal_tolerance,
                 max_triangles,
             };
@@ -329,7 +334,15 @@ fn mesh_dnf(
     // collapses when the mesh is moved back, leaving triangles of zero area: such edges are
     // collapsed here, where Manifold keeps the mesh manifold while it does so.
     let world_ulp = f64::EPSILON * (dnf.bounds.min.abs().max(dnf.bounds.max.abs())).max_element();
-    let collapse = 64.0 * world_ulp;
+    // Where a grown face's neighbour covers only part of it, the rest stands out by the growth:
+    // a step whose edges (the growth long, or longer where it meets a face at a shallow angle)
+    // are collapsed here too, so that it leaves no slivers.
+    let steps = if shared.any() {
+        growth::STEP_COLLAPSE * growth::GROWTH * scene.half_diagonal()
+    } else {
+        0.0
+    };
+    let collapse = (64.0 * world_ulp).max(steps);
     if collapse > solid.get_epsilon() {
         let mut imp = solid.into_impl();
         imp.epsilon = collapse;
@@ -389,6 +402,7 @@ struct TermContext<'a> {
     origin: DVec3,
     scene: Aabb,
     planes: &'a [(Vec<(DVec3, f64)>, bool)],
+    shared: &'a growth::SharedFaces,
     tolerance: f64,
     max_triangles: u64,
 }
@@ -477,13 +491,21 @@ fn mesh_term(
     // others: quadratic in the holes. They are united first (disjoint ones merely composed)
     // and subtracted once, after the other literals have shrunk the solid.
     let mut holes = Vec::new();
+    let faces = context.shared.of_term(dnf, term);
+    let growth = growth::GROWTH * context.scene.half_diagonal();
     for l in literals {
+        let mut sheets = context.planes[l as usize].0.clone();
+        for ((_, offset), grown) in sheets.iter_mut().zip(faces.grown(l)) {
+            if grown {
+                *offset -= growth;
+            }
+        }
         let job = literal::LiteralJob {
             quadric: &dnf.quadrics[l as usize].quadric,
             index: l,
             bounds,
             scene: context.scene,
-            sheets: context.planes[l as usize].0.clone(),
+            sheets,
             one_sided: context.planes[l as usize].1,
             origin,
             tolerance: context.tolerance,

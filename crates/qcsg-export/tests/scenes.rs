@@ -19,16 +19,10 @@ const TOLERANCE: f64 = 0.03;
 const MAX_LEVEL_SETS: usize = 8;
 
 /// Scenes left out, each with the reason: they fail or are too slow (`docs/export.md`, "Known limits").
-const KNOWN: &[(&str, &str)] = &[
-    (
-        "imported_mesh.scad",
-        "a non-convex mesh cut by balls and cylinders: 2.3 T from mesh to surface after three refinements (not diagnosed), in 70 s",
-    ),
-    (
-        "rounded_enclosure.scad",
-        "three triangles of zero area in the mesh (minkowski sums' rounded corners cut by boxes, not diagnosed), after 150 s in the debug build",
-    ),
-];
+const KNOWN: &[(&str, &str)] = &[(
+    "rounded_enclosure.scad",
+    "three triangles of zero area in the mesh (minkowski sums' rounded corners cut by boxes, not diagnosed), after 150 s in the debug build",
+)];
 
 fn scenes() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -200,4 +194,80 @@ fn the_solid_bounds_the_mesh_where_the_surface_points_are_too_sparse() {
     };
     let inside = measure_deviation_of_solid(&dnf, &wall, &points, 0.0, tolerance, tolerance / 8.0);
     assert!(inside.mesh_to_surface >= 0.9, "{inside:?}");
+}
+
+/// Exports `source` (OpenSCAD) at `fraction` of its diagonal, failing the test on any error.
+fn export_source(source: &str, fraction: f64) -> (qcsg_csg::Dnf, qcsg_export::TriangleMesh) {
+    let compiled = qcsg_driver::compile(
+        "scene.scad",
+        source.into(),
+        &qcsg_driver::Options::default(),
+        &qcsg_sema::FsLoader,
+        qcsg_driver::Stage::Dnf,
+    );
+    let dnf = compiled.solid().expect("a solid").clone();
+    let tolerance = fraction * (dnf.bounds.max - dnf.bounds.min).length();
+    let exported = export(&dnf, &ExportOptions::new(tolerance), &|_| {}).expect("exports");
+    (dnf, exported.mesh)
+}
+
+#[test]
+fn touching_cells_of_a_polygon_become_one_shell() {
+    // A square with a square and a triangular hole: the normal form cuts it into convex cells
+    // that share faces, each meshed on its own. Without growing the shared faces, the union
+    // kept a wall between every two touching cells (several shells, 8 triangles inside).
+    let (dnf, mesh) = export_source(
+        "linear_extrude(height = 4, center = true) polygon(\
+             points = [[0, 0], [20, 0], [20, 14], [0, 14], [3, 3], [8, 3], [8, 9], [3, 9], \
+                       [12, 3], [17, 3], [14.5, 11]], \
+             paths = [[0, 1, 2, 3], [4, 5, 6, 7], [10, 9, 8]]);",
+        0.01,
+    );
+    assert!(dnf.terms.len() > 1, "cells: {}", dnf.terms.len());
+    let topo = topology(&mesh);
+    assert!(topo.is_closed_solid(), "{topo:?}");
+    // One shell with two tunnels: a torus of genus 2.
+    assert_eq!(
+        (topo.shells, topo.euler_characteristic),
+        (1, -2),
+        "{topo:?}"
+    );
+    // The prism's faces are planes, meshed exactly: the volume is the outline's area (280
+    // minus holes of 30 and 20) times the height, up to the growth's steps.
+    assert!((topo.volume - 920.0).abs() < 1e-6, "{topo:?}");
+    // No step left by the growth: every edge is longer than a millionth of the diagonal.
+    let diagonal = (dnf.bounds.max - dnf.bounds.min).length();
+    for t in &mesh.triangles {
+        let [a, b, c] = mesh.corners(t);
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            assert!((p - q).length() > 1e-6 * diagonal, "edge {p} {q}");
+        }
+    }
+}
+
+#[test]
+fn a_flush_pocket_keeps_no_lid_where_faces_are_grown() {
+    // The pocket's top is the cube's top face: the term between the two is flat and must
+    // stay flat (dropped), not be grown from both sides into a lid over the pocket.
+    let (dnf, mesh) = export_source(
+        "difference() { cube(10); translate([3, 3, 5]) cube([4, 4, 5]); }",
+        0.01,
+    );
+    let topo = topology(&mesh);
+    assert!(topo.is_closed_solid(), "{topo:?}");
+    assert_eq!(topo.shells, 1, "{topo:?}");
+    assert!((topo.volume - 920.0).abs() < 1e-6, "{topo:?}");
+    // Above the pocket's floor, inside it, is outside the solid and outside the mesh.
+    let soup = mesh.triangle_soup();
+    let top = soup
+        .iter()
+        .filter(|[a, b, c]| {
+            let centre = (*a + *b + *c) / 3.0;
+            (centre.z - 10.0).abs() < 1e-6
+                && (3.0..7.0).contains(&centre.x)
+                && (3.0..7.0).contains(&centre.y)
+        })
+        .count();
+    assert_eq!(top, 0, "triangles over the pocket at the top: {top}");
+    assert!(!dnf.contains(qcsg_quadric::DVec3::new(5.0, 5.0, 9.0)));
 }
