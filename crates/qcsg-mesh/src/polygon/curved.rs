@@ -209,9 +209,22 @@ struct Edge {
     line: HalfPlane,
     /// For an arc: its control point and the side of the chord `a → b` it lies on (+1 left).
     control: Option<(DVec2, i32)>,
+    /// For an arc: at each end, the closed half-plane bounded by the line through the end normal
+    /// to the arc's tangent there that holds the whole control triangle (`None` at an end whose
+    /// triangle angle is not acute, where no such half-plane exists).
+    ends: [Option<HalfPlane>; 2],
 }
 
 impl Edge {
+    /// Whether the piece lies beyond one of the arc's end lines (within `tolerance`): the arc's
+    /// control triangle, and with it the chord and the lune, meets it at most in the end point.
+    fn beyond_end(&self, piece: &Piece, tolerance: impl Fn(&HalfPlane) -> f64) -> bool {
+        self.ends.iter().flatten().any(|h| {
+            let slack = tolerance(h);
+            piece.vertices.iter().all(|&v| h.value(v) >= -slack)
+        })
+    }
+
     fn arc(&self) -> Option<BezierArc> {
         self.control.map(|(p1, _)| BezierArc {
             p0: self.a,
@@ -310,6 +323,7 @@ fn outline_edges(contours: &[Vec<Segment>]) -> Result<Vec<Edge>, CurvedError> {
         b,
         line: HalfPlane::left_of(a, b),
         control: None,
+        ends: [None, None],
     };
     for contour in contours {
         let (Some(first), Some(last)) = (contour.first(), contour.last()) else {
@@ -341,12 +355,21 @@ fn outline_edges(contours: &[Vec<Segment>]) -> Result<Vec<Edge>, CurvedError> {
                 Segment::Quad(a, c, b) if a != b && nearly_flat(a, c, b) => edges.push(line(a, b)),
                 Segment::Quad(a, c, b) if a != b => match orient2d(a, b, c) {
                     0 => edges.push(line(a, b)),
-                    sign => edges.push(Edge {
-                        a,
-                        b,
-                        line: HalfPlane::left_of(a, b),
-                        control: Some((c, sign)),
-                    }),
+                    _ => {
+                        for (a, c, b) in acute_pieces(a, c, b) {
+                            match orient2d(a, b, c) {
+                                _ if nearly_flat(a, c, b) => edges.push(line(a, b)),
+                                0 => edges.push(line(a, b)),
+                                sign => edges.push(Edge {
+                                    a,
+                                    b,
+                                    line: HalfPlane::left_of(a, b),
+                                    control: Some((c, sign)),
+                                    ends: [end_line(a, c, b), end_line(b, c, a)],
+                                }),
+                            }
+                        }
+                    }
                 },
                 // An arc from a point back to itself encloses nothing.
                 _ => {}
@@ -397,6 +420,11 @@ fn decompose(
     if min.x == max.x || min.y == max.y {
         return Ok((empty, None));
     }
+    // The box is kept clear of the outline: a wall through an extreme point of a curve would
+    // stay a side of the cell that holds the curve there, a plane touching the parabola along a
+    // line, whose two sides eq. 22 cannot tell apart near it.
+    let margin = DVec2::splat((max - min).max_element() / 16.0);
+    let (min, max) = (min - margin, max + margin);
     let mut partition = Partition {
         edges,
         rule,
@@ -475,11 +503,15 @@ impl Partition<'_> {
             .sum()
     }
 
-    /// Whether the edge (for an arc, its control triangle) may touch the piece.
+    /// Whether the edge (for an arc, its control triangle) may touch the piece. An arc that
+    /// meets the piece only in an end point, the piece lying beyond the line normal to the arc
+    /// there, does not: so the two cells on either side of that line at the join of two tangent
+    /// arcs keep one arc each, not two parabolas that stay close over a stretch.
     fn may_touch(&self, piece: &Piece, edge: &Edge) -> bool {
         let tolerance = |h: &HalfPlane| self.tolerance(h);
         match edge.control {
             None => piece.may_touch(edge.a, edge.b, tolerance),
+            Some(_) if edge.beyond_end(piece, tolerance) => false,
             Some((c, _)) => {
                 piece.may_touch(edge.a, edge.b, tolerance)
                     || piece.may_touch(edge.a, c, tolerance)
@@ -500,10 +532,26 @@ impl Partition<'_> {
                 }
             }
             let Some(&splitter) = region.edges.iter().min_by_key(|&&i| priority(i)) else {
-                self.finish(region)?;
+                if let Some((low, high)) = self.end_split(&region) {
+                    stack.extend(self.children(&region, low, high, None));
+                } else {
+                    self.finish(region)?;
+                }
                 continue;
             };
             let edge = self.edges[splitter as usize];
+            // An arc's end lines first: its chord's line then cuts only the slab between them,
+            // which holds the arc's triangle, and never runs on past the arc's end into the
+            // cells of the next arc, which it would cross at the small angle of its turn.
+            let end_cut = edge
+                .ends
+                .iter()
+                .flatten()
+                .find_map(|&h| region.piece.split(h, self.tolerance(&h)));
+            if let Some((low, high)) = end_cut {
+                stack.extend(self.children(&region, low, high, None));
+                continue;
+            }
             match region.piece.split(edge.line, self.tolerance(&edge.line)) {
                 Some((low, high)) => {
                     stack.extend(self.children(&region, low, high, Some(splitter)));
@@ -528,6 +576,22 @@ impl Partition<'_> {
             }
         }
         Ok(())
+    }
+
+    /// For a finished region on the inner side of several arcs, its split by an end line of one
+    /// of them (the line through the end normal to the arc's tangent), if one cuts it: the arcs
+    /// that join there fall on different sides, each child keeping one.
+    fn end_split(&self, region: &Region) -> Option<(Piece, Piece)> {
+        if region.settled.len() < 2 {
+            return None;
+        }
+        region.settled.iter().find_map(|&i| {
+            self.edges[i as usize]
+                .ends
+                .iter()
+                .flatten()
+                .find_map(|&h| region.piece.split(h, self.tolerance(&h)))
+        })
     }
 
     /// The cells of a region that no straight edge touches and that lies on the inner side of
@@ -577,7 +641,7 @@ impl Partition<'_> {
         for (mask, _) in filled.iter().enumerate().filter(|(_, f)| **f) {
             // An arc whose side does not matter for this combination's neighbour is still kept:
             // the cells of one region stay disjoint.
-            let sides = indices
+            let sides: Vec<ArcSide> = indices
                 .iter()
                 .enumerate()
                 .map(|(k, &arc)| ArcSide {
@@ -585,11 +649,23 @@ impl Partition<'_> {
                     inside: mask & (1 << k) != 0,
                 })
                 .collect();
+            // Inside a parabola the piece keeps only its lune, which lies in the arc's control
+            // triangle: the cell's box need not reach the rest of the piece.
+            let (mut lo, mut hi) = (min, max);
+            for side in sides.iter().filter(|s| s.inside) {
+                let arc = &self.arcs[side.arc];
+                lo = lo.max(arc.p0.min(arc.p1).min(arc.p2) - pad);
+                hi = hi.min(arc.p0.max(arc.p1).max(arc.p2) + pad);
+            }
+            if lo.cmpgt(hi).any() {
+                // Lunes whose triangles are apart: the combination holds no point.
+                continue;
+            }
             self.cells.push(CurvedCell {
                 half_planes: planes.clone(),
                 sides,
-                min,
-                max,
+                min: lo,
+                max: hi,
             });
         }
         Ok(())
@@ -676,6 +752,38 @@ fn nearly_flat(a: DVec2, c: DVec2, b: DVec2) -> bool {
     let chord = b - a;
     let scale = chord.length() * ((c - a).length() + (c - b).length());
     (c - a).perp_dot(chord).abs() <= 1e-12 * scale
+}
+
+/// The closed half-plane bounded by the line through `end` normal to the tangent `end → control`
+/// that holds the triangle `end control other`, or `None` when the triangle's angle at `end` is
+/// not clearly acute (the other end is then not on the control point's side of that line).
+fn end_line(end: DVec2, control: DVec2, other: DVec2) -> Option<HalfPlane> {
+    let normal = end - control;
+    let reach = (other - end).dot(control - end);
+    // Well clear of a right angle, so that the rounded half-plane still holds the triangle.
+    (reach > 1e-6 * normal.length() * (other - end).length()).then(|| HalfPlane {
+        normal,
+        offset: normal.dot(end),
+    })
+}
+
+/// The arc `a c b` as pieces of the same parabola whose triangles have acute angles at both ends:
+/// halved by de Casteljau at the middle (exact up to rounding of the new points) while an end's
+/// angle is not acute, at most twice.
+fn acute_pieces(a: DVec2, c: DVec2, b: DVec2) -> Vec<(DVec2, DVec2, DVec2)> {
+    let mut out = Vec::new();
+    let mut todo = vec![(a, c, b, 0)];
+    while let Some((a, c, b, depth)) = todo.pop() {
+        if depth < 2 && (end_line(a, c, b).is_none() || end_line(b, c, a).is_none()) {
+            let (ac, cb) = ((a + c) * 0.5, (c + b) * 0.5);
+            let middle = (ac + cb) * 0.5;
+            todo.push((middle, cb, b, depth + 1));
+            todo.push((a, ac, middle, depth + 1));
+        } else {
+            out.push((a, c, b));
+        }
+    }
+    out
 }
 
 /// Whether `p` lies in the closed triangle `a b c` (either orientation).

@@ -153,6 +153,83 @@ fn a_ring_of_arcs_with_a_hole() {
     }
 }
 
+/// A smooth closed contour of `n` quadratic arcs around a circle (each turning `2π / n`).
+fn smooth_loop(n: usize, r: f64) -> Vec<Segment> {
+    let c = p(5.0, 5.0);
+    let step = std::f64::consts::TAU / n as f64;
+    let at = |k: f64, rr: f64| c + DVec2::new((k * step).cos(), (k * step).sin()) * rr;
+    (0..n)
+        .map(|k| {
+            let k = k as f64;
+            Segment::Quad(
+                at(k, r),
+                at(k + 0.5, r / (0.5 * step).cos()),
+                at(k + 1.0, r),
+            )
+        })
+        .collect()
+}
+
+/// Consecutive arcs are tangent where they join: a cell keeping both parabolas would have them
+/// close over a stretch; the line normal to the join parts them.
+#[test]
+fn cells_of_a_smooth_loop_keep_one_arc_each() {
+    for n in [5, 8, 13] {
+        let contour = smooth_loop(n, 4.0);
+        for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+            let region = curved_cells(std::slice::from_ref(&contour), rule).unwrap();
+            assert_eq!(region.arcs.len(), n);
+            for cell in &region.cells {
+                assert!(cell.sides.len() <= 1, "{n} arcs: {cell:?}");
+            }
+            check_against_flattening(std::slice::from_ref(&contour), rule, 10 + n as u64);
+        }
+        check_complement(
+            std::slice::from_ref(&contour),
+            FillRule::NonZero,
+            20 + n as u64,
+        );
+        let complement = curved_complement_cells(&[contour], FillRule::NonZero)
+            .unwrap()
+            .unwrap();
+        assert!(complement.region.cells.iter().all(|c| c.sides.len() <= 1));
+    }
+}
+
+#[test]
+fn arcs_turning_a_right_angle_or_more_are_halved() {
+    // Arcs turning 90° and 135° (a right angle at one end of each triangle) and a gentle one.
+    let contour = vec![
+        Segment::Quad(p(0.0, 0.0), p(10.0, 0.0), p(10.0, 10.0)),
+        Segment::Quad(p(10.0, 10.0), p(10.0, 14.0), p(6.0, 10.0)),
+        Segment::Line(p(6.0, 10.0), p(0.0, 4.0)),
+        Segment::Quad(p(0.0, 4.0), p(-1.0, 1.0), p(0.0, 0.0)),
+    ];
+    for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+        let region = curved_cells(std::slice::from_ref(&contour), rule).unwrap();
+        assert!(region.arcs.len() > 3);
+        // The halves are pieces of the same parabolas: their points are on the arcs drawn.
+        for arc in &region.arcs {
+            let on_some = contour.iter().any(|s| match *s {
+                Segment::Quad(a, c, b) => {
+                    let whole = BezierArc {
+                        p0: a,
+                        p1: c,
+                        p2: b,
+                    };
+                    [0.0, 0.3, 0.7, 1.0]
+                        .iter()
+                        .all(|&t| whole.value(arc.point(t)).abs() < 1e-9)
+                }
+                Segment::Line(..) => false,
+            });
+            assert!(on_some, "{arc:?}");
+        }
+        check_against_flattening(std::slice::from_ref(&contour), rule, 30);
+    }
+    check_complement(std::slice::from_ref(&contour), FillRule::NonZero, 31);
+}
+
 #[test]
 fn overlapping_contours_follow_the_fill_rule() {
     let square = |x: f64, y: f64, s: f64| {
