@@ -29,8 +29,6 @@ HERE = pathlib.Path(__file__).resolve().parent
 # Scenes whose export is known to fail, with the reason: the test fails when one passes, so
 # that a fix is noticed (and the entry removed here and in `scenes.rs`).
 KNOWN = {
-    "imported_mesh.scad": "a non-convex mesh cut by balls and cylinders: about 2.3 T from mesh to "
-    "surface after three refinements (not diagnosed), so the export fails",
     "rounded_enclosure.scad": "three triangles of zero area in the mesh (minkowski sums' rounded "
     "corners cut by boxes, not diagnosed)",
 }
