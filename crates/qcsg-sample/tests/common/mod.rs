@@ -507,8 +507,9 @@ pub fn compile_text_with(name: &str, text: String, options: &DnfOptions) -> Resu
 const NOT_YET_SAMPLED: &[(&str, &str)] = [
     (
         "labelled_part.scad",
-        "text(): the parabolic cylinders of glyphs leave the subdivision with tens of thousands of \
-         unresolved rectangles and take tens of seconds (docs/fuzzing.md, failure 5)",
+        "text(): cells of a glyph's parabola that meet along a plane, and T-junctions of cells, \
+         leave the subdivision with thousands of unresolved rectangles, several seconds in a \
+         release build (docs/fuzzing.md, failure 5)",
     ),
     (
         "imported_mesh.scad",
