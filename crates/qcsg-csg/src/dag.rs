@@ -9,6 +9,8 @@
 
 use std::collections::HashMap;
 
+use rustc_hash::FxHashMap;
+
 use qcsg_diag::{FileId, Span};
 use qcsg_quadric::{DMat4, DVec3, Quadric};
 
@@ -189,11 +191,12 @@ impl NodeKey {
 #[derive(Clone, Debug)]
 pub struct Dag {
     nodes: Vec<Node>,
-    node_index: HashMap<NodeKey, NodeId>,
+    /// Keyed by a fast hash: building a mesh's cells interns hundreds of thousands of nodes.
+    node_index: FxHashMap<NodeKey, NodeId>,
     transforms: Vec<DMat4>,
     /// Inverses of `transforms` (`None` where singular), for membership queries.
     inverses: Vec<Option<DMat4>>,
-    transform_index: HashMap<[u64; 16], TransformId>,
+    transform_index: FxHashMap<[u64; 16], TransformId>,
     root: Option<Edge>,
     backgrounds: Vec<Edge>,
     /// For some nodes, another node that is exactly their complement in the same frame, built
@@ -210,11 +213,11 @@ impl Default for Dag {
 impl Dag {
     /// An empty DAG with no root.
     pub fn new() -> Self {
-        let mut transform_index = HashMap::new();
+        let mut transform_index = FxHashMap::default();
         transform_index.insert(matrix_bits(&DMat4::IDENTITY), TransformId::IDENTITY);
         Self {
             nodes: Vec::new(),
-            node_index: HashMap::new(),
+            node_index: FxHashMap::default(),
             transforms: vec![DMat4::IDENTITY],
             inverses: vec![Some(DMat4::IDENTITY)],
             transform_index,

@@ -21,6 +21,8 @@ mod plane_cells;
 
 use std::collections::{HashMap, HashSet};
 
+use rustc_hash::FxHashMap;
+
 use qcsg_diag::{Diagnostic, Span};
 use qcsg_quadric::{DMat4, Quadric};
 
@@ -388,11 +390,11 @@ struct Builder<'a> {
     term_limit: usize,
     pruning: Pruning,
     literals: Vec<Literal>,
-    literal_index: HashMap<LiteralKey, Option<u32>>,
+    literal_index: FxHashMap<LiteralKey, Option<u32>>,
     /// Literal ids grouped by [`shape_key`], to find equal quadrics.
     /// Colour and highlight are part of the key: merging a red face into a blue one would
     /// repaint it.
-    shape_groups: HashMap<ShapeGroup, Vec<u32>>,
+    shape_groups: FxHashMap<ShapeGroup, Vec<u32>>,
     /// Each node's box in its own frame.
     local_boxes: Vec<Aabb>,
     /// Which nodes are made of planes only, and how large their plain expansion would be.
@@ -418,8 +420,8 @@ impl<'a> Builder<'a> {
             term_limit: options.term_limit,
             pruning: options.pruning,
             literals: Vec::new(),
-            literal_index: HashMap::new(),
-            shape_groups: HashMap::new(),
+            literal_index: FxHashMap::default(),
+            shape_groups: FxHashMap::default(),
             local_boxes: dag.local_bounds(),
             plane_sizes: plane_cells::plane_sizes(dag),
             attempt: None,
