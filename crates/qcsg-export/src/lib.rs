@@ -177,7 +177,8 @@ impl std::fmt::Display for ExportError {
                 "the mesh has {triangles} triangles inside the solid, {} from its surface, after \
                  {REFINEMENTS} refinements: walls \
                  where pieces of the solid touch, which the mesh booleans left in (a known limit \
-                 where cells of polygons, imported meshes or hulls touch; see docs/export.md)",
+                 where cells touch on a curved face, e.g. of a rotational extrusion; see \
+                 docs/export.md)",
                 measured.mesh_to_surface
             ),
             Self::ToleranceNotMet {
