@@ -28,10 +28,7 @@ HERE = pathlib.Path(__file__).resolve().parent
 
 # Scenes whose export is known to fail, with the reason: the test fails when one passes, so
 # that a fix is noticed (and the entry removed here and in `scenes.rs`).
-KNOWN = {
-    "rounded_enclosure.scad": "three triangles of zero area in the mesh (minkowski sums' rounded "
-    "corners cut by boxes, not diagnosed)",
-}
+KNOWN: dict[str, str] = {}
 
 # Surfaces the exporter meshes as level sets; a scene with more than MAX_LEVEL_SETS of them
 # (text: a parabolic cylinder per glyph stroke) is skipped, as in `scenes.rs`: it exports, but
