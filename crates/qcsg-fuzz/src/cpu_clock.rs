@@ -8,29 +8,12 @@
 //! The CPU time is the whole process's, all its threads (`/proc/PID/stat`, `utime + stime`); where
 //! `/proc` cannot be read the budget is wall time, as before.
 
-use std::path::Path;
 use std::time::{Duration, Instant};
+
+use qcsg_testkit::cpu::cpu_time;
 
 /// How many times its budget a stage may take in wall time while its CPU time stays within it.
 pub const WALL_FACTOR: u32 = 4;
-
-/// `/proc`'s clock ticks per second (`USER_HZ`, which the kernel fixes at 100 for user space).
-const TICKS_PER_SECOND: u64 = 100;
-
-/// The CPU time (user and system, all threads) that process `pid` has used, if `/proc` says.
-pub fn cpu_time(pid: u32) -> Option<Duration> {
-    let stat =
-        std::fs::read_to_string(Path::new("/proc").join(pid.to_string()).join("stat")).ok()?;
-    // The command name (field 2) is in parentheses and may hold spaces: fields count from after
-    // its closing parenthesis, which is field 3 (the state); utime and stime are fields 14, 15.
-    let rest = &stat[stat.rfind(')')? + 1..];
-    let mut fields = rest.split_ascii_whitespace().skip(11);
-    let user: u64 = fields.next()?.parse().ok()?;
-    let system: u64 = fields.next()?.parse().ok()?;
-    Some(Duration::from_millis(
-        (user + system) * 1000 / TICKS_PER_SECOND,
-    ))
-}
 
 /// A watch on one process over one stage.
 #[derive(Clone, Copy, Debug)]

@@ -12,6 +12,7 @@
 //!   (the generalised winding number) and distances to it;
 //! - [`openscad`]: OpenSCAD 2021.01 as the oracle of meaning — its STL export of a scene, cached
 //!   by content;
+//! - [`cpu`]: a process's CPU time, which benchmarks on a shared machine compare;
 //! - [`cli`]: the end-to-end tests' runner of a binary (input, captured output, a deadline, a
 //!   capped address space);
 //! - [`reference`]: points on a DNF's surface and on its feature curves, found by exact
@@ -22,6 +23,7 @@
 
 pub mod annotations;
 pub mod cli;
+pub mod cpu;
 pub mod dxf;
 mod files;
 mod flush;
