@@ -98,6 +98,8 @@ pub struct PeerResult {
     pub setting: Option<f64>,
     /// Wall time of the peer's own work for this setting, measured in the script.
     pub time: Duration,
+    /// CPU time of the same work (all the interpreter's threads), where the script reports it.
+    pub cpu: Option<Duration>,
     /// Whether the peer finds its result valid (Manifold's status, OpenCascade's check).
     pub valid: bool,
     /// The mesh, when the setting made one.
@@ -207,6 +209,10 @@ pub fn run(
                     .and_then(serde_json::Value::as_f64)
                     .unwrap_or(0.0),
             ),
+            cpu: v
+                .get("cpu_s")
+                .and_then(serde_json::Value::as_f64)
+                .map(Duration::from_secs_f64),
             valid: v
                 .get("valid")
                 .and_then(serde_json::Value::as_bool)
