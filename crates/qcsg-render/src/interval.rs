@@ -31,6 +31,19 @@ pub enum Boundary {
     Clip,
 }
 
+impl Boundary {
+    /// The order of labels where two bounds meet: the clipping range, then the quadrics by
+    /// index (a term's literals ascend, so the first of its literals to reach a bound keeps it,
+    /// as when they are intersected in order; a clipping bound and a root never meet, roots
+    /// being strictly inside the range).
+    fn rank(self) -> u64 {
+        match self {
+            Self::Clip => 0,
+            Self::Quadric(id) => u64::from(id) + 1,
+        }
+    }
+}
+
 /// An interval `[start, end]` of ray parameters, `start < end`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Interval {
@@ -292,18 +305,23 @@ fn push_nonempty(
 }
 
 /// Writes into `out` the intersection of two ascending sets of disjoint intervals; each result
-/// end is labelled by the operand that bounds it (the later start, the earlier end).
+/// end is labelled by the operand that bounds it (the later start, the earlier end), and where
+/// both do, by the label that comes first ([`Boundary::rank`]). So a term's intervals are the
+/// same, labels included, in whatever order its literals are intersected.
 pub fn intersect_into(a: &[Interval], b: &[Interval], out: &mut Vec<Interval>) {
     out.clear();
     let (mut i, mut j) = (0, 0);
     while i < a.len() && j < b.len() {
         let (x, y) = (a[i], b[j]);
-        let (start, start_by) = if x.start >= y.start {
+        let x_starts =
+            x.start > y.start || (x.start == y.start && x.start_by.rank() <= y.start_by.rank());
+        let (start, start_by) = if x_starts {
             (x.start, x.start_by)
         } else {
             (y.start, y.start_by)
         };
-        let (end, end_by) = if x.end <= y.end {
+        let x_ends = x.end < y.end || (x.end == y.end && x.end_by.rank() <= y.end_by.rank());
+        let (end, end_by) = if x_ends {
             (x.end, x.end_by)
         } else {
             (y.end, y.end_by)
@@ -421,5 +439,23 @@ mod tests {
         }];
         intersect_into(&a, &c, &mut out);
         assert!(out.is_empty());
+    }
+
+    #[test]
+    fn bounds_that_meet_keep_the_first_label_in_either_order() {
+        let piece = |start, s, end, e| Interval {
+            start,
+            start_by: Boundary::Quadric(s),
+            end,
+            end_by: Boundary::Quadric(e),
+        };
+        // Two literals on one surface: they begin and end at the very same parameters.
+        let low = [piece(1.0, 3, 4.0, 3)];
+        let high = [piece(1.0, 8, 4.0, 8), piece(6.0, 8, 7.0, 8)];
+        let (mut one, mut other) = (Vec::new(), Vec::new());
+        intersect_into(&low, &high, &mut one);
+        intersect_into(&high, &low, &mut other);
+        assert_eq!(one, other);
+        assert_eq!(one, vec![piece(1.0, 3, 4.0, 3)]);
     }
 }

@@ -134,6 +134,9 @@ struct TermBuffers {
     literal: Vec<Interval>,
     merged: Vec<Interval>,
     roots: RayRoots,
+    /// Per term, the literal that last left it empty along a ray (`u32::MAX`: none), read
+    /// first by the next ray: neighbouring rays mostly leave a term through the same literal.
+    emptied_by: Vec<u32>,
 }
 
 /// What `dnf`'s rays look at ([`TermIndex`]), with literal boxes for the terms of more than
@@ -567,7 +570,16 @@ fn term_intervals(
         }
         _ => &term.literals,
     };
-    for &id in literals {
+    // The order changes nothing but how soon an empty term shows ([`intersect_into`]).
+    let first = buffers
+        .emptied_by
+        .get(term_index as usize)
+        .copied()
+        .filter(|id| literals.contains(id));
+    let ordered = first
+        .into_iter()
+        .chain(literals.iter().copied().filter(|&id| Some(id) != first));
+    for id in ordered {
         let Some(literal) = dnf.quadrics.get(id as usize) else {
             continue;
         };
@@ -584,7 +596,14 @@ fn term_intervals(
         intersect_into(&buffers.current, &buffers.literal, &mut buffers.merged);
         std::mem::swap(&mut buffers.current, &mut buffers.merged);
         match buffers.current.first() {
-            None => break,
+            None => {
+                let k = term_index as usize;
+                if k >= buffers.emptied_by.len() {
+                    buffers.emptied_by.resize(k + 1, u32::MAX);
+                }
+                buffers.emptied_by[k] = id;
+                break;
+            }
             Some(first) if first.start > cutoff => return false,
             Some(_) => {}
         }
