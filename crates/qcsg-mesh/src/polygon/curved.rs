@@ -213,13 +213,18 @@ struct Edge {
     /// to the arc's tangent there that holds the whole control triangle (`None` at an end whose
     /// triangle angle is not acute, where no such half-plane exists).
     ends: [Option<HalfPlane>; 2],
+    /// For an arc: the closed half-planes of the tangent sides `a → control` and `control → b`
+    /// of its control triangle that hold the triangle (a straight edge that joins the arc
+    /// smoothly lies on one of these lines).
+    tangents: [Option<HalfPlane>; 2],
 }
 
 impl Edge {
-    /// Whether the piece lies beyond one of the arc's end lines (within `tolerance`): the arc's
-    /// control triangle, and with it the chord and the lune, meets it at most in the end point.
+    /// Whether the piece lies beyond one of the arc's end lines or tangent sides (within
+    /// `tolerance`): the arc's control triangle, and with it the chord and the lune, meets it at
+    /// most along that line, and the arc itself at most in an end point.
     fn beyond_end(&self, piece: &Piece, tolerance: impl Fn(&HalfPlane) -> f64) -> bool {
-        self.ends.iter().flatten().any(|h| {
+        self.ends.iter().chain(&self.tangents).flatten().any(|h| {
             let slack = tolerance(h);
             piece.vertices.iter().all(|&v| h.value(v) >= -slack)
         })
@@ -324,6 +329,7 @@ fn outline_edges(contours: &[Vec<Segment>]) -> Result<Vec<Edge>, CurvedError> {
         line: HalfPlane::left_of(a, b),
         control: None,
         ends: [None, None],
+        tangents: [None, None],
     };
     for contour in contours {
         let (Some(first), Some(last)) = (contour.first(), contour.last()) else {
@@ -366,6 +372,7 @@ fn outline_edges(contours: &[Vec<Segment>]) -> Result<Vec<Edge>, CurvedError> {
                                     line: HalfPlane::left_of(a, b),
                                     control: Some((c, sign)),
                                     ends: [end_line(a, c, b), end_line(b, c, a)],
+                                    tangents: [tangent_side(a, c, b), tangent_side(c, b, a)],
                                 }),
                             }
                         }
@@ -765,6 +772,17 @@ fn end_line(end: DVec2, control: DVec2, other: DVec2) -> Option<HalfPlane> {
         normal,
         offset: normal.dot(end),
     })
+}
+
+/// The closed half-plane bounded by the line through `from` and `to` that holds `other` (a side
+/// of a triangle and the triangle).
+fn tangent_side(from: DVec2, to: DVec2, other: DVec2) -> Option<HalfPlane> {
+    let h = HalfPlane::left_of(from, to);
+    match orient2d(from, to, other) {
+        0 => None,
+        s if s > 0 => Some(h),
+        _ => Some(h.flipped()),
+    }
 }
 
 /// The arc `a c b` as pieces of the same parabola whose triangles have acute angles at both ends:

@@ -196,6 +196,45 @@ fn cells_of_a_smooth_loop_keep_one_arc_each() {
     }
 }
 
+/// In a convex outline each arc's lune is one cell: neither the lines of the straight edges
+/// that join it smoothly (its tangents at the ends) nor its neighbours' end lines cut it.
+#[test]
+fn each_arc_of_a_rounded_rectangle_is_one_cell() {
+    let (w, h, r) = (10.0, 6.0, 2.0);
+    let corner = |c: DVec2, from: f64| {
+        let step = std::f64::consts::FRAC_PI_4;
+        let at = move |a: f64, rr: f64| c + DVec2::new(a.cos(), a.sin()) * rr;
+        (0..2).map(move |k| {
+            let a = from + step * k as f64;
+            Segment::Quad(
+                at(a, r),
+                at(a + 0.5 * step, r / (0.5 * step).cos()),
+                at(a + step, r),
+            )
+        })
+    };
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let mut contour = vec![Segment::Line(p(r, 0.0), p(w - r, 0.0))];
+    contour.extend(corner(p(w - r, r), -half_pi));
+    contour.push(Segment::Line(p(w, r), p(w, h - r)));
+    contour.extend(corner(p(w - r, h - r), 0.0));
+    contour.push(Segment::Line(p(w - r, h), p(r, h)));
+    contour.extend(corner(p(r, h - r), half_pi));
+    contour.push(Segment::Line(p(0.0, h - r), p(0.0, r)));
+    contour.extend(corner(p(r, r), 2.0 * half_pi));
+    let region = curved_cells(std::slice::from_ref(&contour), FillRule::NonZero).unwrap();
+    assert_eq!(region.arcs.len(), 8);
+    for arc in 0..region.arcs.len() {
+        let cells = region
+            .cells
+            .iter()
+            .filter(|c| c.sides.iter().any(|s| s.arc == arc));
+        assert_eq!(cells.count(), 1, "arc {arc}");
+    }
+    check_against_flattening(std::slice::from_ref(&contour), FillRule::NonZero, 40);
+    check_complement(std::slice::from_ref(&contour), FillRule::NonZero, 41);
+}
+
 #[test]
 fn arcs_turning_a_right_angle_or_more_are_halved() {
     // Arcs turning 90° and 135° (a right angle at one end of each triangle) and a gentle one.
