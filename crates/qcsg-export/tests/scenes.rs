@@ -21,7 +21,7 @@ const MAX_LEVEL_SETS: usize = 8;
 /// Scenes left out, each with the reason: they fail or are too slow (`docs/export.md`, "Known limits").
 const KNOWN: &[(&str, &str)] = &[(
     "rounded_enclosure.scad",
-    "three triangles of zero area in the mesh (minkowski sums' rounded corners cut by boxes, not diagnosed), after 150 s in the debug build",
+    "too slow for the suite: it exports within the tolerance (19,176 triangles, 0.22 / 0.63 of T by the oracle), but took 810 s in the debug build on a loaded machine",
 )];
 
 fn scenes() -> Vec<PathBuf> {
