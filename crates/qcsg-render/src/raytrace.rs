@@ -226,13 +226,15 @@ impl TermIndex {
     /// [`TermIndex::new`], with boxes of where each term may hold if `cull`.
     fn build(dnf: &Dnf, literals_above: usize, cull: bool) -> Self {
         let boxes = padded_boxes(dnf);
+        let large = large_terms(&boxes);
         let literals = dnf
             .terms
             .iter()
             .zip(&boxes)
-            .map(|(term, bounds)| {
+            .zip(&large)
+            .map(|((term, bounds), &large)| {
                 let count = term.literals.len();
-                (count > literals_above && bounds.is_bounded()).then(|| {
+                (large && count > literals_above && bounds.is_bounded()).then(|| {
                     // A few literals are cheap to read anyway: coarser boxes, found sooner.
                     let many = count > LITERAL_TREE_ABOVE;
                     let splits = if many {
@@ -263,7 +265,12 @@ impl TermIndex {
             dnf.terms
                 .iter()
                 .zip(&boxes)
-                .map(|(term, bounds)| crate::cull::where_it_may_hold(dnf, term, bounds))
+                .zip(&large)
+                .map(|((term, bounds), &large)| {
+                    large
+                        .then(|| crate::cull::where_it_may_hold(dnf, term, bounds))
+                        .flatten()
+                })
                 .collect()
         } else {
             vec![None; boxes.len()]
@@ -331,6 +338,30 @@ fn where_it_fails(q: &Quadric, bounds: &Aabb, splits: u32) -> Aabb {
         }
     }
     found
+}
+
+/// A term whose box is under this fraction of the scene's on its longest side is small.
+const SMALL_TERM: f64 = 1.0 / 16.0;
+
+/// Which terms' boxes are large within the scene: only those are worth bisecting for where
+/// their literals fail or where they may hold. A small box already covers few squares of
+/// pixels, and a scene of many terms is nearly all small ones (the cells of an imported mesh:
+/// bisecting each of 30,000 took several times as long as tracing the whole frame).
+fn large_terms(boxes: &[Aabb]) -> Vec<bool> {
+    let longest = |b: &Aabb| (b.max - b.min).max_element();
+    let scene = boxes
+        .iter()
+        .filter(|b| b.is_bounded() && !b.is_empty())
+        .fold(Aabb::EMPTY, |all, b| all.union(b));
+    let scene_side = if scene.is_empty() {
+        0.0
+    } else {
+        longest(&scene)
+    };
+    boxes
+        .iter()
+        .map(|b| !b.is_bounded() || longest(b) >= SMALL_TERM * scene_side)
+        .collect()
 }
 
 /// The term boxes, each grown a little (see [`TermIndex`]).
