@@ -326,9 +326,13 @@ fn expr_parser<'t, E: SyntaxError<'t>>(
             span: sp(e.span()),
         });
 
+        // A parenthesised expression left open does not fail once what it holds is read: its
+        // `)` is reported and assumed. Failing would make the operator before it give up its
+        // right operand and the enclosing expression parse it all again, which doubles the work
+        // at every level of `2 * (1 + 2 * (1 + …` left open.
         let paren = expr
             .clone()
-            .delimited_by(just(Tok::LParen), just(Tok::RParen).labelled("`)`"))
+            .delimited_by(just(Tok::LParen), closer(Tok::RParen, "`)`"))
             .map_with(|inner, e| Expr {
                 kind: ExprKind::Paren(Box::new(inner)),
                 span: sp(e.span()),
@@ -544,7 +548,8 @@ fn bracket_parser<'t, E: SyntaxError<'t>>(
         .map(Tail::List);
     elem.then(range_tail.or(list_tail))
         .or_not()
-        .delimited_by(just(Tok::LBracket), just(Tok::RBracket).labelled("`]`"))
+        // A `]` missing is reported and assumed, as a `)` is (see `expr_parser`).
+        .delimited_by(just(Tok::LBracket), closer(Tok::RBracket, "`]`"))
         .validate(|body, e, emitter| {
             let kind = match body {
                 None => ExprKind::Vector(Vec::new()),
@@ -581,6 +586,32 @@ fn bracket_parser<'t, E: SyntaxError<'t>>(
             }
         })
         .boxed()
+}
+
+/// A closing delimiter that is reported and assumed where the group it closes is never closed:
+/// where no unmatched closer follows before the end of the statement (a `;`, a brace or the end
+/// of the file, balanced groups skipped). Where one does follow, the closer fails as before, and
+/// the group's own recovery skips it whole (`(1 + ) * 2`).
+fn closer<'t, E: SyntaxError<'t>>(
+    token: Tok,
+    label: &'static str,
+) -> impl Parser<'t, In<'t>, (), extra::Err<E>> + Clone {
+    let mut plain = DELIMITERS.to_vec();
+    plain.push(Tok::Semi);
+    let never_closed = balanced()
+        .or(none_of(plain).ignored())
+        .repeated()
+        .then(
+            one_of([Tok::Semi, Tok::LBrace, Tok::RBrace])
+                .ignored()
+                .or(end()),
+        )
+        .rewind()
+        .ignored();
+    just(token)
+        .labelled(label)
+        .ignored()
+        .recover_with(via_parser(never_closed))
 }
 
 /// An element of a vector: an expression or a comprehension (`for`, `if`, `let`, `each`).

@@ -176,6 +176,14 @@ fn broken_nesting_recovers_in_linear_time() {
         format!("{}{}", "union(){ cube() ) ".repeat(n), "}".repeat(n)),
         "echo(\n".repeat(n),
         format!("x = {}", "assert(1, ".repeat(n)),
+        // An operand left open after an operator: the operator must not give it up and have
+        // the enclosing expression parse it again (found by fuzzing, doubling per level).
+        format!("x = {}2;", "2 * (1 + ".repeat(n)),
+        format!("x = {}2 x;", "2 * [1 + ".repeat(n)),
+        format!(
+            "halfspace([0, 0, 1], 0.5 + {}i);",
+            "1e-3 * (-1 + 2 * ".repeat(n)
+        ),
         // Many broken siblings: the work per error must not grow with the number of errors.
         "a = (1 ];\n".repeat(20 * n),
         ")".repeat(20 * n),
@@ -213,6 +221,19 @@ fn unclosed_blocks_keep_their_statements() {
     assert_eq!(parse.diagnostics.len(), 1, "{:#?}", parse.diagnostics);
     let tree = qcsg_syntax::sexpr::file_to_sexpr(&parse.file);
     assert!(tree.contains("cube") && tree.contains("sphere"), "{tree}");
+}
+
+/// A `(` or `[` never closed in its statement is reported once and assumed closed there, and
+/// what it holds stays in the tree; one closed further on is still a group skipped whole.
+#[test]
+fn groups_left_open_keep_their_contents() {
+    let parse = check("x = 2 * (1 + 3;\ny = [1, 2 * (4;\n");
+    assert_eq!(parse.diagnostics.len(), 3, "{:#?}", parse.diagnostics);
+    let tree = qcsg_syntax::sexpr::file_to_sexpr(&parse.file);
+    assert!(tree.contains("(+ 1 3)") && tree.contains("4"), "{tree}");
+    let parse = check("b = (1 + ) * 2;");
+    let tree = qcsg_syntax::sexpr::file_to_sexpr(&parse.file);
+    assert_eq!(tree, "(= b (* (error) 2))\n", "{:#?}", parse.diagnostics);
 }
 
 #[test]
