@@ -76,8 +76,9 @@ pub fn where_it_may_hold(dnf: &Dnf, term: &Term, bounds: &Aabb) -> Option<Aabb> 
     tighter.then_some(grown)
 }
 
-/// `b` grown by a small fraction of its size and position on each axis (as the term boxes are).
-fn grow(b: &Aabb) -> Aabb {
+/// `b` grown by a small fraction of its size and position on each axis: the term boxes rays
+/// test, and the boxes found here, so that rounding never leaves out a ray that reaches a term.
+pub(crate) fn grow(b: &Aabb) -> Aabb {
     let pad = |lo: f64, hi: f64| {
         let grow = 1e-7 * ((hi - lo) + lo.abs().max(hi.abs()));
         if grow.is_finite() { grow } else { 0.0 }

@@ -371,20 +371,9 @@ fn padded_boxes(dnf: &Dnf) -> Vec<Aabb> {
         .map(|term| {
             let b = term.bounds;
             if b.is_empty() {
-                return b;
-            }
-            let pad = |lo: f64, hi: f64| {
-                let grow = 1e-7 * ((hi - lo) + lo.abs().max(hi.abs()));
-                if grow.is_finite() { grow } else { 0.0 }
-            };
-            let grow = DVec3::new(
-                pad(b.min.x, b.max.x),
-                pad(b.min.y, b.max.y),
-                pad(b.min.z, b.max.z),
-            );
-            Aabb {
-                min: b.min - grow,
-                max: b.max + grow,
+                b
+            } else {
+                crate::cull::grow(&b)
             }
         })
         .collect()
