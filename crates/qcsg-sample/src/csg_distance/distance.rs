@@ -2,15 +2,19 @@
 //! the rules of [`super`] applied, narrowed to a box ([`CsgDistance::near`]) and queried at
 //! points of the sampled quadric.
 
-use super::abutting::{MAX_MERGED_PER_TERM, TermLiterals};
+use super::abutting::{MADE_LITERAL, MAX_MERGED_PER_TERM, TermLiterals};
 use super::half_spaces::HalfSpace;
 use super::near::{NearDistance, box_distance};
 use super::surface_sign::on_surface;
 use super::tangency::Shapes;
-use super::view::{FEW_LITERALS, NearLiterals, NearTerms, SAME_QUADRIC, SheetPlane, TermView};
+use super::view::{
+    FEW_LITERALS, LiteralValues, NearLiterals, NearTerms, SAME_QUADRIC, SheetPlane, TermView,
+};
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
+use rustc_hash::FxHashMap;
+use std::borrow::Cow;
 
 /// `d_{Q_ab}(S, ·)` for one literal of one term, with the DNF's quadrics copied in.
 #[derive(Clone, Debug)]
@@ -34,6 +38,8 @@ pub(super) struct SheetViews {
     /// The sheet's plane (`normal · x = offset`), for a planar quadric.
     pub(super) plane: Option<HalfSpace>,
     pub(super) own: TermView,
+    /// The distinct quadrics of the views' literals ([`Literal::slot`](super::view::Literal::slot)).
+    pub(super) quadrics: Vec<Quadric>,
     /// A literal of term `a` holds on the sheet only where it touches it (see "Tangent
     /// planes"): no point of the sheet is on the surface through term `a`.
     pub(super) own_empty: bool,
@@ -58,9 +64,9 @@ impl CsgDistance {
 
     /// [`Self::for_part`] with what every distance of `dnf` shares ([`Shapes`]) found once
     /// (`patch`: a box around the quadric's basic regions).
-    pub(crate) fn with_shapes(
+    pub(crate) fn with_shapes<'a>(
         dnf: &Dnf,
-        shapes: &Shapes,
+        shapes: &'a Shapes,
         (quadric, term): (u32, u32),
         patch: &Aabb,
     ) -> Option<Self> {
@@ -81,7 +87,15 @@ impl CsgDistance {
         // The other terms and their abutting unions, as the DNF has them: what each sheet sees
         // of them follows. Terms holding the sampled quadric are left out ("Shared surfaces"),
         // and so are unions with them or with term `a`.
-        let same = |i: u32, o: &Quadric| i == quadric || q.approx_eq_up_to_scale(o, SAME_QUADRIC);
+        // By index, once each: the same few literals recur in hundreds of terms.
+        let same_by_index = std::cell::RefCell::new(FxHashMap::default());
+        let same = |i: u32, o: &Quadric| {
+            let test = || i == quadric || q.approx_eq_up_to_scale(o, SAME_QUADRIC);
+            if i == MADE_LITERAL {
+                return test();
+            }
+            *same_by_index.borrow_mut().entry(i).or_insert_with(test)
+        };
         let kept: Vec<u32> = near
             .into_iter()
             .filter(|&index| {
@@ -111,10 +125,8 @@ impl CsgDistance {
             .take(limit)
             .filter(|(l, _)| !l.iter().any(|(i, o)| same(*i, o)))
             .map(|(literals, (i, k))| {
-                (
-                    literals.clone(),
-                    dnf.terms[*i].bounds.union(&dnf.terms[*k].bounds),
-                )
+                let bounds = dnf.terms[*i].bounds.union(&dnf.terms[*k].bounds);
+                (&literals[..], bounds)
             });
         // Of a term of many literals, those that hold all around the sampled part are left out
         // ("Far literals"); the sampled quadric stays.
@@ -122,34 +134,63 @@ impl CsgDistance {
         // So are the literals that hold on all of the sampled surface in that box, and the other
         // terms with a literal that holds on none of it ("Offset surfaces").
         let bounded = !grown.is_empty() && grown.is_bounded();
-        let near_literals = |literals: &[(u32, Quadric)]| {
+        // The same few quadrics recur in hundreds of terms (a difference of unions distributed
+        // into a DNF): each literal's tests against the box are made once per patch, by index.
+        let mut tests: FxHashMap<u32, LiteralTests> = FxHashMap::default();
+        let mut near_literals = |literals: &'a [(u32, Quadric)]| {
             let many = literals.len() > FEW_LITERALS && bounded;
-            let mut kept = TermLiterals::with_capacity(literals.len());
-            for &(i, o) in literals {
+            // Borrowed until one is left out.
+            let mut kept: Option<TermLiterals> = None;
+            for (k, &(i, o)) in literals.iter().enumerate() {
+                let mut leave_out = || {
+                    if kept.is_none() {
+                        kept = Some(literals[..k].to_vec());
+                    }
+                };
                 if i != quadric {
-                    if many && quadric_box::classify(&o, &grown) == BoxClass::Inside {
+                    let test = || {
+                        // Made half-spaces have no entry, and are planes: no pencil needs them.
+                        let axes = shapes.shapes.get(i as usize).map(|s| &s.axes);
+                        let pair = ((&q, shape), (&o, axes));
+                        LiteralTests {
+                            on_surface: bounded
+                                .then(|| on_surface(pair.0, pair.1, &grown))
+                                .flatten(),
+                            inside: None,
+                        }
+                    };
+                    let mut made;
+                    let test = if i == MADE_LITERAL {
+                        made = test();
+                        &mut made
+                    } else {
+                        tests.entry(i).or_insert_with(test)
+                    };
+                    if many
+                        && *test.inside.get_or_insert_with(|| {
+                            quadric_box::classify(&o, &grown) == BoxClass::Inside
+                        })
+                    {
+                        leave_out();
                         continue;
                     }
-                    // Made half-spaces have no entry, and are planes: no pencil needs them.
-                    let axes = shapes.shapes.get(i as usize).map(|s| &s.axes);
-                    let pair = ((&q, shape), (&o, axes));
-                    match bounded
-                        .then(|| on_surface(pair.0, pair.1, &grown))
-                        .flatten()
-                    {
-                        Some(true) => continue,
+                    match test.on_surface {
+                        Some(true) => {
+                            leave_out();
+                            continue;
+                        }
                         Some(false) => return None,
                         None => {}
                     }
                 }
-                kept.push((i, o));
+                if let Some(kept) = &mut kept {
+                    kept.push((i, o));
+                }
             }
-            let floor = if kept.len() < literals.len() {
-                -reach
-            } else {
-                f64::NEG_INFINITY
-            };
-            Some((kept, floor))
+            Some(match kept {
+                Some(kept) => (Cow::Owned(kept), -reach),
+                None => (Cow::Borrowed(literals), f64::NEG_INFINITY),
+            })
         };
         let own = near_literals(&shapes.terms[term as usize])?;
         // The kept literals are in the term's order: one walk finds the others.
@@ -162,12 +203,7 @@ impl CsgDistance {
         own_far.sort_unstable();
         let others: Vec<_> = kept
             .iter()
-            .map(|&i| {
-                (
-                    shapes.terms[i as usize].clone(),
-                    dnf.terms[i as usize].bounds,
-                )
-            })
+            .map(|&i| (&shapes.terms[i as usize][..], dnf.terms[i as usize].bounds))
             .chain(merged)
             .collect();
         let near_others = others.len();
@@ -176,7 +212,7 @@ impl CsgDistance {
             own_far,
             others: others
                 .into_iter()
-                .filter_map(|(literals, bounds)| Some((near_literals(&literals)?, bounds)))
+                .filter_map(|(literals, bounds)| Some((near_literals(literals)?, bounds)))
                 .collect(),
         };
         let terms_left_out = terms_left_out || terms.others.len() < near_others;
@@ -279,7 +315,7 @@ impl CsgDistance {
             match within {
                 Some(within) if gap < margin => {
                     terms.push(i);
-                    let list = term.near_literals(bounds, margin, within);
+                    let list = term.near_literals(&views.quadrics, bounds, margin, within);
                     if list.is_some() || !lists.is_empty() {
                         lists.resize(terms.len() - 1, None);
                         lists.push(list);
@@ -292,7 +328,7 @@ impl CsgDistance {
         NearDistance {
             base: self,
             sheet: Some(sheet),
-            own: views.own.near_literals(bounds, margin, own_within),
+            own: (views.own).near_literals(&views.quadrics, bounds, margin, own_within),
             terms,
             lists,
             far,
@@ -341,13 +377,25 @@ impl CsgDistance {
             return off;
         }
         let slack = off.max(0.0);
-        let own = sheet.own.distance(p, plane.as_ref(), true, own_near, slack);
+        let mut values = LiteralValues::new(&sheet.quadrics, p);
+        let at = |own| (p, plane.as_ref(), own);
+        let own = (sheet.own).distance(at(true), own_near, (slack, f64::INFINITY), &mut values);
         let mut nearest_other = far.min(self.far - slack);
         for (term, near) in others {
-            let distance = term.distance(p, plane.as_ref(), false, near, slack);
+            let distance = term.distance(at(false), near, (slack, nearest_other), &mut values);
             nearest_other = nearest_other.min(distance);
         }
         let d = own.max(-nearest_other);
         if off > 0.0 { d.max(off) } else { d }
     }
+}
+
+/// What one literal's tests against a patch's grown box found ([`CsgDistance::with_shapes`]):
+/// whether it holds on all of the sampled surface there (`Some(true)`) or on none of it
+/// (`Some(false)`), and whether it holds on all of the box (found when a term of many literals
+/// first asks).
+#[derive(Clone, Copy)]
+struct LiteralTests {
+    on_surface: Option<bool>,
+    inside: Option<bool>,
 }

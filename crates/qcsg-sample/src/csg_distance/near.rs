@@ -6,7 +6,7 @@ use super::distance::CsgDistance;
 use super::view::{FEW_LITERALS, Literal, NearLiterals, TermView};
 use qcsg_csg::Aabb;
 use qcsg_csg::quadric_box::{self, BoxClass};
-use qcsg_quadric::DVec3;
+use qcsg_quadric::{DVec3, Quadric};
 
 /// [`CsgDistance`] for the points of one box ([`CsgDistance::near`]). A term whose box is at
 /// least `far` away from every point of the box contributes at most `−far` to the maximum (its
@@ -84,13 +84,14 @@ impl NearDistance<'_> {
         let Some(grown) = self.grown(patch) else {
             return false;
         };
-        any_fails(views.own.looked_at(self.own.as_ref()), &grown)
+        let quadrics = &views.quadrics[..];
+        any_fails(views.own.looked_at(self.own.as_ref()), quadrics, &grown)
             || self.terms.iter().enumerate().any(|(k, &i)| {
                 let view = &views.others[i as usize];
                 // A term holding all of the box has a box holding it (`extent`), and its
                 // distance is positive outside the DNF's region (`bounds`).
                 (view.extent.contains_box(&grown) && view.bounds.contains_box(&grown))
-                    && all_hold(view.looked_at(self.list(k)), &grown)
+                    && all_hold(view.looked_at(self.list(k)), quadrics, &grown)
             })
     }
 
@@ -107,11 +108,13 @@ impl NearDistance<'_> {
         let Some(grown) = self.grown(patch).filter(|_| !views.own_empty) else {
             return false;
         };
-        let own = &views.own;
-        (own.bounds.contains_box(&grown) && all_hold(own.looked_at(self.own.as_ref()), &grown))
+        let (own, quadrics) = (&views.own, &views.quadrics[..]);
+        (own.bounds.contains_box(&grown)
+            && all_hold(own.looked_at(self.own.as_ref()), quadrics, &grown))
             && self.terms.iter().enumerate().all(|(k, &i)| {
                 let view = &views.others[i as usize];
-                !view.extent.intersects(&grown) || any_fails(view.looked_at(self.list(k)), &grown)
+                !view.extent.intersects(&grown)
+                    || any_fails(view.looked_at(self.list(k)), quadrics, &grown)
             })
     }
 
@@ -140,22 +143,29 @@ impl NearDistance<'_> {
 /// Whether each of `literals` that a term's distance looks at (not those of another term that
 /// term `a` holds too, [`TermView::max_over`]) holds on all of `bounds`: the signs at the
 /// centre first, which most terms fail at once (`classify` costs up to a few hundred
-/// instructions).
+/// instructions). `quadrics` are the sheet's.
 pub(super) fn all_hold<'a>(
     literals: impl Iterator<Item = &'a Literal> + Clone,
+    quadrics: &[Quadric],
     bounds: &Aabb,
 ) -> bool {
     let centre = bounds.centre();
+    let quadric = |l: &Literal| &quadrics[l.slot as usize];
     let mut looked_at = literals.filter(|literal| !literal.in_own_term);
-    looked_at.clone().all(|l| l.quadric.value(centre) < 0.0)
-        && looked_at.all(|l| quadric_box::classify(&l.quadric, bounds) == BoxClass::Inside)
+    looked_at.clone().all(|l| quadric(l).value(centre) < 0.0)
+        && looked_at.all(|l| quadric_box::classify(quadric(l), bounds) == BoxClass::Inside)
 }
 
 /// Whether one of `literals` fails on all of `bounds` (it fails at the centre first).
-pub(super) fn any_fails<'a>(literals: impl Iterator<Item = &'a Literal>, bounds: &Aabb) -> bool {
+pub(super) fn any_fails<'a>(
+    literals: impl Iterator<Item = &'a Literal>,
+    quadrics: &[Quadric],
+    bounds: &Aabb,
+) -> bool {
     let centre = bounds.centre();
-    (literals.filter(|l| l.quadric.value(centre) > 0.0))
-        .any(|l| quadric_box::classify(&l.quadric, bounds) == BoxClass::Outside)
+    let quadric = |l: &Literal| &quadrics[l.slot as usize];
+    (literals.filter(|l| quadric(l).value(centre) > 0.0))
+        .any(|l| quadric_box::classify(quadric(l), bounds) == BoxClass::Outside)
 }
 
 /// Exact signed Euclidean distance to a closed box: positive outside, negative inside (the

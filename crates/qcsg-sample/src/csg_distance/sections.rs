@@ -4,7 +4,7 @@
 
 use super::half_spaces::{HalfSpace, PlanarParts, beyond, planar_parts};
 use super::sheet_views::Refined;
-use super::view::{PARALLEL, Shared};
+use super::view::PARALLEL;
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DVec3, Quadric};
 
@@ -207,17 +207,16 @@ pub(super) fn no_area_between(
 }
 
 /// A planar literal of another term without the half-spaces that term `a` holds too (see
-/// "Literals of both terms"), as `(quadric, planar, in term a, on the sheet)`: a slab sharing
-/// one side with term `a` becomes its other side (whose relation to the sheet the point test
-/// decides).
+/// "Literals of both terms"): a slab sharing one side with term `a` becomes its other side, a
+/// planar literal whose relation to the sheet the point test decides; `None` where the literal
+/// stays whole.
 pub(super) fn without_own_sides(
     literal: &Refined,
     own_sides: &[HalfSpace],
     tolerance: f64,
-) -> Vec<(Quadric, bool, bool, Option<Shared>)> {
-    let whole = vec![(literal.quadric, literal.planar, false, literal.on_sheet)];
+) -> Option<Vec<Quadric>> {
     let Some((spaces, false)) = &literal.parts else {
-        return whole;
+        return None;
     };
     let shared = |h: &HalfSpace| {
         own_sides.iter().any(|g| {
@@ -225,12 +224,12 @@ pub(super) fn without_own_sides(
         })
     };
     if !spaces.iter().any(shared) {
-        return whole;
+        return None;
     }
-    spaces
-        .iter()
-        .filter(|h| !shared(h))
-        .filter_map(|h| Quadric::half_space(h.point, h.normal))
-        .map(|q| (q, true, false, None))
-        .collect()
+    let halves = spaces.iter().filter(|h| !shared(h));
+    Some(
+        halves
+            .filter_map(|h| Quadric::half_space(h.point, h.normal))
+            .collect(),
+    )
 }

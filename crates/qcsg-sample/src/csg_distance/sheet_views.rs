@@ -2,7 +2,7 @@
 //! DNF classified against the sheet once ([`Seen`]), and each term's literals refined by the
 //! rules for shared, tangent and sectioned planes ([`Refined`]).
 
-use super::abutting::{MADE_LITERAL, TermLiterals};
+use super::abutting::MADE_LITERAL;
 use super::distance::SheetViews;
 use super::half_spaces::{HalfSpace, PlanarParts};
 use super::identity::SheetIdentity;
@@ -10,7 +10,7 @@ use super::sections::{
     no_area_between, one_side, one_side_with_area, own_half_spaces, section, without_own_sides,
 };
 use super::tangency::{Contact, Shape, Shapes, Tangency};
-use super::view::{NearTerms, SAME_QUADRIC, Shared, TermView};
+use super::view::{NearTerms, SAME_QUADRIC, Shared, TermView, ViewLiteral};
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
 use rustc_hash::FxHashMap;
@@ -23,7 +23,7 @@ impl SheetViews {
         shapes: &Shapes,
         (quadric, term): (u32, u32),
         (sheet, plane): (u32, Option<HalfSpace>),
-        terms: &NearTerms,
+        terms: &NearTerms<'_>,
     ) -> Self {
         let tolerance = shapes.tolerance;
         let q = dnf.quadrics[quadric as usize].quadric;
@@ -41,13 +41,15 @@ impl SheetViews {
         let identity = SheetIdentity::new(dnf, quadric, plane.as_ref());
         // Each quadric of the DNF in these terms as a literal seen from the sheet, found once.
         let (own_term_literals, own_floor) = &terms.own;
-        let in_terms = own_term_literals.iter().map(|(i, _)| *i).chain(
-            terms
-                .others
-                .iter()
-                .flat_map(|((literals, _), _)| literals.iter().map(|(i, _)| *i)),
-        );
+        // Each once: the terms of a distributed difference hold the same few hundreds of times.
+        let mut in_terms: Vec<u32> = own_term_literals.iter().map(|(i, _)| *i).collect();
+        for ((literals, _), _) in &terms.others {
+            in_terms.extend(literals.iter().map(|(i, _)| *i));
+        }
+        in_terms.sort_unstable();
+        in_terms.dedup();
         let seen: FxHashMap<u32, Seen> = in_terms
+            .into_iter()
             .filter_map(|i| {
                 Some((
                     i,
@@ -108,14 +110,9 @@ impl SheetViews {
                 _ => std::borrow::Cow::Owned(made(o)),
             }
         };
-        // The literals of a term as the sheet sees them: those that hold on all of it left out.
-        let literals = |literals: &TermLiterals| -> TermLiterals {
-            literals
-                .iter()
-                .filter(|(i, o)| look(*i, o).contact != Contact::Holds)
-                .copied()
-                .collect()
-        };
+        // The literals of a term as the sheet sees them leave out those that hold on all of it.
+        let holds =
+            |literal: &&(u32, Quadric)| look(literal.0, &literal.1).contact == Contact::Holds;
         // Those that cross it replaced by their section by the plane where that is planar, and
         // the outside of a slab by one half-space where the term lies beyond the slab's other
         // plane (`bounds` holds the term). Each keeps its index: another term holding it holds
@@ -123,82 +120,111 @@ impl SheetViews {
         // complement stay as they are: eq. 22 finds them by index and value. Abutting terms are
         // found before this: planes made here would pair up many more of them, each merged
         // term spanning two terms' boxes, for little.
-        let refine = |literals: &TermLiterals, bounds: &Aabb| -> Vec<Refined> {
-            literals
-                .iter()
-                .map(|&(index, o)| {
-                    let seen = look(index, &o);
-                    let as_is = seen.same || seen.complement || seen.contact == Contact::Excludes;
-                    let side = (!as_is)
-                        .then(|| one_side(seen.parts.as_ref(), bounds, tolerance))
-                        .flatten();
-                    match side {
-                        Some(half) => {
-                            let planes = seen.parts.as_ref().map_or(&[][..], |(p, _)| &p[..]);
-                            let on_sheet = plane.as_ref().and_then(|plane| {
-                                identity.half_on_sheet(index, &half, planes, plane)
-                            });
-                            Refined::one_side(index, half, seen.refined, on_sheet)
-                        }
-                        None => Refined {
-                            index,
-                            quadric: seen.refined,
-                            planar: seen.planar,
-                            parts: seen.parts.clone(),
-                            same: seen.same,
-                            complement: seen.complement,
-                            on_sheet: seen.on_sheet,
-                        },
-                    }
-                })
-                .collect()
+        let side_of = |seen: &Seen, bounds: &Aabb| {
+            let as_is = seen.same || seen.complement || seen.contact == Contact::Excludes;
+            (!as_is)
+                .then(|| one_side(seen.parts.as_ref(), bounds, tolerance))
+                .flatten()
+        };
+        let refined = |index: u32, seen: &Seen, side: Option<HalfSpace>| match side {
+            Some(half) => {
+                let planes = seen.parts.as_ref().map_or(&[][..], |(p, _)| &p[..]);
+                let on_sheet = (plane.as_ref())
+                    .and_then(|plane| identity.half_on_sheet(index, &half, planes, plane));
+                Refined::one_side(index, half, seen.refined, on_sheet)
+            }
+            None => Refined {
+                index,
+                quadric: seen.refined,
+                plain: true,
+                planar: seen.planar,
+                parts: seen.parts.clone(),
+                same: seen.same,
+                complement: seen.complement,
+                on_sheet: seen.on_sheet,
+            },
         };
         // A term with a literal that holds on the sheet only where it touches it has no
         // interior point on it: term `a` samples nothing there, another term is left out.
-        let excludes = |literals: &TermLiterals| {
+        let excludes = |literals: &[(u32, Quadric)]| {
             literals
                 .iter()
                 .any(|(i, o)| look(*i, o).contact == Contact::Excludes)
         };
-        let own_raw = literals(own_term_literals);
-        let own_empty = excludes(&own_raw);
-        let mut own_literals = refine(&own_raw, &own_term.bounds);
+        let own_empty = excludes(own_term_literals);
+        let mut own_literals: Vec<Refined> = (own_term_literals.iter())
+            .filter(|l| !holds(l))
+            .map(|&(index, o)| {
+                let seen = look(index, &o);
+                refined(index, &seen, side_of(&seen, &own_term.bounds))
+            })
+            .collect();
         let sides_empty = plane.is_some_and(|plane| {
             one_side_with_area(&mut own_literals, &plane, &own_term.bounds, tolerance)
         });
-        let in_own_term = |r: &Refined| {
-            terms.own_far.binary_search(&r.index).is_ok()
-                || own_literals.iter().any(|o| {
-                    o.index == r.index || o.quadric.approx_eq_up_to_scale(&r.quadric, SAME_QUADRIC)
-                })
-        };
+        let mut slots = Slots::default();
         let own = TermView::new(
-            own_literals
-                .iter()
-                .filter(|r| !r.same)
-                .map(|r| (r.quadric, r.planar, false, r.on_sheet)),
+            (own_literals.iter().filter(|r| !r.same))
+                .map(|r| (slots.of(r), r.planar, false, r.on_sheet))
+                .collect::<Vec<_>>(),
             region,
             (own_term.bounds, *own_floor),
         );
+        // The same literals recur in hundreds of other terms: each is compared with term `a`'s
+        // once, by index and value (a one-sided slab differs in value from its slab).
+        let mut own_memo: FxHashMap<(u32, u32), bool> = FxHashMap::default();
+        let mut in_own_term = |r: &Refined, slot: u32| {
+            let test = || {
+                terms.own_far.binary_search(&r.index).is_ok()
+                    || own_literals.iter().any(|o| {
+                        o.index == r.index
+                            || o.quadric.approx_eq_up_to_scale(&r.quadric, SAME_QUADRIC)
+                    })
+            };
+            if r.index == MADE_LITERAL {
+                return test();
+            }
+            *own_memo.entry((r.index, slot)).or_insert_with(test)
+        };
         let own_sides = own_half_spaces(&own_literals, plane.as_ref());
+        // What each literal not cut to one side of a slab adds to another term's view, found
+        // once: the terms of a distributed difference hold the same few hundreds of times.
+        let mut plain_literals: FxHashMap<u32, Vec<ViewLiteral>> = FxHashMap::default();
         // Terms that the sheet excludes still abut others: their merged unions (made before)
         // may reach it.
         let others = terms
             .others
             .iter()
-            .map(|((list, floor), extent)| (literals(list), (*extent, *floor)))
-            .filter(|(literals, _)| !excludes(literals))
-            .map(|(literals, (extent, floor))| {
-                let literals = refine(&literals, &extent)
-                    .into_iter()
-                    .filter(|r| !r.complement)
-                    .flat_map(|r| {
-                        if in_own_term(&r) {
-                            return vec![(r.quadric, r.planar, true, r.on_sheet)];
+            .filter(|((list, _), _)| !excludes(list))
+            .map(|((list, floor), extent)| {
+                let mut literals = Vec::with_capacity(list.len());
+                for &(index, o) in list.iter().filter(|l| !holds(l)) {
+                    let seen = look(index, &o);
+                    let side = side_of(&seen, extent);
+                    // Not one side of a slab: the same in every term that holds it.
+                    let plain = side.is_none() && index != MADE_LITERAL;
+                    if let Some(done) = plain.then(|| plain_literals.get(&index)).flatten() {
+                        literals.extend_from_slice(done);
+                        continue;
+                    }
+                    let r = refined(index, &seen, side);
+                    let start = literals.len();
+                    if !r.complement {
+                        let slot = slots.of(&r);
+                        if in_own_term(&r, slot) {
+                            literals.push((slot, r.planar, true, r.on_sheet));
+                        } else if let Some(halves) = without_own_sides(&r, &own_sides, tolerance) {
+                            let made = halves.into_iter().map(|h| slots.by_value(h));
+                            literals.extend(made.map(|slot| (slot, true, false, None)));
+                        } else {
+                            literals.push((slot, r.planar, false, r.on_sheet));
                         }
-                        without_own_sides(&r, &own_sides, tolerance)
-                    });
-                TermView::new(literals, region, (extent, floor))
+                    }
+                    if plain {
+                        plain_literals.insert(index, literals[start..].to_vec());
+                    }
+                }
+                TermView::new(literals, region, (*extent, *floor))
             })
             .collect();
         let own_empty = own_empty
@@ -209,6 +235,7 @@ impl SheetViews {
         Self {
             plane,
             own,
+            quadrics: slots.quadrics,
             own_empty,
             others,
         }
@@ -247,6 +274,9 @@ pub(super) struct Refined {
     /// Its index in the DNF ([`MADE_LITERAL`] if made here).
     pub(super) index: u32,
     pub(super) quadric: Quadric,
+    /// Whether `quadric` is the literal as the sheet sees it ([`Seen::refined`]), the same for
+    /// every term that holds it.
+    pub(super) plain: bool,
     pub(super) planar: bool,
     pub(super) parts: Option<PlanarParts>,
     pub(super) same: bool,
@@ -267,11 +297,51 @@ impl Refined {
         Self {
             index,
             quadric: Quadric::half_space(half.point, half.normal).unwrap_or(outside),
+            plain: false,
             planar: true,
             parts: Some((vec![half], false)),
             same: false,
             complement: false,
             on_sheet,
         }
+    }
+}
+
+/// The distinct quadrics of a sheet's views ([`SheetViews::quadrics`]), each given its slot
+/// once: by index for a literal as the sheet sees it, else by exact value.
+#[derive(Default)]
+struct Slots {
+    by_index: FxHashMap<u32, u32>,
+    by_value: FxHashMap<[u64; 13], u32>,
+    quadrics: Vec<Quadric>,
+}
+
+impl Slots {
+    /// The slot of `literal`'s quadric.
+    fn of(&mut self, literal: &Refined) -> u32 {
+        if !literal.plain || literal.index == MADE_LITERAL {
+            return self.by_value(literal.quadric);
+        }
+        if let Some(&slot) = self.by_index.get(&literal.index) {
+            return slot;
+        }
+        let slot = self.by_value(literal.quadric);
+        self.by_index.insert(literal.index, slot);
+        slot
+    }
+
+    /// The slot of `quadric`, by the bits of its coefficients and origin.
+    fn by_value(&mut self, quadric: Quadric) -> u32 {
+        let mut bits = [0; 13];
+        let values = quadric.coefficients().into_iter();
+        let values = values.chain(quadric.origin().to_array());
+        bits.iter_mut()
+            .zip(values)
+            .for_each(|(b, v)| *b = v.to_bits());
+        let quadrics = &mut self.quadrics;
+        *self.by_value.entry(bits).or_insert_with(|| {
+            quadrics.push(quadric);
+            quadrics.len() as u32 - 1
+        })
     }
 }

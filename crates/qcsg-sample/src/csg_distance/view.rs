@@ -1,14 +1,16 @@
 //! A term of the DNF as one sampled quadric sees it ([`TermView`]): the literals that matter
 //! to eq. 22 there, how each meets the sampled quadric's plane through a point ([`Shared`],
 //! [`SheetPlane`]: "Shared planes" in [`super`]), and, for terms of many literals, those near a
-//! box ([`NearTerms`], [`NearLiterals`]).
+//! box ([`NearTerms`], [`NearLiterals`]). The literals name their quadrics by slot in the
+//! sheet's table of distinct quadrics, whose distances at a point are found once however many
+//! terms hold them ([`LiteralValues`]).
 
-use super::abutting::TermLiterals;
 use super::near::box_distance;
 use either::Either;
 use qcsg_csg::Aabb;
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_quadric::{DVec3, Quadric, QuadricKind};
+use std::borrow::Cow;
 
 /// Relative tolerance for "the same quadric" when comparing literals.
 pub(super) const SAME_QUADRIC: f64 = 1e-12;
@@ -40,12 +42,17 @@ pub(super) struct SheetPlane {
 }
 
 impl SheetPlane {
-    /// `distance` is the literal's conservative distance at `p`.
-    pub(super) fn shared(&self, literal: &Literal, p: DVec3, distance: f64) -> Shared {
+    /// `distance` is the literal's conservative distance at `p`, `quadric` its quadric.
+    pub(super) fn shared(
+        &self,
+        (literal, quadric): (&Literal, &Quadric),
+        p: DVec3,
+        distance: f64,
+    ) -> Shared {
         if !literal.planar || distance.abs() > self.tolerance {
             return Shared::No;
         }
-        let Some(n) = literal.quadric.normal(p) else {
+        let Some(n) = quadric.normal(p) else {
             return Shared::No;
         };
         if n.cross(self.normal).length() > PARALLEL {
@@ -60,9 +67,12 @@ impl SheetPlane {
 }
 
 /// One literal of a term view.
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 pub(super) struct Literal {
-    pub(super) quadric: Quadric,
+    /// Its quadric, an index into the sheet's distinct quadrics
+    /// ([`SheetViews::quadrics`](super::distance::SheetViews::quadrics)): hundreds of terms of a
+    /// distributed difference hold the same few, kept and evaluated once.
+    pub(super) slot: u32,
     pub(super) planar: bool,
     /// A literal of another term that term `a` holds too (see "Literals of both terms").
     pub(super) in_own_term: bool,
@@ -72,6 +82,10 @@ pub(super) struct Literal {
     /// [`SheetPlane::shared`] decides.
     pub(super) on_sheet: Option<Shared>,
 }
+
+/// A literal as [`TermView::new`] takes it: its quadric's slot, whether it is planar, whether
+/// term `a` holds it too, and how it lies on the sheet.
+pub(super) type ViewLiteral = (u32, bool, bool, Option<Shared>);
 
 /// A term of the DNF as seen from one quadric: the literals that matter and the box.
 #[derive(Clone, Debug)]
@@ -89,15 +103,19 @@ pub(super) struct TermView {
 /// ("Far literals").
 pub(super) const FEW_LITERALS: usize = 32;
 
+/// The literals of a term that eq. 22 looks at (borrowed from the DNF's where none is left
+/// out), with the term's floor.
+pub(super) type NearList<'a> = (Cow<'a, [(u32, Quadric)]>, f64);
+
 /// The terms eq. 22 of one sampled literal looks at, as the DNF has them: term `a`'s literals,
 /// then every other term's literals and box; each list with its floor, `−reach` where literals
 /// far from the sampled part were left out ("Far literals"), else `−∞`.
-pub(super) struct NearTerms {
-    pub(super) own: (TermLiterals, f64),
+pub(super) struct NearTerms<'a> {
+    pub(super) own: NearList<'a>,
     /// The indices of term `a`'s literals left out, ascending: "Literals of both terms" still
     /// applies to them.
     pub(super) own_far: Vec<u32>,
-    pub(super) others: Vec<((TermLiterals, f64), Aabb)>,
+    pub(super) others: Vec<(NearList<'a>, Aabb)>,
 }
 
 /// The literals of a term a [`NearDistance`](crate::csg_distance::NearDistance) looks at (indices into [`TermView::literals`]);
@@ -112,16 +130,16 @@ impl TermView {
     /// The view of `literals`, each with whether it is planar, whether term `a` holds it too
     /// and how it lies on the sampled sheet ([`Literal::on_sheet`]).
     pub(super) fn new(
-        literals: impl IntoIterator<Item = (Quadric, bool, bool, Option<Shared>)>,
+        literals: impl IntoIterator<Item = ViewLiteral>,
         bounds: Aabb,
         (extent, floor): (Aabb, f64),
     ) -> Self {
         let literals: Vec<Literal> = literals
             .into_iter()
-            .map(|(quadric, planar, in_own_term, on_sheet)| Literal {
+            .map(|(slot, planar, in_own_term, on_sheet)| Literal {
+                slot,
                 planar,
                 in_own_term,
-                quadric,
                 on_sheet,
             })
             .collect();
@@ -134,9 +152,11 @@ impl TermView {
     }
 
     /// The literals of a term of many that may fail within `margin` of `bounds`, among those of
-    /// `within` (all when `None`), when that leaves some out ("Far literals").
+    /// `within` (all when `None`), when that leaves some out ("Far literals"); `quadrics` are
+    /// the sheet's.
     pub(super) fn near_literals(
         &self,
+        quadrics: &[Quadric],
         bounds: &Aabb,
         margin: f64,
         within: Option<&NearLiterals>,
@@ -155,7 +175,7 @@ impl TermView {
         };
         let indices: Vec<u32> = candidates
             .filter(|&i| {
-                let literal = &self.literals[i as usize].quadric;
+                let literal = &quadrics[self.literals[i as usize].slot as usize];
                 quadric_box::classify(literal, &grown) != BoxClass::Inside
             })
             .collect();
@@ -175,44 +195,51 @@ impl TermView {
 
     /// `max_j d(Q_j, p)` together with the region box: positive outside the term, negative
     /// inside. With the sampled quadric's `plane` at `p`, literals sharing it are treated as in
-    /// the module docs: `own` says whether this is term `a`.
+    /// the module docs: `own` says whether this is term `a`. Once the maximum reaches `above`,
+    /// the rest is not looked at and what is returned is at least `above` (a term no nearer
+    /// than one already found).
     pub(super) fn distance(
         &self,
-        p: DVec3,
-        plane: Option<&SheetPlane>,
-        own: bool,
+        (p, plane, own): (DVec3, Option<&SheetPlane>, bool),
         near: Option<&NearLiterals>,
-        slack: f64,
+        (slack, above): (f64, f64),
+        values: &mut LiteralValues<'_>,
     ) -> f64 {
         // The literals left out hold within `−floor − slack` of `p` (`p` is `slack` outside the
         // sampled part), and within `margin` of `p` for a box's ([`NearLiterals`]).
         let d = box_distance(&self.bounds, p).max(self.floor + slack);
+        let at = (p, plane, own);
         match near {
             Some(near) => self.max_over(
                 near.indices.iter().map(|&i| &self.literals[i as usize]),
-                d.max(-near.margin),
-                (p, plane, own),
+                (d.max(-near.margin), above),
+                at,
+                values,
             ),
-            None => self.max_over(self.literals.iter(), d, (p, plane, own)),
+            None => self.max_over(self.literals.iter(), (d, above), at, values),
         }
     }
 
     /// [`Self::distance`] over `literals`, from `d`.
-    pub(super) fn max_over<'a>(
+    fn max_over<'a>(
         &self,
         literals: impl Iterator<Item = &'a Literal>,
-        mut d: f64,
+        (mut d, above): (f64, f64),
         (p, plane, own): (DVec3, Option<&SheetPlane>, bool),
+        values: &mut LiteralValues<'_>,
     ) -> f64 {
         for literal in literals {
+            if d >= above {
+                return d;
+            }
             let on_plane = plane.filter(|_| literal.planar);
             if !own && literal.in_own_term && on_plane.is_none() {
                 continue;
             }
             // Evaluated once: a planar literal needs it for the plane test too.
-            let distance = literal.quadric.conservative_distance(p);
+            let (distance, quadric) = values.at(literal.slot);
             let shared = on_plane.map_or(Shared::No, |plane| {
-                (literal.on_sheet).unwrap_or_else(|| plane.shared(literal, p, distance))
+                (literal.on_sheet).unwrap_or_else(|| plane.shared((literal, quadric), p, distance))
             });
             match (shared, own) {
                 (Shared::No, false) if literal.in_own_term => {}
@@ -222,5 +249,35 @@ impl TermView {
             }
         }
         d
+    }
+}
+
+/// The conservative distances of a sheet's quadrics at one point, each found once however many
+/// terms hold it.
+pub(super) struct LiteralValues<'a> {
+    quadrics: &'a [Quadric],
+    point: DVec3,
+    /// Per slot, the distance at `point` where found.
+    found: Vec<Option<f64>>,
+}
+
+impl<'a> LiteralValues<'a> {
+    pub(super) fn new(quadrics: &'a [Quadric], point: DVec3) -> Self {
+        Self {
+            quadrics,
+            point,
+            found: vec![None; quadrics.len()],
+        }
+    }
+
+    /// The distance of quadric `slot` at the point, and the quadric.
+    fn at(&mut self, slot: u32) -> (f64, &'a Quadric) {
+        let quadric = &self.quadrics[slot as usize];
+        let point = self.point;
+        let found = &mut self.found[slot as usize];
+        (
+            *found.get_or_insert_with(|| quadric.conservative_distance(point)),
+            quadric,
+        )
     }
 }
