@@ -2,19 +2,19 @@
 //! the rules of [`super`] applied, narrowed to a box ([`CsgDistance::near`]) and queried at
 //! points of the sampled quadric.
 
-use super::abutting::{MADE_LITERAL, MAX_MERGED_PER_TERM, TermLiterals};
+use super::abutting::{MADE_LITERAL, MAX_MERGED_PER_TERM};
 use super::half_spaces::HalfSpace;
 use super::near::{NearDistance, box_distance};
 use super::surface_sign::on_surface;
 use super::tangency::Shapes;
 use super::view::{
-    FEW_LITERALS, LiteralValues, NearLiterals, NearTerms, SAME_QUADRIC, SheetPlane, TermView,
+    FEW_LITERALS, LiteralValues, NearList, NearLiterals, NearTerms, SAME_QUADRIC, SheetPlane,
+    TermView,
 };
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
 use rustc_hash::FxHashMap;
-use std::borrow::Cow;
 
 /// `d_{Q_ab}(S, ·)` for one literal of one term, with the DNF's quadrics copied in.
 #[derive(Clone, Debug)]
@@ -139,12 +139,12 @@ impl CsgDistance {
         let mut tests: FxHashMap<u32, LiteralTests> = FxHashMap::default();
         let mut near_literals = |literals: &'a [(u32, Quadric)]| {
             let many = literals.len() > FEW_LITERALS && bounded;
-            // Borrowed until one is left out.
-            let mut kept: Option<TermLiterals> = None;
+            // All until one is left out.
+            let mut kept: Option<Vec<u32>> = None;
             for (k, &(i, o)) in literals.iter().enumerate() {
                 let mut leave_out = || {
                     if kept.is_none() {
-                        kept = Some(literals[..k].to_vec());
+                        kept = Some((0..k as u32).collect());
                     }
                 };
                 if i != quadric {
@@ -184,22 +184,18 @@ impl CsgDistance {
                     }
                 }
                 if let Some(kept) = &mut kept {
-                    kept.push((i, o));
+                    kept.push(k as u32);
                 }
             }
-            Some(match kept {
-                Some(kept) => (Cow::Owned(kept), -reach),
-                None => (Cow::Borrowed(literals), f64::NEG_INFINITY),
-            })
+            let floor = if kept.is_some() {
+                -reach
+            } else {
+                f64::NEG_INFINITY
+            };
+            Some(NearList::new(literals, kept, floor))
         };
         let own = near_literals(&shapes.terms[term as usize])?;
-        // The kept literals are in the term's order: one walk finds the others.
-        let mut kept_own = own.0.iter().peekable();
-        let mut own_far: Vec<u32> = shapes.terms[term as usize]
-            .iter()
-            .filter(|(i, _)| kept_own.next_if(|(k, _)| k == i).is_none())
-            .map(|(i, _)| *i)
-            .collect();
+        let mut own_far = own.left_out().map(|(i, _)| *i).collect::<Vec<u32>>();
         own_far.sort_unstable();
         let others: Vec<_> = kept
             .iter()
@@ -229,7 +225,7 @@ impl CsgDistance {
             })
             .collect();
         let literals_left_out =
-            terms.own.1.is_finite() || terms.others.iter().any(|((_, floor), _)| floor.is_finite());
+            terms.own.floor.is_finite() || terms.others.iter().any(|(l, _)| l.floor.is_finite());
         let far = if terms_left_out || literals_left_out {
             reach
         } else {

@@ -10,7 +10,7 @@ use super::sections::{
     no_area_between, one_side, one_side_with_area, own_half_spaces, section, without_own_sides,
 };
 use super::tangency::{Contact, Shape, Shapes, Tangency};
-use super::view::{NearTerms, SAME_QUADRIC, Shared, TermView, ViewLiteral};
+use super::view::{NearList, NearTerms, SAME_QUADRIC, Shared, TermView, ViewLiteral};
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
 use rustc_hash::FxHashMap;
@@ -40,16 +40,17 @@ impl SheetViews {
         // or on the sheet; the value and point tests stand where a DNF has no surfaces.
         let identity = SheetIdentity::new(dnf, quadric, plane.as_ref());
         // Each quadric of the DNF in these terms as a literal seen from the sheet, found once.
-        let (own_term_literals, own_floor) = &terms.own;
+        let own_list = &terms.own;
         // Each once: the terms of a distributed difference hold the same few hundreds of times.
-        let mut in_terms: Vec<u32> = own_term_literals.iter().map(|(i, _)| *i).collect();
-        for ((literals, _), _) in &terms.others {
-            in_terms.extend(literals.iter().map(|(i, _)| *i));
+        let mut in_terms = vec![false; dnf.quadrics.len()];
+        let lists = std::iter::once(own_list).chain(terms.others.iter().map(|(list, _)| list));
+        for (i, _) in lists.flat_map(NearList::iter) {
+            if let Some(flag) = in_terms.get_mut(*i as usize) {
+                *flag = true;
+            }
         }
-        in_terms.sort_unstable();
-        in_terms.dedup();
-        let seen: FxHashMap<u32, Seen> = in_terms
-            .into_iter()
+        let seen: FxHashMap<u32, Seen> = (0..in_terms.len() as u32)
+            .filter(|&i| in_terms[i as usize])
             .filter_map(|i| {
                 Some((
                     i,
@@ -146,13 +147,12 @@ impl SheetViews {
         };
         // A term with a literal that holds on the sheet only where it touches it has no
         // interior point on it: term `a` samples nothing there, another term is left out.
-        let excludes = |literals: &[(u32, Quadric)]| {
-            literals
-                .iter()
+        let excludes = |list: &NearList<'_>| {
+            list.iter()
                 .any(|(i, o)| look(*i, o).contact == Contact::Excludes)
         };
-        let own_empty = excludes(own_term_literals);
-        let mut own_literals: Vec<Refined> = (own_term_literals.iter())
+        let own_empty = excludes(own_list);
+        let mut own_literals: Vec<Refined> = (own_list.iter())
             .filter(|l| !holds(l))
             .map(|&(index, o)| {
                 let seen = look(index, &o);
@@ -168,7 +168,7 @@ impl SheetViews {
                 .map(|r| (slots.of(r), r.planar, false, r.on_sheet))
                 .collect::<Vec<_>>(),
             region,
-            (own_term.bounds, *own_floor),
+            (own_term.bounds, own_list.floor),
         );
         // The same literals recur in hundreds of other terms: each is compared with term `a`'s
         // once, by index and value (a one-sided slab differs in value from its slab).
@@ -195,8 +195,8 @@ impl SheetViews {
         let others = terms
             .others
             .iter()
-            .filter(|((list, _), _)| !excludes(list))
-            .map(|((list, floor), extent)| {
+            .filter(|(list, _)| !excludes(list))
+            .map(|(list, extent)| {
                 let mut literals = Vec::with_capacity(list.len());
                 for &(index, o) in list.iter().filter(|l| !holds(l)) {
                     let seen = look(index, &o);
@@ -224,7 +224,7 @@ impl SheetViews {
                         plain_literals.insert(index, literals[start..].to_vec());
                     }
                 }
-                TermView::new(literals, region, (*extent, *floor))
+                TermView::new(literals, region, (*extent, list.floor))
             })
             .collect();
         let own_empty = own_empty

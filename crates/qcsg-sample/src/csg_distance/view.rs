@@ -10,7 +10,6 @@ use either::Either;
 use qcsg_csg::Aabb;
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_quadric::{DVec3, Quadric, QuadricKind};
-use std::borrow::Cow;
 
 /// Relative tolerance for "the same quadric" when comparing literals.
 pub(super) const SAME_QUADRIC: f64 = 1e-12;
@@ -103,9 +102,43 @@ pub(super) struct TermView {
 /// ("Far literals").
 pub(super) const FEW_LITERALS: usize = 32;
 
-/// The literals of a term that eq. 22 looks at (borrowed from the DNF's where none is left
-/// out), with the term's floor.
-pub(super) type NearList<'a> = (Cow<'a, [(u32, Quadric)]>, f64);
+/// The literals of a term that eq. 22 looks at, with the term's floor: those of `all` at the
+/// positions `kept`, all of them when `None`.
+pub(super) struct NearList<'a> {
+    all: &'a [(u32, Quadric)],
+    kept: Option<Vec<u32>>,
+    pub(super) floor: f64,
+}
+
+impl<'a> NearList<'a> {
+    pub(super) fn new(all: &'a [(u32, Quadric)], kept: Option<Vec<u32>>, floor: f64) -> Self {
+        Self { all, kept, floor }
+    }
+
+    /// The literals kept, in the term's order.
+    pub(super) fn iter(&self) -> impl Iterator<Item = &'a (u32, Quadric)> + Clone + '_ {
+        let all = self.all;
+        match &self.kept {
+            Some(kept) => Either::Left(kept.iter().map(move |&k| &all[k as usize])),
+            None => Either::Right(all.iter()),
+        }
+    }
+
+    /// The literals left out, in the term's order.
+    pub(super) fn left_out(&self) -> impl Iterator<Item = &'a (u32, Quadric)> + '_ {
+        let mut kept = self.kept.as_ref().map(|k| k.iter().copied().peekable());
+        (self.all.iter().enumerate())
+            .filter(move |(k, _)| {
+                kept.as_mut()
+                    .is_some_and(|kept| kept.next_if_eq(&(*k as u32)).is_none())
+            })
+            .map(|(_, literal)| literal)
+    }
+
+    pub(super) fn len(&self) -> usize {
+        self.kept.as_ref().map_or(self.all.len(), Vec::len)
+    }
+}
 
 /// The terms eq. 22 of one sampled literal looks at, as the DNF has them: term `a`'s literals,
 /// then every other term's literals and box; each list with its floor, `−reach` where literals
