@@ -38,6 +38,8 @@ pub(super) struct SheetViews {
     /// The sheet's plane (`normal · x = offset`), for a planar quadric.
     pub(super) plane: Option<HalfSpace>,
     pub(super) own: TermView,
+    /// The DNF's region, which bounds every term (everything where it has none).
+    pub(super) region: Aabb,
     /// The distinct quadrics of the views' literals ([`Literal::slot`](super::view::Literal::slot)).
     pub(super) quadrics: Vec<Quadric>,
     /// A literal of term `a` holds on the sheet only where it touches it (see "Tangent
@@ -373,7 +375,7 @@ impl CsgDistance {
             return off;
         }
         let slack = off.max(0.0);
-        let mut values = LiteralValues::new(&sheet.quadrics, p);
+        let mut values = LiteralValues::new(&sheet.region, &sheet.quadrics, p);
         let at = |own| (p, plane.as_ref(), own);
         let own = (sheet.own).distance(at(true), own_near, (slack, f64::INFINITY), &mut values);
         let mut nearest_other = far.min(self.far - slack);

@@ -90,7 +90,7 @@ impl NearDistance<'_> {
                 let view = &views.others[i as usize];
                 // A term holding all of the box has a box holding it (`extent`), and its
                 // distance is positive outside the DNF's region (`bounds`).
-                (view.extent.contains_box(&grown) && view.bounds.contains_box(&grown))
+                (view.extent.contains_box(&grown) && views.region.contains_box(&grown))
                     && all_hold(view.looked_at(self.list(k)), quadrics, &grown)
             })
     }
@@ -109,7 +109,7 @@ impl NearDistance<'_> {
             return false;
         };
         let (own, quadrics) = (&views.own, &views.quadrics[..]);
-        (own.bounds.contains_box(&grown)
+        (views.region.contains_box(&grown)
             && all_hold(own.looked_at(self.own.as_ref()), quadrics, &grown))
             && self.terms.iter().enumerate().all(|(k, &i)| {
                 let view = &views.others[i as usize];

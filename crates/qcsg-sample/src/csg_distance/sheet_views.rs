@@ -167,7 +167,6 @@ impl SheetViews {
             (own_literals.iter().filter(|r| !r.same))
                 .map(|r| (slots.of(r), r.planar, false, r.on_sheet))
                 .collect::<Vec<_>>(),
-            region,
             (own_term.bounds, own_list.floor),
         );
         // The same literals recur in hundreds of other terms: each is compared with term `a`'s
@@ -224,7 +223,7 @@ impl SheetViews {
                         plain_literals.insert(index, literals[start..].to_vec());
                     }
                 }
-                TermView::new(literals, region, (*extent, list.floor))
+                TermView::new(literals, (*extent, list.floor))
             })
             .collect();
         let own_empty = own_empty
@@ -235,6 +234,7 @@ impl SheetViews {
         Self {
             plane,
             own,
+            region,
             quadrics: slots.quadrics,
             own_empty,
             others,

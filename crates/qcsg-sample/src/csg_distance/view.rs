@@ -86,11 +86,11 @@ pub(super) struct Literal {
 /// term `a` holds it too, and how it lies on the sheet.
 pub(super) type ViewLiteral = (u32, bool, bool, Option<Shared>);
 
-/// A term of the DNF as seen from one quadric: the literals that matter and the box.
+/// A term of the DNF as seen from one quadric: the literals that matter (the DNF's region,
+/// which bounds every term, is the sheet's: [`SheetViews::region`](super::distance::SheetViews::region)).
 #[derive(Clone, Debug)]
 pub(super) struct TermView {
     pub(super) literals: Vec<Literal>,
-    pub(super) bounds: Aabb,
     /// A box holding the whole term (for [`CsgDistance::near`](crate::csg_distance::CsgDistance::near)).
     pub(super) extent: Aabb,
     /// The least distance: `−reach` where literals that hold within `reach` of the sampled part
@@ -164,7 +164,6 @@ impl TermView {
     /// and how it lies on the sampled sheet ([`Literal::on_sheet`]).
     pub(super) fn new(
         literals: impl IntoIterator<Item = ViewLiteral>,
-        bounds: Aabb,
         (extent, floor): (Aabb, f64),
     ) -> Self {
         let literals: Vec<Literal> = literals
@@ -179,7 +178,6 @@ impl TermView {
         Self {
             extent,
             literals,
-            bounds,
             floor,
         }
     }
@@ -240,7 +238,7 @@ impl TermView {
     ) -> f64 {
         // The literals left out hold within `−floor − slack` of `p` (`p` is `slack` outside the
         // sampled part), and within `margin` of `p` for a box's ([`NearLiterals`]).
-        let d = box_distance(&self.bounds, p).max(self.floor + slack);
+        let d = values.region_distance.max(self.floor + slack);
         let at = (p, plane, own);
         match near {
             Some(near) => self.max_over(
@@ -285,9 +283,10 @@ impl TermView {
     }
 }
 
-/// The conservative distances of a sheet's quadrics at one point, each found once however many
-/// terms hold it.
+/// What every term's distance at one point shares: the distance to the DNF's region, and the
+/// conservative distances of the sheet's quadrics, each found once however many terms hold it.
 pub(super) struct LiteralValues<'a> {
+    region_distance: f64,
     quadrics: &'a [Quadric],
     point: DVec3,
     /// Per slot, the distance at `point` where found.
@@ -295,8 +294,9 @@ pub(super) struct LiteralValues<'a> {
 }
 
 impl<'a> LiteralValues<'a> {
-    pub(super) fn new(quadrics: &'a [Quadric], point: DVec3) -> Self {
+    pub(super) fn new(region: &Aabb, quadrics: &'a [Quadric], point: DVec3) -> Self {
         Self {
+            region_distance: box_distance(region, point),
             quadrics,
             point,
             found: vec![None; quadrics.len()],
