@@ -143,7 +143,8 @@ impl CsgDistance {
             let many = literals.len() > FEW_LITERALS && bounded;
             // All until one is left out.
             let mut kept: Option<Vec<u32>> = None;
-            for (k, &(i, o)) in literals.iter().enumerate() {
+            for (k, (i, o)) in literals.iter().enumerate() {
+                let i = *i;
                 let mut leave_out = || {
                     if kept.is_none() {
                         kept = Some((0..k as u32).collect());
@@ -153,7 +154,7 @@ impl CsgDistance {
                     let test = || {
                         // Made half-spaces have no entry, and are planes: no pencil needs them.
                         let axes = shapes.shapes.get(i as usize).map(|s| &s.axes);
-                        let pair = ((&q, shape), (&o, axes));
+                        let pair = ((&q, shape), (o, axes));
                         LiteralTests {
                             on_surface: bounded
                                 .then(|| on_surface(pair.0, pair.1, &grown))
@@ -170,7 +171,7 @@ impl CsgDistance {
                     };
                     if many
                         && *test.inside.get_or_insert_with(|| {
-                            quadric_box::classify(&o, &grown) == BoxClass::Inside
+                            quadric_box::classify(o, &grown) == BoxClass::Inside
                         })
                     {
                         leave_out();

@@ -154,8 +154,8 @@ impl SheetViews {
         let own_empty = excludes(own_list);
         let mut own_literals: Vec<Refined> = (own_list.iter())
             .filter(|l| !holds(l))
-            .map(|&(index, o)| {
-                let seen = look(index, &o);
+            .map(|(index, o)| {
+                let (index, seen) = (*index, look(*index, o));
                 refined(index, &seen, side_of(&seen, &own_term.bounds))
             })
             .collect();
@@ -186,9 +186,11 @@ impl SheetViews {
             *own_memo.entry((r.index, slot)).or_insert_with(test)
         };
         let own_sides = own_half_spaces(&own_literals, plane.as_ref());
-        // What each literal not cut to one side of a slab adds to another term's view, found
-        // once: the terms of a distributed difference hold the same few hundreds of times.
-        let mut plain_literals: FxHashMap<u32, Vec<ViewLiteral>> = FxHashMap::default();
+        // What each literal adds to another term's view, found once for the literal and the
+        // side of a slab the term holds (none, or one of its planes by its bits): the terms of
+        // a distributed difference hold the same few hundreds of times.
+        type ViewKey = (u32, Option<[u64; 4]>);
+        let mut view_literals: FxHashMap<ViewKey, Vec<ViewLiteral>> = FxHashMap::default();
         // Terms that the sheet excludes still abut others: their merged unions (made before)
         // may reach it.
         let others = terms
@@ -197,12 +199,18 @@ impl SheetViews {
             .filter(|(list, _)| !excludes(list))
             .map(|(list, extent)| {
                 let mut literals = Vec::with_capacity(list.len());
-                for &(index, o) in list.iter().filter(|l| !holds(l)) {
-                    let seen = look(index, &o);
+                for (index, o) in list.iter().filter(|l| !holds(l)) {
+                    let (index, seen) = (*index, look(*index, o));
                     let side = side_of(&seen, extent);
-                    // Not one side of a slab: the same in every term that holds it.
-                    let plain = side.is_none() && index != MADE_LITERAL;
-                    if let Some(done) = plain.then(|| plain_literals.get(&index)).flatten() {
+                    // The same in every term that holds it, or holds the same side of it.
+                    let key = (index != MADE_LITERAL).then(|| {
+                        let side = side.map(|h| {
+                            let n = h.normal;
+                            [n.x, n.y, n.z, h.offset].map(f64::to_bits)
+                        });
+                        (index, side)
+                    });
+                    if let Some(done) = key.and_then(|key| view_literals.get(&key)) {
                         literals.extend_from_slice(done);
                         continue;
                     }
@@ -219,8 +227,8 @@ impl SheetViews {
                             literals.push((slot, r.planar, false, r.on_sheet));
                         }
                     }
-                    if plain {
-                        plain_literals.insert(index, literals[start..].to_vec());
+                    if let Some(key) = key {
+                        view_literals.insert(key, literals[start..].to_vec());
                     }
                 }
                 TermView::new(literals, (*extent, list.floor))
