@@ -137,7 +137,6 @@ impl SheetViews {
             None => Refined {
                 index,
                 quadric: seen.refined,
-                plain: true,
                 planar: seen.planar,
                 parts: seen.parts.clone(),
                 same: seen.same,
@@ -165,25 +164,15 @@ impl SheetViews {
         let mut slots = Slots::default();
         let own = TermView::new(
             (own_literals.iter().filter(|r| !r.same))
-                .map(|r| (slots.of(r), r.planar, false, r.on_sheet))
+                .map(|r| (slots.of(r.quadric), r.planar, false, r.on_sheet))
                 .collect::<Vec<_>>(),
             (own_term.bounds, own_list.floor),
         );
-        // The same literals recur in hundreds of other terms: each is compared with term `a`'s
-        // once, by index and value (a one-sided slab differs in value from its slab).
-        let mut own_memo: FxHashMap<(u32, u32), bool> = FxHashMap::default();
-        let mut in_own_term = |r: &Refined, slot: u32| {
-            let test = || {
-                terms.own_far.binary_search(&r.index).is_ok()
-                    || own_literals.iter().any(|o| {
-                        o.index == r.index
-                            || o.quadric.approx_eq_up_to_scale(&r.quadric, SAME_QUADRIC)
-                    })
-            };
-            if r.index == MADE_LITERAL {
-                return test();
-            }
-            *own_memo.entry((r.index, slot)).or_insert_with(test)
+        let in_own_term = |r: &Refined| {
+            terms.own_far.binary_search(&r.index).is_ok()
+                || own_literals.iter().any(|o| {
+                    o.index == r.index || o.quadric.approx_eq_up_to_scale(&r.quadric, SAME_QUADRIC)
+                })
         };
         let own_sides = own_half_spaces(&own_literals, plane.as_ref());
         // What each literal adds to another term's view, found once for the literal and the
@@ -217,11 +206,11 @@ impl SheetViews {
                     let r = refined(index, &seen, side);
                     let start = literals.len();
                     if !r.complement {
-                        let slot = slots.of(&r);
-                        if in_own_term(&r, slot) {
+                        let slot = slots.of(r.quadric);
+                        if in_own_term(&r) {
                             literals.push((slot, r.planar, true, r.on_sheet));
                         } else if let Some(halves) = without_own_sides(&r, &own_sides, tolerance) {
-                            let made = halves.into_iter().map(|h| slots.by_value(h));
+                            let made = halves.into_iter().map(|h| slots.of(h));
                             literals.extend(made.map(|slot| (slot, true, false, None)));
                         } else {
                             literals.push((slot, r.planar, false, r.on_sheet));
@@ -282,9 +271,6 @@ pub(super) struct Refined {
     /// Its index in the DNF ([`MADE_LITERAL`] if made here).
     pub(super) index: u32,
     pub(super) quadric: Quadric,
-    /// Whether `quadric` is the literal as the sheet sees it ([`Seen::refined`]), the same for
-    /// every term that holds it.
-    pub(super) plain: bool,
     pub(super) planar: bool,
     pub(super) parts: Option<PlanarParts>,
     pub(super) same: bool,
@@ -305,7 +291,6 @@ impl Refined {
         Self {
             index,
             quadric: Quadric::half_space(half.point, half.normal).unwrap_or(outside),
-            plain: false,
             planar: true,
             parts: Some((vec![half], false)),
             same: false,
@@ -316,30 +301,16 @@ impl Refined {
 }
 
 /// The distinct quadrics of a sheet's views ([`SheetViews::quadrics`]), each given its slot
-/// once: by index for a literal as the sheet sees it, else by exact value.
+/// once, by exact value.
 #[derive(Default)]
 struct Slots {
-    by_index: FxHashMap<u32, u32>,
     by_value: FxHashMap<[u64; 13], u32>,
     quadrics: Vec<Quadric>,
 }
 
 impl Slots {
-    /// The slot of `literal`'s quadric.
-    fn of(&mut self, literal: &Refined) -> u32 {
-        if !literal.plain || literal.index == MADE_LITERAL {
-            return self.by_value(literal.quadric);
-        }
-        if let Some(&slot) = self.by_index.get(&literal.index) {
-            return slot;
-        }
-        let slot = self.by_value(literal.quadric);
-        self.by_index.insert(literal.index, slot);
-        slot
-    }
-
     /// The slot of `quadric`, by the bits of its coefficients and origin.
-    fn by_value(&mut self, quadric: Quadric) -> u32 {
+    fn of(&mut self, quadric: Quadric) -> u32 {
         let mut bits = [0; 13];
         let values = quadric.coefficients().into_iter();
         let values = values.chain(quadric.origin().to_array());
