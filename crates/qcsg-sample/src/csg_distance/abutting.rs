@@ -11,7 +11,8 @@ use qcsg_quadric::Quadric;
 /// parts, where the pairs would outnumber the terms by far.
 pub(super) const MAX_MERGED_PER_TERM: usize = 4;
 
-/// Index given to literals made here (half-spaces of a slab): no literal of the DNF has it.
+/// Index given to literals made here (half-spaces of a slab) until
+/// [`Shapes::new`](super::tangency::Shapes::new) numbers them after the DNF's quadrics.
 pub(super) const MADE_LITERAL: u32 = u32::MAX;
 
 /// The literals of a term, each with its index in the DNF's quadric table.

@@ -2,7 +2,7 @@
 //! the rules of [`super`] applied, narrowed to a box ([`CsgDistance::near`]) and queried at
 //! points of the sampled quadric.
 
-use super::abutting::{MADE_LITERAL, MAX_MERGED_PER_TERM};
+use super::abutting::MAX_MERGED_PER_TERM;
 use super::half_spaces::HalfSpace;
 use super::near::{NearDistance, box_distance};
 use super::surface_sign::on_surface;
@@ -14,7 +14,7 @@ use super::view::{
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
-use rustc_hash::FxHashMap;
+use std::cell::Cell;
 
 /// `d_{Q_ab}(S, ·)` for one literal of one term, with the DNF's quadrics copied in.
 #[derive(Clone, Debug)]
@@ -90,13 +90,14 @@ impl CsgDistance {
         // of them follows. Terms holding the sampled quadric are left out ("Shared surfaces"),
         // and so are unions with them or with term `a`.
         // By index, once each: the same few literals recur in hundreds of terms.
-        let same_by_index = std::cell::RefCell::new(FxHashMap::default());
+        let same_by_index = vec![Cell::new(None); shapes.literal_count()];
         let same = |i: u32, o: &Quadric| {
-            let test = || i == quadric || q.approx_eq_up_to_scale(o, SAME_QUADRIC);
-            if i == MADE_LITERAL {
-                return test();
-            }
-            *same_by_index.borrow_mut().entry(i).or_insert_with(test)
+            let known = &same_by_index[i as usize];
+            known.get().unwrap_or_else(|| {
+                let same = i == quadric || q.approx_eq_up_to_scale(o, SAME_QUADRIC);
+                known.set(Some(same));
+                same
+            })
         };
         let kept: Vec<u32> = near
             .into_iter()
@@ -125,7 +126,6 @@ impl CsgDistance {
             .into_iter()
             .map(|m| &shapes.merged[m as usize])
             .take(limit)
-            .filter(|(l, _)| !l.iter().any(|(i, o)| same(*i, o)))
             .map(|(literals, (i, k))| {
                 let bounds = dnf.terms[*i].bounds.union(&dnf.terms[*k].bounds);
                 (&literals[..], bounds)
@@ -138,7 +138,7 @@ impl CsgDistance {
         let bounded = !grown.is_empty() && grown.is_bounded();
         // The same few quadrics recur in hundreds of terms (a difference of unions distributed
         // into a DNF): each literal's tests against the box are made once per patch, by index.
-        let mut tests: FxHashMap<u32, LiteralTests> = FxHashMap::default();
+        let mut tests: Vec<Option<LiteralTests>> = vec![None; shapes.literal_count()];
         let mut near_literals = |literals: &'a [(u32, Quadric)]| {
             let many = literals.len() > FEW_LITERALS && bounded;
             // All until one is left out.
@@ -152,7 +152,7 @@ impl CsgDistance {
                 };
                 if i != quadric {
                     let test = || {
-                        // Made half-spaces have no entry, and are planes: no pencil needs them.
+                        // Made half-spaces are planes: no pencil needs their axes.
                         let axes = shapes.shapes.get(i as usize).map(|s| &s.axes);
                         let pair = ((&q, shape), (o, axes));
                         LiteralTests {
@@ -162,13 +162,7 @@ impl CsgDistance {
                             inside: None,
                         }
                     };
-                    let mut made;
-                    let test = if i == MADE_LITERAL {
-                        made = test();
-                        &mut made
-                    } else {
-                        tests.entry(i).or_insert_with(test)
-                    };
+                    let test = tests[i as usize].get_or_insert_with(test);
                     if many
                         && *test.inside.get_or_insert_with(|| {
                             quadric_box::classify(o, &grown) == BoxClass::Inside
@@ -200,19 +194,19 @@ impl CsgDistance {
         let own = near_literals(&shapes.terms[term as usize])?;
         let mut own_far = own.left_out().map(|(i, _)| *i).collect::<Vec<u32>>();
         own_far.sort_unstable();
-        let others: Vec<_> = kept
-            .iter()
+        let mut near_others = 0;
+        let mut others = Vec::with_capacity(kept.len() + merged.len());
+        let terms_and_unions = (kept.iter())
             .map(|&i| (&shapes.terms[i as usize][..], dnf.terms[i as usize].bounds))
-            .chain(merged)
-            .collect();
-        let near_others = others.len();
+            .chain(merged.filter(|(l, _)| !l.iter().any(|(i, o)| same(*i, o))));
+        for (literals, bounds) in terms_and_unions {
+            near_others += 1;
+            others.extend(near_literals(literals).map(|list| (list, bounds)));
+        }
         let terms = NearTerms {
             own,
             own_far,
-            others: others
-                .into_iter()
-                .filter_map(|(literals, bounds)| Some((near_literals(literals)?, bounds)))
-                .collect(),
+            others,
         };
         let terms_left_out = terms_left_out || terms.others.len() < near_others;
         let planes: Vec<Option<HalfSpace>> = match &shape.planar {

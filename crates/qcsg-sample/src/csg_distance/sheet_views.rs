@@ -2,7 +2,6 @@
 //! DNF classified against the sheet once ([`Seen`]), and each term's literals refined by the
 //! rules for shared, tangent and sectioned planes ([`Refined`]).
 
-use super::abutting::MADE_LITERAL;
 use super::distance::SheetViews;
 use super::half_spaces::{HalfSpace, PlanarParts};
 use super::identity::SheetIdentity;
@@ -42,23 +41,31 @@ impl SheetViews {
         // Each quadric of the DNF in these terms as a literal seen from the sheet, found once.
         let own_list = &terms.own;
         // Each once: the terms of a distributed difference hold the same few hundreds of times.
-        let mut in_terms = vec![false; dnf.quadrics.len()];
+        let mut in_terms = vec![false; shapes.literal_count()];
         let lists = std::iter::once(own_list).chain(terms.others.iter().map(|(list, _)| list));
         for (i, _) in lists.flat_map(NearList::iter) {
             if let Some(flag) = in_terms.get_mut(*i as usize) {
                 *flag = true;
             }
         }
-        let seen: FxHashMap<u32, Seen> = (0..in_terms.len() as u32)
-            .filter(|&i| in_terms[i as usize])
-            .filter_map(|i| {
-                Some((
-                    i,
-                    dnf.quadrics.get(i as usize)?,
-                    shapes.shapes.get(i as usize)?,
-                ))
+        // A literal made for a merged term is looked at on its own.
+        let made = |shape: &Shape, o: &Quadric| Seen {
+            contact: contact.of(shape),
+            same: same_value(o),
+            complement: complement_value(o),
+            refined: *o,
+            planar: shape.is_planar,
+            parts: shape.planar.clone(),
+            on_sheet: None,
+        };
+        let mut seen: Vec<Option<Seen>> = (0..dnf.quadrics.len() as u32)
+            .map(|i| {
+                let entry = dnf.quadrics.get(i as usize)?;
+                let shape = shapes.shapes.get(i as usize)?;
+                in_terms[i as usize].then_some((i, entry, shape))
             })
-            .map(|(i, entry, shape)| {
+            .map(|found| {
+                let (i, entry, shape) = found?;
                 let o = entry.quadric;
                 let on_sheet = identity.on_sheet(i);
                 let contact = contact.of_identified(shape, on_sheet);
@@ -89,31 +96,18 @@ impl SheetViews {
                     parts,
                     on_sheet,
                 };
-                (i, seen)
+                Some(seen)
             })
             .collect();
-        // A literal made here (merged terms) is looked at on its own.
-        let made = |o: &Quadric| {
-            let shape = Shape::of(o);
-            Seen {
-                contact: contact.of(&shape),
-                same: same_value(o),
-                complement: complement_value(o),
-                refined: *o,
-                planar: shape.is_planar,
-                parts: shape.planar,
-                on_sheet: None,
-            }
-        };
-        let look = |i: u32, o: &Quadric| -> std::borrow::Cow<'_, Seen> {
-            match seen.get(&i) {
-                Some(s) if i != MADE_LITERAL => std::borrow::Cow::Borrowed(s),
-                _ => std::borrow::Cow::Owned(made(o)),
-            }
-        };
+        let made_in_terms = &in_terms[seen.len()..];
+        seen.extend((shapes.made.iter().zip(made_in_terms)).map(|((o, shape), &in_terms)| {
+            in_terms.then(|| made(shape, o))
+        }));
+        // Every literal of the lists was flagged in `in_terms` above.
+        let look = |i: u32| seen[i as usize].as_ref().expect("each listed literal is seen");
         // The literals of a term as the sheet sees them leave out those that hold on all of it.
         let holds =
-            |literal: &&(u32, Quadric)| look(literal.0, &literal.1).contact == Contact::Holds;
+            |literal: &&(u32, Quadric)| look(literal.0).contact == Contact::Holds;
         // Those that cross it replaced by their section by the plane where that is planar, and
         // the outside of a slab by one half-space where the term lies beyond the slab's other
         // plane (`bounds` holds the term). Each keeps its index: another term holding it holds
@@ -148,13 +142,13 @@ impl SheetViews {
         // interior point on it: term `a` samples nothing there, another term is left out.
         let excludes = |list: &NearList<'_>| {
             list.iter()
-                .any(|(i, o)| look(*i, o).contact == Contact::Excludes)
+                .any(|(i, _)| look(*i).contact == Contact::Excludes)
         };
         let own_empty = excludes(own_list);
         let mut own_literals: Vec<Refined> = (own_list.iter())
             .filter(|l| !holds(l))
-            .map(|(index, o)| {
-                let (index, seen) = (*index, look(*index, o));
+            .map(|(index, _)| {
+                let (index, seen) = (*index, look(*index));
                 refined(index, &seen, side_of(&seen, &own_term.bounds))
             })
             .collect();
@@ -188,18 +182,16 @@ impl SheetViews {
             .filter(|(list, _)| !excludes(list))
             .map(|(list, extent)| {
                 let mut literals = Vec::with_capacity(list.len());
-                for (index, o) in list.iter().filter(|l| !holds(l)) {
-                    let (index, seen) = (*index, look(*index, o));
+                for (index, _) in list.iter().filter(|l| !holds(l)) {
+                    let (index, seen) = (*index, look(*index));
                     let side = side_of(&seen, extent);
                     // The same in every term that holds it, or holds the same side of it.
-                    let key = (index != MADE_LITERAL).then(|| {
-                        let side = side.map(|h| {
-                            let n = h.normal;
-                            [n.x, n.y, n.z, h.offset].map(f64::to_bits)
-                        });
-                        (index, side)
+                    let side_bits = side.map(|h| {
+                        let n = h.normal;
+                        [n.x, n.y, n.z, h.offset].map(f64::to_bits)
                     });
-                    if let Some(done) = key.and_then(|key| view_literals.get(&key)) {
+                    let key = (index, side_bits);
+                    if let Some(done) = view_literals.get(&key) {
                         literals.extend_from_slice(done);
                         continue;
                     }
@@ -216,9 +208,7 @@ impl SheetViews {
                             literals.push((slot, r.planar, false, r.on_sheet));
                         }
                     }
-                    if let Some(key) = key {
-                        view_literals.insert(key, literals[start..].to_vec());
-                    }
+                    view_literals.insert(key, literals[start..].to_vec());
                 }
                 TermView::new(literals, (*extent, list.floor))
             })
@@ -268,7 +258,7 @@ pub(super) struct SeenFromSheet {
 
 /// A literal of a term as the view holds it.
 pub(super) struct Refined {
-    /// Its index in the DNF ([`MADE_LITERAL`] if made here).
+    /// Its index among the DNF's quadrics and the literals made for merged terms.
     pub(super) index: u32,
     pub(super) quadric: Quadric,
     pub(super) planar: bool,

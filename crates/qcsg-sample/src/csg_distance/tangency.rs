@@ -3,7 +3,7 @@
 //! found once per quadric of the DNF ([`Shapes`]), and which literals touch the sampled surface
 //! inside its term's box ([`Tangency`]).
 
-use super::abutting::{MAX_MERGED_PER_TERM, TermLiterals, abutting_unions};
+use super::abutting::{MADE_LITERAL, MAX_MERGED_PER_TERM, TermLiterals, abutting_unions};
 use super::half_spaces::{HalfSpace, PlanarParts, planar_parts};
 use super::sheet_views::SeenFromSheet;
 use super::view::{PARALLEL, Shared};
@@ -151,7 +151,10 @@ pub(crate) struct Shapes {
     pub(super) terms: Vec<TermLiterals>,
     /// The terms' boxes, as the DNF has them.
     pub(super) boxes: BoxIndex,
+    /// The literals made for them (half-spaces of slabs) are numbered after the DNF's
+    /// quadrics, each once: `made` holds them with their shapes, in that order.
     pub(super) merged: Vec<(TermLiterals, (usize, usize))>,
+    pub(super) made: Vec<(Quadric, Shape)>,
     /// For each term, the indices in `merged` of its unions.
     pub(super) merged_with: Vec<Vec<u32>>,
     /// Whether each quadric is a literal of more than one term.
@@ -183,7 +186,14 @@ impl Shapes {
         let boxes = BoxIndex::new(dnf.terms.iter().map(|t| t.bounds).collect());
         // Each distance keeps at most `MAX_MERGED_PER_TERM` unions per other term, in this order.
         let limit = MAX_MERGED_PER_TERM * terms.len().max(1);
-        let merged = abutting_unions(&terms, &boxes, tolerance, limit);
+        let mut merged = abutting_unions(&terms, &boxes, tolerance, limit);
+        let mut made = Vec::new();
+        for (literals, _) in &mut merged {
+            for (index, quadric) in literals.iter_mut().filter(|l| l.0 == MADE_LITERAL) {
+                *index = (dnf.quadrics.len() + made.len()) as u32;
+                made.push((*quadric, Shape::of(quadric)));
+            }
+        }
         let mut merged_with = vec![Vec::new(); terms.len()];
         for (m, (_, (i, k))) in merged.iter().enumerate() {
             merged_with[*i].push(m as u32);
@@ -202,6 +212,7 @@ impl Shapes {
             terms,
             boxes,
             merged,
+            made,
             merged_with,
             shared: terms_of.into_iter().map(|count| count > 1).collect(),
             seen_from_sheets: Mutex::default(),
@@ -211,6 +222,12 @@ impl Shapes {
     /// The shape of a quadric of the DNF (checked by the caller).
     pub(super) fn of(&self, quadric: u32) -> &Shape {
         &self.shapes[quadric as usize]
+    }
+
+    /// How many literals there are, the DNF's quadrics and those made for merged terms: each
+    /// literal's index is below this.
+    pub(super) fn literal_count(&self) -> usize {
+        self.shapes.len() + self.made.len()
     }
 
     /// What sheet `sheet` of `quadric` sees of `literal`: whether it is the sampled quadric or
