@@ -14,7 +14,8 @@ use super::view::{
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
-use std::cell::Cell;
+use rustc_hash::FxHashMap;
+use std::cell::RefCell;
 
 /// `d_{Q_ab}(S, ·)` for one literal of one term, with the DNF's quadrics copied in.
 #[derive(Clone, Debug)]
@@ -90,14 +91,10 @@ impl CsgDistance {
         // of them follows. Terms holding the sampled quadric are left out ("Shared surfaces"),
         // and so are unions with them or with term `a`.
         // By index, once each: the same few literals recur in hundreds of terms.
-        let same_by_index = vec![Cell::new(None); shapes.literal_count()];
+        let same_by_index = RefCell::new(FxHashMap::default());
         let same = |i: u32, o: &Quadric| {
-            let known = &same_by_index[i as usize];
-            known.get().unwrap_or_else(|| {
-                let same = i == quadric || q.approx_eq_up_to_scale(o, SAME_QUADRIC);
-                known.set(Some(same));
-                same
-            })
+            let test = || i == quadric || q.approx_eq_up_to_scale(o, SAME_QUADRIC);
+            *same_by_index.borrow_mut().entry(i).or_insert_with(test)
         };
         let kept: Vec<u32> = near
             .into_iter()
@@ -138,7 +135,7 @@ impl CsgDistance {
         let bounded = !grown.is_empty() && grown.is_bounded();
         // The same few quadrics recur in hundreds of terms (a difference of unions distributed
         // into a DNF): each literal's tests against the box are made once per patch, by index.
-        let mut tests: Vec<Option<LiteralTests>> = vec![None; shapes.literal_count()];
+        let mut tests: FxHashMap<u32, LiteralTests> = FxHashMap::default();
         let mut near_literals = |literals: &'a [(u32, Quadric)]| {
             let many = literals.len() > FEW_LITERALS && bounded;
             // All until one is left out.
@@ -162,7 +159,7 @@ impl CsgDistance {
                             inside: None,
                         }
                     };
-                    let test = tests[i as usize].get_or_insert_with(test);
+                    let test = tests.entry(i).or_insert_with(test);
                     if many
                         && *test.inside.get_or_insert_with(|| {
                             quadric_box::classify(o, &grown) == BoxClass::Inside

@@ -41,15 +41,45 @@ impl SheetViews {
         // Each quadric of the DNF in these terms as a literal seen from the sheet, found once.
         let own_list = &terms.own;
         // Each once: the terms of a distributed difference hold the same few hundreds of times.
-        let mut in_terms = vec![false; shapes.literal_count()];
+        // Gathered from the lists, so that the work stays that of the terms near the patch
+        // however many quadrics the DNF has.
         let lists = std::iter::once(own_list).chain(terms.others.iter().map(|(list, _)| list));
-        for (i, _) in lists.flat_map(NearList::iter) {
-            if let Some(flag) = in_terms.get_mut(*i as usize) {
-                *flag = true;
+        let mut listed: Vec<u32> = lists.flat_map(NearList::iter).map(|(i, _)| *i).collect();
+        listed.sort_unstable();
+        listed.dedup();
+        // A literal of the DNF.
+        let of_dnf = |i: u32, o: Quadric, shape: &Shape| {
+            let on_sheet = identity.on_sheet(i);
+            let contact = contact.of_identified(shape, on_sheet);
+            let SeenFromSheet {
+                same,
+                complement,
+                section,
+            } = shapes.seen_from_sheet(
+                (quadric, sheet, i),
+                || match identity.identity(i) {
+                    Some((same, complement)) => (i == quadric || same, complement),
+                    None => (i == quadric || same_value(&o), complement_value(&o)),
+                },
+                |same, complement| !(same || complement) && contact == Contact::Crosses,
+                || plane.and_then(|h| section(&o, &h)),
+            );
+            let (refined, planar, parts) = match section.flatten() {
+                Some((section, parts)) => (section, parts.is_some(), parts),
+                None => (o, shape.is_planar, shape.planar.clone()),
+            };
+            Seen {
+                contact,
+                same,
+                complement,
+                refined,
+                planar,
+                parts,
+                on_sheet,
             }
-        }
+        };
         // A literal made for a merged term is looked at on its own.
-        let made = |shape: &Shape, o: &Quadric| Seen {
+        let made = |o: &Quadric, shape: &Shape| Seen {
             contact: contact.of(shape),
             same: same_value(o),
             complement: complement_value(o),
@@ -58,56 +88,23 @@ impl SheetViews {
             parts: shape.planar.clone(),
             on_sheet: None,
         };
-        let mut seen: Vec<Option<Seen>> = (0..dnf.quadrics.len() as u32)
-            .map(|i| {
-                let entry = dnf.quadrics.get(i as usize)?;
-                let shape = shapes.shapes.get(i as usize)?;
-                in_terms[i as usize].then_some((i, entry, shape))
-            })
-            .map(|found| {
-                let (i, entry, shape) = found?;
-                let o = entry.quadric;
-                let on_sheet = identity.on_sheet(i);
-                let contact = contact.of_identified(shape, on_sheet);
-                let SeenFromSheet {
-                    same,
-                    complement,
-                    section,
-                } = shapes.seen_from_sheet(
-                    (quadric, sheet, i),
-                    || match identity.identity(i) {
-                        Some((same, complement)) => (i == quadric || same, complement),
-                        None => (i == quadric || same_value(&o), complement_value(&o)),
-                    },
-                    |same, complement| !(same || complement) && contact == Contact::Crosses,
-                    || plane.and_then(|h| section(&o, &h)),
-                );
-                let section = section.flatten();
-                let (refined, planar, parts) = match section {
-                    Some((section, parts)) => (section, parts.is_some(), parts),
-                    None => (o, shape.is_planar, shape.planar.clone()),
+        let seen: FxHashMap<u32, Seen> = (listed.into_iter())
+            .filter_map(|i| {
+                let seen = match (dnf.quadrics.get(i as usize), shapes.shapes.get(i as usize)) {
+                    (Some(entry), Some(shape)) => of_dnf(i, entry.quadric, shape),
+                    _ => {
+                        let made_index = (i as usize).checked_sub(shapes.shapes.len())?;
+                        let (o, shape) = shapes.made.get(made_index)?;
+                        made(o, shape)
+                    }
                 };
-                let seen = Seen {
-                    contact,
-                    same,
-                    complement,
-                    refined,
-                    planar,
-                    parts,
-                    on_sheet,
-                };
-                Some(seen)
+                Some((i, seen))
             })
             .collect();
-        let made_in_terms = &in_terms[seen.len()..];
-        seen.extend((shapes.made.iter().zip(made_in_terms)).map(|((o, shape), &in_terms)| {
-            in_terms.then(|| made(shape, o))
-        }));
-        // Every literal of the lists was flagged in `in_terms` above.
-        let look = |i: u32| seen[i as usize].as_ref().expect("each listed literal is seen");
+        // Every literal of the lists is seen.
+        let look = |i: u32| seen.get(&i).expect("each listed literal is seen");
         // The literals of a term as the sheet sees them leave out those that hold on all of it.
-        let holds =
-            |literal: &&(u32, Quadric)| look(literal.0).contact == Contact::Holds;
+        let holds = |literal: &&(u32, Quadric)| look(literal.0).contact == Contact::Holds;
         // Those that cross it replaced by their section by the plane where that is planar, and
         // the outside of a slab by one half-space where the term lies beyond the slab's other
         // plane (`bounds` holds the term). Each keeps its index: another term holding it holds

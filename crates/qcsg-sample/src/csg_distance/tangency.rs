@@ -224,12 +224,6 @@ impl Shapes {
         &self.shapes[quadric as usize]
     }
 
-    /// How many literals there are, the DNF's quadrics and those made for merged terms: each
-    /// literal's index is below this.
-    pub(super) fn literal_count(&self) -> usize {
-        self.shapes.len() + self.made.len()
-    }
-
     /// What sheet `sheet` of `quadric` sees of `literal`: whether it is the sampled quadric or
     /// its complement (`identity`), and its section by the sheet (`section`) when `wanted`.
     /// A quadric that several terms hold (a DNF expanded from unions and differences repeats
