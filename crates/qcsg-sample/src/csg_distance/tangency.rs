@@ -139,6 +139,12 @@ impl Shape {
     }
 }
 
+/// Most entries [`Shapes::seen_from_sheet`] keeps. They save a scene of a few hundred terms
+/// (a difference of unions distributed) a tenth of its sampling, while a scene of thousands
+/// of small terms (a line of text) would keep a million, most never asked for again, and
+/// spend more on their memory than they save.
+const MAX_SEEN_FROM_SHEETS: usize = 1 << 16;
+
 /// What every distance of a DNF shares, found once ([`CsgDistance::with_shapes`](crate::csg_distance::CsgDistance::with_shapes)): the
 /// [`Shape`] of each quadric, each term's literals, and the abutting unions of its terms
 /// ("Abutting terms"), each with the indices of its two terms.
@@ -230,6 +236,7 @@ impl Shapes {
     /// its literals in many terms) is sampled once per term, and each time its sheets would
     /// find the same sections (eigen decompositions of each literal): for such quadrics they
     /// are kept, and a view that wants a section where an earlier one did not makes it then.
+    /// At most [`MAX_SEEN_FROM_SHEETS`] are kept: past that, the rest are found each time.
     pub(super) fn seen_from_sheet(
         &self,
         (quadric, sheet, literal): (u32, u32, u32),
@@ -265,7 +272,10 @@ impl Shapes {
         let new = known.is_none();
         let (seen, filled) = complete(known);
         if new || filled {
-            lock().insert(key, seen.clone());
+            let mut kept = lock();
+            if !new || kept.len() < MAX_SEEN_FROM_SHEETS {
+                kept.insert(key, seen.clone());
+            }
         }
         seen
     }
