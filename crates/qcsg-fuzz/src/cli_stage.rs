@@ -96,7 +96,7 @@ pub fn run(qcsg: &Path, name: &Path, bytes: &[u8], timeout: Duration) -> Result<
     let stdout = child.stdout.take().map(drain);
     let stderr = child.stderr.take().map(drain);
 
-    // The binary's own CPU time against the budget, as the supervisor watches the worker.
+    // The binary's work against the budget, as the supervisor watches the worker.
     let watch = Watch::start(child.id(), timeout);
     let mut pause = Duration::from_millis(1);
     let status = loop {

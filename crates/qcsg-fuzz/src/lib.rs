@@ -8,8 +8,9 @@
 //! ([`process`], [`worker`]), one per core; a worker runs each input through the pipeline
 //! ([`stages`]): parse, format, check, evaluate, DNF, the `compile --emit` printers, sample,
 //! ray trace, a language server edit session ([`lsp_session`]) and `qcsg check` through the
-//! binary ([`cli_stage`]). Panics are recorded ([`panics`]); a stage over its time budget (CPU
-//! time, with a cap on wall time: [`cpu_clock`]) is a hang and its worker is killed; the heap's peak per stage is measured by a counting allocator
+//! binary ([`cli_stage`]). Panics are recorded ([`panics`]); a stage over its time budget (the
+//! wall time of its work on an idle machine, with a cap on wall time: [`cpu_clock`]) is a hang
+//! and its worker is killed; the heap's peak per stage is measured by a counting allocator
 //! and the worker's address space is limited, so a runaway allocation fails inside the worker.
 //! Each distinct failure is minimised ([`minimise`]) and written with a report ([`report`]).
 //!

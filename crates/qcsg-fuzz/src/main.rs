@@ -42,7 +42,7 @@ struct Args {
     workers: Option<NonZeroUsize>,
 
     /// Time budget of one stage, in seconds (a language server session gets three times as
-    /// much): a stage over it is a hang.
+    /// much): a stage whose work would take longer on an idle machine is a hang.
     #[arg(long, value_name = "S", default_value_t = 5.0)]
     timeout: f64,
 

@@ -2,11 +2,11 @@
 //!
 //! [`WorkerProcess::run`] sends a request and reads the worker's events on a reader thread. The
 //! watchdog is the wait for the next event: a stage that has not ended within its time budget
-//! (CPU time of the worker, with a cap on wall time: [`crate::cpu_clock`]) is a hang, and the
-//! worker is killed. A worker whose output ends before [`Event::Done`] died
-//! in the stage it had started; its exit status and the end of its standard error (kept by a
-//! second thread) tell an allocation failure, a stack overflow or another crash apart. Either
-//! way a fresh worker is started for the next input.
+//! (the wall time its work would take on an idle machine, from the worker's CPU times, with a cap
+//! on wall time: [`crate::cpu_clock`]) is a hang, and the worker is killed. A worker whose
+//! output ends before [`Event::Done`] died in the stage it had started; its exit status and the
+//! end of its standard error (kept by a second thread) tell an allocation failure, a stack
+//! overflow or another crash apart. Either way a fresh worker is started for the next input.
 
 use std::collections::VecDeque;
 use std::io::{self, BufRead, BufReader, Read};
@@ -185,10 +185,14 @@ impl WorkerProcess {
                 Verdict::Over => {
                     let stage = current.unwrap_or(Stage::Parse);
                     let seconds = (budget * budget_factor(stage)).as_secs_f64();
-                    let used = watch.cpu_used().map_or_else(String::new, |used| {
+                    let used = watch.work().map_or_else(String::new, |work| {
                         format!(
-                            " ({:.1} s of the worker's CPU time in {:.1} s of wall time)",
-                            used.as_secs_f64(),
+                            " (work of at least {:.1} s of wall time on an idle machine: {:.1} s \
+                             of the worker's CPU time, {:.1} s on its busiest thread; in {:.1} s \
+                             of wall time)",
+                            work.least_wall().as_secs_f64(),
+                            work.total.as_secs_f64(),
+                            work.busiest.as_secs_f64(),
                             watch.elapsed().as_secs_f64()
                         )
                     });

@@ -20,6 +20,23 @@ pub fn own_cpu_time() -> Option<Duration> {
     parse_stat(&std::fs::read_to_string("/proc/self/stat").ok()?)
 }
 
+/// The CPU time each live thread of process `pid` has used so far, by thread id, if `/proc`
+/// says (`/proc/PID/task/TID/stat`). Threads that ended are not listed; their time is in
+/// [`cpu_time`].
+pub fn thread_cpu_times(pid: u32) -> Option<Vec<(u32, Duration)>> {
+    let tasks = std::fs::read_dir(format!("/proc/{pid}/task")).ok()?;
+    let mut times: Vec<(u32, Duration)> = tasks
+        .filter_map(|task| {
+            let task = task.ok()?;
+            let tid = task.file_name().to_str()?.parse().ok()?;
+            let stat = std::fs::read_to_string(task.path().join("stat")).ok()?;
+            Some((tid, parse_stat(&stat)?))
+        })
+        .collect();
+    times.sort_unstable_by_key(|&(tid, _)| tid);
+    Some(times)
+}
+
 /// `utime + stime` of a `/proc/PID/stat` line.
 fn parse_stat(stat: &str) -> Option<Duration> {
     // The command name (field 2) is in parentheses and may hold spaces: fields count from after
@@ -42,6 +59,19 @@ mod tests {
         let stat = "42 (a b) c) S 1 42 42 0 -1 4194560 100 0 0 0 250 75 0 0 20 0 1 0";
         assert_eq!(parse_stat(stat), Some(Duration::from_millis(3250)));
         assert_eq!(parse_stat("42 (x"), None);
+    }
+
+    #[test]
+    fn this_thread_is_among_the_threads_and_no_busier_than_the_process() {
+        let pid = std::process::id();
+        let (Some(threads), Some(total)) = (thread_cpu_times(pid), cpu_time(pid)) else {
+            return; // no /proc here
+        };
+        assert!(!threads.is_empty());
+        let sum: Duration = threads.iter().map(|(_, t)| *t).sum();
+        // Read a moment before the process's total; a tick of rounding per thread.
+        let slack = Duration::from_millis(10) * threads.len() as u32;
+        assert!(sum <= total + slack, "{sum:?} over {total:?}");
     }
 
     #[test]
