@@ -146,7 +146,7 @@ impl SheetViews {
             .filter(|l| !holds(l))
             .map(|(index, _)| {
                 let (index, seen) = (*index, look(*index));
-                refined(index, &seen, side_of(&seen, &own_term.bounds))
+                refined(index, seen, side_of(seen, &own_term.bounds))
             })
             .collect();
         let sides_empty = plane.is_some_and(|plane| {
@@ -181,7 +181,7 @@ impl SheetViews {
                 let mut literals = Vec::with_capacity(list.len());
                 for (index, _) in list.iter().filter(|l| !holds(l)) {
                     let (index, seen) = (*index, look(*index));
-                    let side = side_of(&seen, extent);
+                    let side = side_of(seen, extent);
                     // The same in every term that holds it, or holds the same side of it.
                     let side_bits = side.map(|h| {
                         let n = h.normal;
@@ -192,7 +192,7 @@ impl SheetViews {
                         literals.extend_from_slice(done);
                         continue;
                     }
-                    let r = refined(index, &seen, side);
+                    let r = refined(index, seen, side);
                     let start = literals.len();
                     if !r.complement {
                         let slot = slots.of(r.quadric);
