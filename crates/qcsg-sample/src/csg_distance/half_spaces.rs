@@ -1,7 +1,6 @@
 //! Planar literals as half-spaces ([`HalfSpace`]): a half-space's one, a slab's two, and a
 //! slab's outside as the complement of its pair.
 
-use super::view::is_planar;
 use qcsg_quadric::{DVec3, Quadric, QuadricKind};
 
 /// A half-space `{x : normal · x ≤ offset}`, `normal` a unit vector.
@@ -15,12 +14,17 @@ pub(super) struct HalfSpace {
 /// The half-spaces whose intersection is the solid of `q`: one for a half-space, two for a slab;
 /// `None` for anything else (the outside of a slab is a union, not an intersection).
 pub(super) fn half_spaces(q: &Quadric) -> Option<Vec<HalfSpace>> {
+    half_spaces_of_kind(q, q.kind())
+}
+
+/// [`half_spaces`] of `q`, whose kind is `kind`.
+fn half_spaces_of_kind(q: &Quadric, kind: QuadricKind) -> Option<Vec<HalfSpace>> {
     let make = |normal: DVec3, point: DVec3| HalfSpace {
         normal,
         offset: normal.dot(point),
         point,
     };
-    match q.kind() {
+    match kind {
         QuadricKind::Plane => {
             let (low, high) = q.eigenvalue_bounds();
             let normal = q.linear().try_normalize()?;
@@ -56,10 +60,12 @@ pub(super) type PlanarParts = (Vec<HalfSpace>, bool);
 /// The half-spaces of a planar literal ([`half_spaces`]), or those of the slab whose outside
 /// it is, flagged `true`.
 pub(super) fn planar_parts(q: &Quadric) -> Option<PlanarParts> {
-    if !is_planar(q) {
+    // Its kind once: an eigen decomposition.
+    let kind = q.kind();
+    if !matches!(kind, QuadricKind::Plane | QuadricKind::ParallelPlanes) {
         return None;
     }
-    half_spaces(q)
+    half_spaces_of_kind(q, kind)
         .map(|spaces| (spaces, false))
         .or_else(|| half_spaces(&q.negated()).map(|spaces| (spaces, true)))
 }

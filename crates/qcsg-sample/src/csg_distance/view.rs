@@ -9,18 +9,13 @@ use super::near::box_distance;
 use either::Either;
 use qcsg_csg::Aabb;
 use qcsg_csg::quadric_box::{self, BoxClass};
-use qcsg_quadric::{DVec3, Quadric, QuadricKind};
+use qcsg_quadric::{DVec3, Quadric};
 
 /// Relative tolerance for "the same quadric" when comparing literals.
 pub(super) const SAME_QUADRIC: f64 = 1e-12;
 
 /// Relative tolerance for parallel normals of planes that share a point.
 pub(super) const PARALLEL: f64 = 1e-9;
-
-/// Whether a quadric's surface is made of planes that may coincide with another's.
-pub(super) fn is_planar(q: &Quadric) -> bool {
-    matches!(q.kind(), QuadricKind::Plane | QuadricKind::ParallelPlanes)
-}
 
 /// How a literal meets the sampled quadric's plane through `p`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
