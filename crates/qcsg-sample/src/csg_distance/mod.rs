@@ -164,6 +164,7 @@ mod distance;
 mod half_spaces;
 mod identity;
 mod near;
+mod positions;
 mod sections;
 mod sheet_views;
 mod surface_sign;

@@ -5,6 +5,7 @@
 use super::distance::SheetViews;
 use super::half_spaces::{HalfSpace, PlanarParts};
 use super::identity::SheetIdentity;
+use super::positions::Positions;
 use super::sections::{
     no_area_between, one_side, one_side_with_area, own_half_spaces, section, without_own_sides,
 };
@@ -44,9 +45,6 @@ impl SheetViews {
         // Gathered from the lists, so that the work stays that of the terms near the patch
         // however many quadrics the DNF has.
         let lists = std::iter::once(own_list).chain(terms.others.iter().map(|(list, _)| list));
-        let mut listed: Vec<u32> = lists.flat_map(NearList::iter).map(|(i, _)| *i).collect();
-        listed.sort_unstable();
-        listed.dedup();
         // A literal of the DNF.
         let of_dnf = |i: u32, o: Quadric, shape: &Shape| {
             let on_sheet = identity.on_sheet(i);
@@ -88,21 +86,19 @@ impl SheetViews {
             parts: shape.planar.clone(),
             on_sheet: None,
         };
-        let seen: FxHashMap<u32, Seen> = (listed.into_iter())
-            .filter_map(|i| {
-                let seen = match (dnf.quadrics.get(i as usize), shapes.shapes.get(i as usize)) {
-                    (Some(entry), Some(shape)) => of_dnf(i, entry.quadric, shape),
-                    _ => {
-                        let made_index = (i as usize).checked_sub(shapes.shapes.len())?;
-                        let (o, shape) = shapes.made.get(made_index)?;
-                        made(o, shape)
-                    }
-                };
-                Some((i, seen))
-            })
-            .collect();
+        let mut positions = Positions::new(shapes.shapes.len() + shapes.made.len());
+        let mut seen: Vec<Seen> = Vec::new();
+        for &(i, o) in lists.flat_map(NearList::iter) {
+            positions.get_or_insert_with(i, || {
+                seen.push(match shapes.shapes.get(i as usize) {
+                    Some(shape) => of_dnf(i, o, shape),
+                    None => made(&o, &shapes.made[i as usize - shapes.shapes.len()].1),
+                });
+                seen.len() - 1
+            });
+        }
         // Every literal of the lists is seen.
-        let look = |i: u32| seen.get(&i).expect("each listed literal is seen");
+        let look = |i: u32| &seen[positions.get(i).expect("each listed literal is seen")];
         // The literals of a term as the sheet sees them leave out those that hold on all of it.
         let holds = |literal: &&(u32, Quadric)| look(literal.0).contact == Contact::Holds;
         // Those that cross it replaced by their section by the plane where that is planar, and
