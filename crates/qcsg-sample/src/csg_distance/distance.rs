@@ -5,6 +5,7 @@
 use super::abutting::MAX_MERGED_PER_TERM;
 use super::half_spaces::HalfSpace;
 use super::near::{NearDistance, box_distance};
+use super::positions::Positions;
 use super::surface_sign::on_surface;
 use super::tangency::Shapes;
 use super::view::{
@@ -14,7 +15,6 @@ use super::view::{
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{DVec3, Quadric};
-use rustc_hash::FxHashMap;
 use std::cell::RefCell;
 
 /// `d_{Q_ab}(S, ·)` for one literal of one term, with the DNF's quadrics copied in.
@@ -91,10 +91,15 @@ impl CsgDistance {
         // of them follows. Terms holding the sampled quadric are left out ("Shared surfaces"),
         // and so are unions with them or with term `a`.
         // By index, once each: the same few literals recur in hundreds of terms.
-        let same_by_index = RefCell::new(FxHashMap::default());
+        let literal_count = shapes.shapes.len() + shapes.made.len();
+        let same_by_index = RefCell::new((Positions::new(literal_count), Vec::new()));
         let same = |i: u32, o: &Quadric| {
-            let test = || i == quadric || q.approx_eq_up_to_scale(o, SAME_QUADRIC);
-            *same_by_index.borrow_mut().entry(i).or_insert_with(test)
+            let (positions, found) = &mut *same_by_index.borrow_mut();
+            let at = positions.get_or_insert_with(i, || {
+                found.push(i == quadric || q.approx_eq_up_to_scale(o, SAME_QUADRIC));
+                found.len() - 1
+            });
+            found[at]
         };
         let kept: Vec<u32> = near
             .into_iter()
@@ -135,7 +140,7 @@ impl CsgDistance {
         let bounded = !grown.is_empty() && grown.is_bounded();
         // The same few quadrics recur in hundreds of terms (a difference of unions distributed
         // into a DNF): each literal's tests against the box are made once per patch, by index.
-        let mut tests: FxHashMap<u32, LiteralTests> = FxHashMap::default();
+        let (mut tested, mut tests) = (Positions::new(literal_count), Vec::new());
         let mut near_literals = |literals: &'a [(u32, Quadric)]| {
             let many = literals.len() > FEW_LITERALS && bounded;
             // All until one is left out.
@@ -159,7 +164,11 @@ impl CsgDistance {
                             inside: None,
                         }
                     };
-                    let test = tests.entry(i).or_insert_with(test);
+                    let at = tested.get_or_insert_with(i, || {
+                        tests.push(test());
+                        tests.len() - 1
+                    });
+                    let test = &mut tests[at];
                     if many
                         && *test.inside.get_or_insert_with(|| {
                             quadric_box::classify(o, &grown) == BoxClass::Inside
@@ -200,6 +209,8 @@ impl CsgDistance {
             near_others += 1;
             others.extend(near_literals(literals).map(|list| (list, bounds)));
         }
+        // The sheets below take tables of their own.
+        drop((same_by_index, tested));
         let terms = NearTerms {
             own,
             own_far,

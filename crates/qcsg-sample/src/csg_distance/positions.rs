@@ -8,8 +8,8 @@ use std::cell::Cell;
 const NONE: u32 = u32::MAX;
 
 thread_local! {
-    /// The table a thread's last [`Positions`] gave back, all [`NONE`].
-    static TABLE: Cell<Vec<u32>> = const { Cell::new(Vec::new()) };
+    /// The tables a thread's [`Positions`] gave back, all [`NONE`].
+    static TABLES: Cell<Vec<Vec<u32>>> = const { Cell::new(Vec::new()) };
 }
 
 /// Literal indices mapped to positions in a list, for as long as it lives.
@@ -19,10 +19,15 @@ pub(super) struct Positions {
 }
 
 impl Positions {
-    /// An empty map of indices below `len`. The thread's table is taken, or a new one made where
-    /// it is in use already.
+    /// An empty map of indices below `len`: one of the thread's tables, or a new one where all
+    /// are in use.
     pub(super) fn new(len: usize) -> Self {
-        let mut table = TABLE.with(Cell::take);
+        let mut table = TABLES.with(|kept| {
+            let mut tables = kept.take();
+            let table = tables.pop();
+            kept.set(tables);
+            table.unwrap_or_default()
+        });
         if table.len() < len {
             table.resize(len, NONE);
         }
@@ -58,14 +63,10 @@ impl Drop for Positions {
             self.table[i as usize] = NONE;
         }
         let table = std::mem::take(&mut self.table);
-        TABLE.with(|kept| {
-            // Keep the longer of the two: a table made while this one was out is as good.
-            let other = kept.take();
-            kept.set(if other.len() > table.len() {
-                other
-            } else {
-                table
-            });
+        TABLES.with(|kept| {
+            let mut tables = kept.take();
+            tables.push(table);
+            kept.set(tables);
         });
     }
 }
