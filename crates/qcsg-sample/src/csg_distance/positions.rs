@@ -38,12 +38,14 @@ impl Positions {
     }
 
     /// The position of index `i`, if it has one.
+    #[inline]
     pub(super) fn get(&self, i: u32) -> Option<usize> {
         let at = *self.table.get(i as usize)?;
         (at != NONE).then_some(at as usize)
     }
 
     /// The position of index `i`, given by `next` where it has none.
+    #[inline]
     pub(super) fn get_or_insert_with(&mut self, i: u32, next: impl FnOnce() -> usize) -> usize {
         if let Some(at) = self.get(i) {
             return at;
