@@ -62,7 +62,7 @@ mod tests {
     }
 
     #[test]
-    fn this_thread_is_among_the_threads_and_no_busier_than_the_process() {
+    fn threads_are_listed_and_together_no_busier_than_the_process() {
         let pid = std::process::id();
         let (Some(threads), Some(total)) = (thread_cpu_times(pid), cpu_time(pid)) else {
             return; // no /proc here

@@ -91,7 +91,7 @@ impl CsgDistance {
         // of them follows. Terms holding the sampled quadric are left out ("Shared surfaces"),
         // and so are unions with them or with term `a`.
         // By index, once each: the same few literals recur in hundreds of terms.
-        let literal_count = shapes.shapes.len() + shapes.made.len();
+        let literal_count = shapes.literal_count();
         let same_by_index = RefCell::new((Positions::new(literal_count), Vec::new()));
         let same = |i: u32, o: &Quadric| {
             let (positions, found) = &mut *same_by_index.borrow_mut();

@@ -86,13 +86,13 @@ impl SheetViews {
             parts: shape.planar.clone(),
             on_sheet: None,
         };
-        let mut positions = Positions::new(shapes.shapes.len() + shapes.made.len());
+        let mut positions = Positions::new(shapes.literal_count());
         let mut seen: Vec<Seen> = Vec::new();
         for &(i, o) in lists.flat_map(NearList::iter) {
             positions.get_or_insert_with(i, || {
-                seen.push(match shapes.shapes.get(i as usize) {
-                    Some(shape) => of_dnf(i, o, shape),
-                    None => made(&o, &shapes.made[i as usize - shapes.shapes.len()].1),
+                seen.push(match shapes.made_shape(i) {
+                    Some(shape) => made(&o, shape),
+                    None => of_dnf(i, o, shapes.of(i)),
                 });
                 seen.len() - 1
             });

@@ -157,10 +157,10 @@ pub(crate) struct Shapes {
     pub(super) terms: Vec<TermLiterals>,
     /// The terms' boxes, as the DNF has them.
     pub(super) boxes: BoxIndex,
-    /// The literals made for them (half-spaces of slabs) are numbered after the DNF's
-    /// quadrics, each once: `made` holds them with their shapes, in that order.
     pub(super) merged: Vec<(TermLiterals, (usize, usize))>,
-    pub(super) made: Vec<(Quadric, Shape)>,
+    /// The shapes of the literals made for `merged` (half-spaces of slabs), which are numbered
+    /// after the DNF's quadrics, each once, in this order ([`Self::made_shape`]).
+    pub(super) made: Vec<Shape>,
     /// For each term, the indices in `merged` of its unions.
     pub(super) merged_with: Vec<Vec<u32>>,
     /// Whether each quadric is a literal of more than one term.
@@ -197,7 +197,7 @@ impl Shapes {
         for (literals, _) in &mut merged {
             for (index, quadric) in literals.iter_mut().filter(|l| l.0 == MADE_LITERAL) {
                 *index = (dnf.quadrics.len() + made.len()) as u32;
-                made.push((*quadric, Shape::of(quadric)));
+                made.push(Shape::of(quadric));
             }
         }
         let mut merged_with = vec![Vec::new(); terms.len()];
@@ -228,6 +228,18 @@ impl Shapes {
     /// The shape of a quadric of the DNF (checked by the caller).
     pub(super) fn of(&self, quadric: u32) -> &Shape {
         &self.shapes[quadric as usize]
+    }
+
+    /// How many literals there are: the DNF's quadrics and those made for merged terms. Every
+    /// literal's index is below this.
+    pub(super) fn literal_count(&self) -> usize {
+        self.shapes.len() + self.made.len()
+    }
+
+    /// The shape of literal `index`, made for a merged term; `None` for a quadric of the DNF.
+    pub(super) fn made_shape(&self, index: u32) -> Option<&Shape> {
+        self.made
+            .get((index as usize).checked_sub(self.shapes.len())?)
     }
 
     /// What sheet `sheet` of `quadric` sees of `literal`: whether it is the sampled quadric or
