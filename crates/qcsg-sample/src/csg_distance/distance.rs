@@ -123,15 +123,19 @@ impl CsgDistance {
             .collect();
         unions.sort_unstable();
         unions.dedup();
-        let limit = MAX_MERGED_PER_TERM * kept.len().max(1);
-        let merged = unions
+        unions.truncate(MAX_MERGED_PER_TERM * kept.len().max(1));
+        // A point outside both terms' boxes is outside both pieces, where the merged term fails
+        // a literal that the piece on the point's side of the plane fails: it is no nearer than
+        // that piece, and adds nothing to eq. 22 ("Abutting terms").
+        let merged: Vec<(&[(u32, Quadric)], Aabb)> = unions
             .into_iter()
             .map(|m| &shapes.merged[m as usize])
-            .take(limit)
             .map(|(literals, (i, k))| {
                 let bounds = dnf.terms[*i].bounds.union(&dnf.terms[*k].bounds);
                 (&literals[..], bounds)
-            });
+            })
+            .filter(|(_, bounds)| bounds.intersects(&extent))
+            .collect();
         // Of a term of many literals, those that hold all around the sampled part are left out
         // ("Far literals"); the sampled quadric stays.
         let grown = extent.expanded(reach);
@@ -204,7 +208,11 @@ impl CsgDistance {
         let mut others = Vec::with_capacity(kept.len() + merged.len());
         let terms_and_unions = (kept.iter())
             .map(|&i| (&shapes.terms[i as usize][..], dnf.terms[i as usize].bounds))
-            .chain(merged.filter(|(l, _)| !l.iter().any(|(i, o)| same(*i, o))));
+            .chain(
+                merged
+                    .into_iter()
+                    .filter(|(l, _)| !l.iter().any(|(i, o)| same(*i, o))),
+            );
         for (literals, bounds) in terms_and_unions {
             near_others += 1;
             others.extend(near_literals(literals).map(|list| (list, bounds)));

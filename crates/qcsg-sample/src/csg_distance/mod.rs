@@ -62,7 +62,11 @@
 //!   solid and the two properties of eq. 22 hold with it; at the crossing it is well inside, so
 //!   the curve is classified. Planes count as shared within the tolerance of "Shared planes",
 //!   only terms whose boxes touch are paired, and at most four merged terms per other term are
-//!   made (`MAX_MERGED_PER_TERM`).
+//!   made (`MAX_MERGED_PER_TERM`). A merged term enters eq. 22 of a sampled part only where the
+//!   box of its two terms meets the part's: at a point outside both pieces it fails a literal
+//!   that the piece on the point's side of the plane fails, so it is no nearer than that piece
+//!   (where only literals that term `a` holds too fail, term `a` fails as well). The cells of a
+//!   glyph abut in many pairs, and a part near them kept two to three unions per term.
 //! - **Tangent planes.** Where a plane touches a curved surface without crossing it (a
 //!   rounded rectangle's corner cylinder against the walls of its two boxes, a ball resting on
 //!   a slab's face), the literal's distance vanishes quadratically towards the line or point of
