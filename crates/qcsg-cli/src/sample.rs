@@ -251,19 +251,28 @@ pub fn run(args: SampleArgs) -> u8 {
 
 /// The diagnostic of a crossed sampling limit, at the source of the quadric being sampled.
 pub(crate) fn limit_diagnostic(dnf: &Dnf, error: &SampleError) -> Option<Diagnostic> {
-    let (code, what, limit, quadric, help) = match *error {
+    let (code, message, quadric, help) = match *error {
         SampleError::TooManySamples { limit, quadric } => (
             codes::SAMPLE_LIMIT,
-            "samples",
-            limit,
+            format!("sampling this surface needs more than {limit} samples"),
             quadric,
             "use a larger `--radius`, or raise the limit with `--max-samples N` (each sample \
              takes about 72 bytes)",
         ),
+        SampleError::DistancesTooLarge { limit, quadric } => (
+            codes::SAMPLE_LIMIT,
+            format!(
+                "the distances set up for the surfaces sampled, up to this one, need more \
+                 memory than {limit} samples"
+            ),
+            quadric,
+            "each surface's distance holds the terms near it, and many parts overlap here; \
+             raise the limit with `--max-samples N` (each sample takes about 72 bytes), or \
+             union fewer overlapping parts",
+        ),
         SampleError::TooManyQueries { limit, quadric } => (
             codes::QUERY_LIMIT,
-            "distance queries",
-            limit,
+            format!("sampling this surface needs more than {limit} distance queries"),
             quadric,
             "surfaces that nearly coincide over an area (a gap far below the radius) cannot be \
              told apart by the subdivision; use a larger `--radius`, separate the surfaces, or \
@@ -272,15 +281,7 @@ pub(crate) fn limit_diagnostic(dnf: &Dnf, error: &SampleError) -> Option<Diagnos
         SampleError::InvalidRadius(_) => return None,
     };
     let source = dnf.quadrics.get(quadric as usize)?.source;
-    Some(
-        Diagnostic::error(
-            code,
-            format!("sampling this surface needs more than {limit} {what}"),
-            source.file,
-            source.span,
-        )
-        .with_help(help),
-    )
+    Some(Diagnostic::error(code, message, source.file, source.span).with_help(help))
 }
 
 /// The stats JSON of docs/cli.md: the documented keys first, then the sampler's other counters.
@@ -307,6 +308,7 @@ pub fn stats_json(
         "rectangles": subdivision.rectangles,
         "unresolved": stats.unresolved(),
         "unbounded_terms": stats.unbounded_terms,
+        "distance_bytes": stats.distance_bytes,
         "diagonal": (dnf.bounds.max - dnf.bounds.min).length(),
     })
     .to_string()

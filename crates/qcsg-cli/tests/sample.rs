@@ -436,9 +436,10 @@ fn unproven_rectangles_are_a_warning() {
 }
 
 /// A crossed sampling limit is an input error at the quadric being sampled, naming the flag
-/// that raises it, with no file written: too many samples for a tiny radius (E0604), too many
-/// distance queries for surfaces that nearly coincide (E0605). The same runs pass with the
-/// limit raised.
+/// that raises it, with no file written: too many samples for a tiny radius (E0604), distances
+/// of many overlapping parts that hold more memory than the sample limit implies (E0604 too),
+/// too many distance queries for surfaces that nearly coincide (E0605). The same runs pass with
+/// the limit raised.
 #[test]
 fn crossed_sampling_limits_are_errors_at_a_span() {
     let dir = scratch_dir("limits");
@@ -447,12 +448,38 @@ fn crossed_sampling_limits_are_errors_at_a_span() {
     // corner bound can tell from its rims.
     let nested =
         "difference() {\n  sphere(1 + 1e-9);\n  sphere(1);\n  halfspace([0, 0, -1], -0.3);\n}\n";
+    // 60 balls that all overlap: each one's distance holds the other 59 (about 12,000
+    // samples' worth in all), while the samples and regions number a few thousand.
+    let balls = (0..60)
+        .map(|i| {
+            format!(
+                "rotate([0, 0, {}]) translate([1, 0, 0]) sphere(3);\n",
+                6 * i
+            )
+        })
+        .collect::<String>();
+    let balls = format!("union() {{\n{balls}}}\n");
     let cases = [
-        (SCENE, "--max-samples", "100", "1000000", "E0604"),
-        (nested, "--max-queries", "10000", "100000000", "E0605"),
+        (SCENE, "--max-samples", "100", "1000000", "E0604", "samples"),
+        (
+            &balls,
+            "--max-samples",
+            "5000",
+            "1000000",
+            "E0604",
+            "distances set up",
+        ),
+        (
+            nested,
+            "--max-queries",
+            "10000",
+            "100000000",
+            "E0605",
+            "queries",
+        ),
     ];
     let out_path = out.to_str().unwrap();
-    for (program, flag, low, high, code) in cases {
+    for (program, flag, low, high, code, what) in cases {
         let run_with = |limit: &str| {
             let args = [
                 "sample", "-", "--radius", "10%", "-o", out_path, flag, limit,
@@ -465,6 +492,7 @@ fn crossed_sampling_limits_are_errors_at_a_span() {
         let diagnostics: Value = serde_json::from_slice(&run.stdout).expect("diagnostics JSON");
         let error = &diagnostics[0];
         assert_eq!(error["code"], code);
+        assert!(error["message"].as_str().unwrap().contains(what), "{error}");
         assert!(error["help"].as_str().unwrap().contains(flag), "{error}");
         let span = error["byte_range"].as_array().expect("a span");
         let (start, end) = (span[0].as_u64().unwrap(), span[1].as_u64().unwrap());

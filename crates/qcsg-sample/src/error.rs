@@ -14,6 +14,15 @@ pub enum SampleError {
         /// The quadric (index into [`Dnf::quadrics`](qcsg_csg::Dnf::quadrics)) being sampled when it was crossed.
         quadric: u32,
     },
+    /// Eq. 22 set up for the literals sampled would take more memory than
+    /// [`SampleLimits::max_samples`](crate::SampleLimits::max_samples) samples: each literal's
+    /// distance holds the terms near it, and thousands of overlapping parts are near one another.
+    DistancesTooLarge {
+        /// The limit.
+        limit: u64,
+        /// The quadric (index into [`Dnf::quadrics`](qcsg_csg::Dnf::quadrics)) being sampled when it was crossed.
+        quadric: u32,
+    },
     /// The run would make more than [`SampleLimits::max_queries`](crate::SampleLimits::max_queries) distance queries.
     TooManyQueries {
         /// The limit.
@@ -33,6 +42,11 @@ impl std::fmt::Display for SampleError {
                 f,
                 "sampling at this radius needs more than {limit} samples (counting rectangles \
                  held for the second pass)"
+            ),
+            Self::DistancesTooLarge { limit, .. } => write!(
+                f,
+                "the distances set up for the surfaces sampled need more memory than {limit} \
+                 samples (each surface's distance holds the terms near it)"
             ),
             Self::TooManyQueries { limit, .. } => write!(
                 f,

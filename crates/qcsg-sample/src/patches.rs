@@ -3,7 +3,9 @@
 //! patch carries eq. 22 set up for the part of its quadric its regions hold.
 
 use crate::csg_distance::{CsgDistance, Shapes};
-use crate::regions::{BasicRegion, RegionCap, RegionStats, basic_regions_within, patch_bounds};
+use crate::regions::{
+    BasicRegion, Held, RegionCap, RegionStats, basic_regions_within, patch_bounds,
+};
 use crate::stats::SampleStats;
 use qcsg_csg::{Aabb, Dnf};
 use qcsg_quadric::{PrincipalFrame, QuadricKind};
@@ -39,14 +41,15 @@ pub(super) fn term_box(dnf: &Dnf, term: usize) -> Option<Aabb> {
 /// sheet, rectangle), with the patch each belongs to. Literals are decomposed in parallel (a
 /// scene of many parts has thousands of them), and so are each literal's sampling planes.
 /// Rectangles whose surface fits in a box of diagonal `radius` are kept whole
-/// ([`crate::small_patches`]). At most `max_regions` regions are kept in all ([`RegionCap`]);
-/// past that the decomposition stops and the quadric whose regions crossed the cap is the
-/// error.
+/// ([`crate::small_patches`]). At most `max_regions` regions are kept in all, counting each
+/// patch's eq. 22 as the samples that take as much memory ([`RegionCap`]); past that the
+/// decomposition stops and the quadric being sampled when the cap was crossed is the error,
+/// with what crossed it.
 pub(super) fn all_regions(
     dnf: &Dnf,
     (radius, max_regions): (f64, u64),
     stats: &mut SampleStats,
-) -> Result<(Vec<Patch>, Vec<PlacedRegion>), u32> {
+) -> Result<(Vec<Patch>, Vec<PlacedRegion>), (u32, Held)> {
     let cap = RegionCap::new(max_regions);
     let mut literals = Vec::new();
     for (term_index, term) in dnf.terms.iter().enumerate() {
@@ -69,7 +72,7 @@ pub(super) fn all_regions(
     let shapes = Shapes::new(dnf);
     // Each literal's patch, its regions (by sampling plane) with a box around each one's part,
     // and counters.
-    type Decomposed = (Patch, Vec<Vec<(BasicRegion, Aabb)>>, RegionStats);
+    type Decomposed = (Patch, Vec<Vec<(BasicRegion, Aabb)>>, RegionStats, usize);
     let decomposed: Vec<Option<Decomposed>> = literals
         .par_iter()
         .map(|&(term, literal, bounds)| {
@@ -125,6 +128,10 @@ pub(super) fn all_regions(
             let bounds =
                 (found.iter().flatten()).fold(Aabb::EMPTY, |all, (_, bounds)| all.union(bounds));
             let distance = CsgDistance::with_shapes(dnf, &shapes, (literal, term), &bounds)?;
+            let held = distance.held_bytes();
+            if !cap.charge_distance(held, literal) {
+                return None;
+            }
             let patch = Patch {
                 frame,
                 distance,
@@ -134,19 +141,20 @@ pub(super) fn all_regions(
                 bounds,
                 given_up: (counters.unresolved, reach),
             };
-            Some((patch, found, counters))
+            Some((patch, found, counters, held))
         })
         .collect();
-    if let Some(quadric) = cap.crossed() {
-        return Err(quadric);
+    if let Some(crossed) = cap.crossed() {
+        return Err(crossed);
     }
     let mut patches = Vec::new();
     let mut regions = Vec::new();
-    for (patch, found, counters) in decomposed.into_iter().flatten() {
+    for (patch, found, counters, held) in decomposed.into_iter().flatten() {
         let found = found.into_iter().flatten();
         regions.extend(found.map(|(r, b)| (patches.len(), r, b)));
         patches.push(patch);
         stats.regions.add(&counters);
+        stats.distance_bytes += held as u64;
     }
     Ok((patches, regions))
 }

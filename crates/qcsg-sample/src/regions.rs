@@ -55,6 +55,7 @@
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use crate::sample_point::Sample;
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DVec3, Heightfield, HeightfieldForm, PrincipalFrame};
 
@@ -235,24 +236,39 @@ impl RegionStats {
     }
 }
 
-/// The most basic regions a run may hold, shared by the decompositions of all its sampling
-/// planes (which run in parallel). Each region is held, with eq. 22 narrowed to it, until the
-/// run ends, at about the memory of a few samples; a run of more regions than its sample
-/// limit would hold more than that limit implies, so the decomposition stops as soon as the
-/// regions kept cross it ([`basic_regions_within`]) and the run is refused.
+/// What a run holds until it ends, in samples' worth of memory (its sample limit): the basic
+/// regions, each with eq. 22 narrowed to it (about the memory of a few samples each), and eq.
+/// 22 set up for each sampled literal ([`CsgDistance::held_bytes`]). A run of more regions
+/// than its sample limit, or whose literals see so many terms near them that their distances
+/// take more memory than that many samples (thousands of overlapping parts), would hold more
+/// than the limit implies: the decomposition stops as soon as the cap is crossed
+/// ([`basic_regions_within`], [`crate::patches::all_regions`]) and the run is refused.
+///
+/// [`CsgDistance::held_bytes`]: crate::csg_distance::CsgDistance::held_bytes
 #[derive(Debug)]
 pub struct RegionCap {
     limit: u64,
-    kept: AtomicU64,
+    regions: AtomicU64,
+    distances: AtomicU64,
     crossed: OnceLock<u32>,
 }
 
+/// What crossed a [`RegionCap`]: what holds more of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Held {
+    /// The basic regions.
+    Regions,
+    /// Eq. 22 set up for the sampled literals.
+    Distances,
+}
+
 impl RegionCap {
-    /// A cap of `limit` regions in all.
+    /// A cap of `limit` regions (samples' worth of memory) in all.
     pub fn new(limit: u64) -> Self {
         Self {
             limit,
-            kept: AtomicU64::new(0),
+            regions: AtomicU64::new(0),
+            distances: AtomicU64::new(0),
             crossed: OnceLock::new(),
         }
     }
@@ -260,20 +276,44 @@ impl RegionCap {
     /// Charges `count` more regions of `quadric`; `false` once the cap is crossed (by this
     /// charge or an earlier one).
     fn charge(&self, count: u64, quadric: u32) -> bool {
+        self.charge_to(Held::Regions, count, quadric)
+    }
+
+    /// Charges eq. 22 of a literal of `quadric`, which holds `bytes`, as the samples that take
+    /// as much memory; `false` once the cap is crossed.
+    pub fn charge_distance(&self, bytes: usize, quadric: u32) -> bool {
+        let samples = bytes.div_ceil(size_of::<Sample>()) as u64;
+        self.charge_to(Held::Distances, samples, quadric)
+    }
+
+    fn charge_to(&self, held: Held, count: u64, quadric: u32) -> bool {
         if self.crossed.get().is_some() {
             return false;
         }
-        let before = self.kept.fetch_add(count, Ordering::Relaxed);
-        if before.saturating_add(count) > self.limit {
+        let (counter, other) = match held {
+            Held::Regions => (&self.regions, &self.distances),
+            Held::Distances => (&self.distances, &self.regions),
+        };
+        let before = counter.fetch_add(count, Ordering::Relaxed);
+        let total = before.saturating_add(count);
+        if total.saturating_add(other.load(Ordering::Relaxed)) > self.limit {
             let _ = self.crossed.set(quadric);
             return false;
         }
         true
     }
 
-    /// The quadric whose regions crossed the cap first, if any did.
-    pub fn crossed(&self) -> Option<u32> {
-        self.crossed.get().copied()
+    /// The quadric being sampled when the cap was first crossed, and what holds more of it
+    /// (the same whichever thread's charge crossed it).
+    pub fn crossed(&self) -> Option<(u32, Held)> {
+        let quadric = *self.crossed.get()?;
+        let distances = self.distances.load(Ordering::Relaxed);
+        let held = if distances > self.regions.load(Ordering::Relaxed) {
+            Held::Distances
+        } else {
+            Held::Regions
+        };
+        Some((quadric, held))
     }
 }
 

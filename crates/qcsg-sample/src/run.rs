@@ -17,6 +17,7 @@ use crate::in_order::InOrder;
 use crate::memo::QueryMemo;
 use crate::patches::{Patch, PlacedRegion, all_regions, near_margin};
 use crate::progress::{Progress, REFINE_WORK};
+use crate::regions::Held;
 use crate::sample_point::Sample;
 use crate::sampling::{Sampling, SpareBuffers};
 use crate::small_patches;
@@ -135,7 +136,15 @@ pub(super) fn sample_on_pool(
     // narrowed to each (a needle or a sharp waist cut into millions of regions took gigabytes
     // here).
     let (patches, regions) =
-        all_regions(dnf, (radius, limits.max_samples), &mut stats).map_err(too_many)?;
+        all_regions(dnf, (radius, limits.max_samples), &mut stats).map_err(|(quadric, held)| {
+            match held {
+                Held::Regions => too_many(quadric),
+                Held::Distances => SampleError::DistancesTooLarge {
+                    limit: limits.max_samples,
+                    quadric,
+                },
+            }
+        })?;
     // Eq. 22 of each region keeps the terms and literals near the region's patch, narrowed
     // from its whole patch's; regions where that is still many literals are tiled.
     let wholes: Vec<NearDistance<'_>> = patches

@@ -165,7 +165,7 @@ pub fn settle_all<'a>(
             }
         })
         .collect();
-    if let Some(quadric) = cap.crossed() {
+    if let Some((quadric, _)) = cap.crossed() {
         return Err(quadric);
     }
     let mut out = (Vec::new(), Vec::new());

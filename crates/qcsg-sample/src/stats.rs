@@ -14,6 +14,10 @@ pub struct SampleStats {
     pub regions: RegionStats,
     /// Subdivision counters (distance queries among them).
     pub subdivision: SubdivisionStats,
+    /// Bytes that eq. 22 set up for the sampled literals holds until the run ends
+    /// ([`CsgDistance::held_bytes`](crate::CsgDistance::held_bytes)), charged to the sample
+    /// limit.
+    pub distance_bytes: u64,
     /// Terms skipped because their box is unbounded.
     pub unbounded_terms: u64,
     /// Distinct clip lists.

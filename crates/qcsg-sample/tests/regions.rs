@@ -8,7 +8,7 @@ use common::{Rng, points_on};
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DMat4, DVec3, HeightfieldForm, PrincipalFrame, Quadric, QuadricKind};
 use qcsg_sample::regions::{
-    BasicRegion, Owned, Rect, RegionCap, RegionStats, basic_regions, basic_regions_within,
+    BasicRegion, Held, Owned, Rect, RegionCap, RegionStats, basic_regions, basic_regions_within,
     patch_bounds, region_point,
 };
 
@@ -269,6 +269,6 @@ fn the_region_cap_stops_the_partition() {
     assert_eq!(crossed, None);
     assert_eq!(under.len(), all.len());
     let (over, crossed) = partition(count - 1);
-    assert_eq!(crossed, Some(7));
+    assert_eq!(crossed, Some((7, Held::Regions)));
     assert!((over.len() as u64) < count, "{} regions", over.len());
 }

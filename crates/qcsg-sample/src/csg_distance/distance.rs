@@ -9,8 +9,8 @@ use super::positions::Positions;
 use super::surface_sign::on_surface;
 use super::tangency::Shapes;
 use super::view::{
-    FEW_LITERALS, LiteralValues, NearList, NearLiterals, NearTerms, SAME_QUADRIC, SheetPlane,
-    TermView,
+    FEW_LITERALS, Literal, LiteralValues, NearList, NearLiterals, NearTerms, SAME_QUADRIC,
+    SheetPlane, TermView,
 };
 use qcsg_csg::quadric_box::{self, BoxClass};
 use qcsg_csg::{Aabb, Dnf};
@@ -342,6 +342,22 @@ impl CsgDistance {
             lists,
             far,
         }
+    }
+
+    /// The bytes its views hold on the heap: the sheets' distinct quadrics, term views and
+    /// literals. A run holds every sampled literal's until it ends, and a scene of many
+    /// overlapping terms needs as many views per literal as there are terms near it.
+    pub fn held_bytes(&self) -> usize {
+        let literals = |v: &TermView| v.literals.capacity() * size_of::<Literal>();
+        (self.sheets.iter())
+            .map(|s| {
+                size_of::<SheetViews>()
+                    + s.quadrics.capacity() * size_of::<Quadric>()
+                    + literals(&s.own)
+                    + s.others.capacity() * size_of::<TermView>()
+                    + s.others.iter().map(literals).sum::<usize>()
+            })
+            .sum()
     }
 
     /// How many other terms (and abutting unions) eq. 22 looks at, on the sheet that looks at
