@@ -31,10 +31,11 @@ use crate::protocol::{Event, Failure, FailureKind, Fault, Radius, Request, Stage
 use crate::{cli_stage, lsp_session, panics};
 
 /// Most samples a run may emit: a coarse radius needs far fewer, a tiny one must stop here.
-/// The same limit bounds what eq. 22 set up for the sampled surfaces holds, as the samples that
-/// take as much memory (a few million for a line of text or a few hundred terms): this keeps
-/// the sampler within about 300 MB.
-pub const MAX_SAMPLES: u64 = 4_000_000;
+/// The same limit bounds the basic regions and what eq. 22 set up for the sampled surfaces
+/// holds, as the samples that take as much memory; a region costs more than its one sample's
+/// worth (927,000 regions of a needle-like cone took 2 GB), so the limit stays low enough for
+/// the memory budget, and scenes of a few hundred terms or a line of text are refused.
+pub const MAX_SAMPLES: u64 = 200_000;
 /// Most distance queries a run may make.
 pub const MAX_QUERIES: u64 = 5_000_000;
 /// An injected fault fires only on inputs containing this, so that minimisation can be tested
