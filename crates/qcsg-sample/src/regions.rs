@@ -237,12 +237,13 @@ impl RegionStats {
 }
 
 /// What a run holds until it ends, in samples' worth of memory (its sample limit): the basic
-/// regions, each with eq. 22 narrowed to it (about the memory of a few samples each), and eq.
-/// 22 set up for each sampled literal ([`CsgDistance::held_bytes`]). A run of more regions
-/// than its sample limit, or whose literals see so many terms near them that their distances
-/// take more memory than that many samples (thousands of overlapping parts), would hold more
-/// than the limit implies: the decomposition stops as soon as the cap is crossed
-/// ([`basic_regions_within`], [`crate::patches::all_regions`]) and the run is refused.
+/// regions, each with eq. 22 narrowed to it (one sample each, though a region can hold more:
+/// see `docs/fuzzing.md`, failure 5), and eq. 22 set up for each sampled literal
+/// ([`CsgDistance::held_bytes`]). A run of more regions than its sample limit, or whose
+/// literals see so many terms near them that their distances take more memory than that many
+/// samples (thousands of overlapping parts), would hold more than the limit implies: the
+/// decomposition stops as soon as the cap is crossed ([`basic_regions_within`], and
+/// `all_regions` of the patches) and the run is refused.
 ///
 /// [`CsgDistance::held_bytes`]: crate::csg_distance::CsgDistance::held_bytes
 #[derive(Debug)]

@@ -131,10 +131,11 @@ pub(super) fn sample_on_pool(
         limit: limits.max_samples,
         quadric,
     };
-    // Each region is held to the end of the run, at about the memory of a few samples: a
-    // decomposition into more regions than the sample limit is refused before eq. 22 is
-    // narrowed to each (a needle or a sharp waist cut into millions of regions took gigabytes
-    // here).
+    // Each region is held to the end of the run, and so is each patch's eq. 22: a
+    // decomposition into more regions than the sample limit, or patches whose distances take
+    // more memory than that many samples, is refused before eq. 22 is narrowed to each region
+    // (a needle or a sharp waist cut into millions of regions took gigabytes here, and so did
+    // thousands of overlapping parts).
     let (patches, regions) =
         all_regions(dnf, (radius, limits.max_samples), &mut stats).map_err(|(quadric, held)| {
             match held {

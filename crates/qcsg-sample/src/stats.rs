@@ -15,7 +15,7 @@ pub struct SampleStats {
     /// Subdivision counters (distance queries among them).
     pub subdivision: SubdivisionStats,
     /// Bytes that eq. 22 set up for the sampled literals holds until the run ends
-    /// ([`CsgDistance::held_bytes`](crate::CsgDistance::held_bytes)), charged to the sample
+    /// ([`CsgDistance::held_bytes`](crate::csg_distance::CsgDistance::held_bytes)), charged to the sample
     /// limit.
     pub distance_bytes: u64,
     /// Terms skipped because their box is unbounded.
