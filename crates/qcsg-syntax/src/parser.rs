@@ -357,7 +357,10 @@ fn expr_parser<'t, E: SyntaxError<'t>>(
             },
         )));
 
-        let atom = choice((literal, paren, vector))
+        // A group that failed at a position fails there again: remember that. `-1 ^ (…` tries
+        // the power's operand twice (once inside the `-`, once after it), so a failing group
+        // under `-… ^` at every level was parsed twice as often per level.
+        let atom = choice((literal, paren.memoized(), vector.memoized()))
             .labelled("expression")
             .boxed();
 

@@ -184,6 +184,16 @@ fn broken_nesting_recovers_in_linear_time() {
             "halfspace([0, 0, 1], 0.5 + {}i);",
             "1e-3 * (-1 + 2 * ".repeat(n)
         ),
+        // A stray token among groups never closed, under `^` and a prefix `-`: the power's
+        // operand failed at it, and `-19 ^ …` tried that operand twice (once inside the `-`,
+        // once after it), doubling per level (found by fuzzing: 20 levels took 27 s).
+        format!(
+            "x = (10.40 < {}&{} 8.75));",
+            "(-19 ^ ".repeat(n),
+            "(-19 ^ ".repeat(n)
+        ),
+        format!("x = ({}`{} 1)", "-2 ^ (".repeat(n), "(-2 ^ ".repeat(n)),
+        format!("x = {}\u{202e}1;", "(!1 ^ ".repeat(n)),
         // Many broken siblings: the work per error must not grow with the number of errors.
         "a = (1 ];\n".repeat(20 * n),
         ")".repeat(20 * n),

@@ -14,7 +14,7 @@ use crate::lexer::Tok;
 /// The error type the parsers are generic over: [`EmptyErr`] for the fast first pass, [`SynErr`]
 /// for the pass that explains errors.
 pub(crate) trait SyntaxError<'t>:
-    chumsky::error::Error<'t, In<'t>> + LabelError<'t, In<'t>, &'static str> + 't
+    chumsky::error::Error<'t, In<'t>> + LabelError<'t, In<'t>, &'static str> + Clone + 't
 {
     /// An error with a message of its own.
     fn custom(span: SimpleSpan, message: &str) -> Self;
