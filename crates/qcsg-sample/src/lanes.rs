@@ -158,17 +158,17 @@ pub struct SurfaceTest {
     origin: DVec3,
     coefficients: [f64; 10],
     /// `settled²` where a point farther than `settled` from the quadric is moved onto it.
-    settled_squared: Option<f64>,
+    settled_squared: f64,
 }
 
 impl SurfaceTest {
     /// The test of points on `quadric`: points within `settled` of it (`|Q| / ‖∇Q‖`) pass, the
-    /// others are left to the caller's Newton steps; with no `settled`, every point passes.
-    pub fn new(quadric: &Quadric, settled: Option<f64>) -> Self {
+    /// others are left to the caller's Newton steps.
+    pub fn new(quadric: &Quadric, settled: f64) -> Self {
         Self {
             origin: quadric.origin(),
             coefficients: quadric.coefficients(),
-            settled_squared: settled.map(|s| s * s),
+            settled_squared: settled * settled,
         }
     }
 
@@ -190,13 +190,8 @@ impl SurfaceTest {
             let az = e * x + f * y + c * z;
             let (gx, gy, gz) = (2.0 * (ax + g), 2.0 * (ay + h), 2.0 * (az + i));
             let length_squared = gx * gx + gy * gy + gz * gz;
-            let settled = match self.settled_squared {
-                Some(settled_squared) => {
-                    let value = x * (ax + 2.0 * g) + y * (ay + 2.0 * h) + z * (az + 2.0 * i) + j;
-                    value * value <= settled_squared * length_squared
-                }
-                None => true,
-            };
+            let value = x * (ax + 2.0 * g) + y * (ay + 2.0 * h) + z * (az + 2.0 * i) + j;
+            let settled = value * value <= self.settled_squared * length_squared;
             let in_range = (f64::MIN_POSITIVE..=f64::MAX).contains(&length_squared);
             done[l] = settled && in_range;
             let inverse = 1.0 / length_squared.sqrt();
@@ -226,7 +221,7 @@ mod tests {
     /// The lanes compute what the scalar code computes, bit for bit.
     fn check_lanes<const N: usize>(
         quadric: &Quadric,
-        settled: Option<f64>,
+        settled: f64,
         (y, sheet): (f64, f64),
         x: [f64; N],
     ) -> Result<(), TestCaseError> {
@@ -247,7 +242,7 @@ mod tests {
                 // The scalar test of `snap_to_surface` and `Quadric::normal_from_gradient_squared`.
                 let (value, gradient) = (quadric.value(p), quadric.gradient(p));
                 let length_squared = gradient.length_squared();
-                let near = settled.is_none_or(|s| value * value <= s * s * length_squared);
+                let near = value * value <= settled * settled * length_squared;
                 let normal = Quadric::normal_from_gradient_squared(gradient, length_squared);
                 let in_range = (f64::MIN_POSITIVE..=f64::MAX).contains(&length_squared);
                 prop_assert_eq!(done[l], near && in_range);
@@ -266,7 +261,7 @@ mod tests {
         fn lanes_agree_with_the_scalar_code_to_the_bit(
             origin in proptest::array::uniform3(-100.0f64..100.0),
             coefficients in proptest::array::uniform10(coefficient()),
-            settled in prop_oneof![Just(None), (1e-15f64..1e-3).prop_map(Some)],
+            settled in 1e-15f64..1e-3,
             (y, sheet) in (-5.0f64..5.0, prop_oneof![Just(1.0), Just(-1.0)]),
             x in proptest::array::uniform8(-5.0f64..5.0),
         ) {
@@ -296,7 +291,7 @@ mod tests {
         ];
         let x = std::array::from_fn(|l| -3.0 + 0.8 * l as f64);
         for quadric in quadrics.into_iter().flatten() {
-            for settled in [None, Some(1e-12)] {
+            for settled in [0.0, 1e-12] {
                 for (y, sheet) in [(0.0, 1.0), (1.7, -1.0), (2.6, 1.0)] {
                     check_lanes::<8>(&quadric, settled, (y, sheet), x).unwrap();
                 }

@@ -4,7 +4,7 @@
 
 use crate::csg_distance::{CsgDistance, Shapes};
 use crate::regions::{
-    BasicRegion, Held, RegionCap, RegionStats, basic_regions_within, patch_bounds,
+    BasicRegion, Held, RegionCap, RegionStats, SmallPatches, basic_regions_within, patch_bounds,
 };
 use crate::stats::SampleStats;
 use qcsg_csg::{Aabb, Dnf};
@@ -85,13 +85,12 @@ pub(super) fn all_regions(
                 return None;
             }
             let frame = entry.quadric.frame();
-            // Around a cone's apex the normal turns all the way round within any distance: its
-            // rectangles there are refined as far as they go and settled at the apex
-            // ([`crate::apex`]).
-            let small_patch = if kind == QuadricKind::Cone {
-                0.0
-            } else {
-                radius
+            // Around a cone's apex the normal turns all the way round within any distance: the
+            // rectangle holding it is never a small patch, but is settled by a ring of samples
+            // about the apex ([`crate::apex`]).
+            let small_patch = SmallPatches {
+                diagonal: radius,
+                apex: kind == QuadricKind::Cone,
             };
             // The three sampling planes each on its own: a scene of a few quadrics has too few
             // literals to share out.

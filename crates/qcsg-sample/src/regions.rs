@@ -63,6 +63,12 @@ use qcsg_quadric::{DVec3, Heightfield, HeightfieldForm, PrincipalFrame};
 /// maximum distortion is at most this.
 pub const KEEP_DISTORTION: f64 = 2.0;
 
+/// A rectangle that holds a cone's apex and whose surface lies within this fraction of the
+/// radius of the apex is given up to the apex's ring of samples ([`crate::apex`]), which
+/// covers what lies within a quarter of the ring's distance from the apex: rings at `r/2`,
+/// `r/8` and `r/32` stay open to it.
+pub const APEX_REACH: f64 = 1.0 / 256.0;
+
 /// Splits after which an undecided rectangle is given up (see the module doc).
 pub const MAX_REGION_DEPTH: u32 = 80;
 
@@ -352,7 +358,8 @@ pub fn basic_regions(
     stats: &mut RegionStats,
 ) -> f64 {
     let cap = RegionCap::new(u64::MAX);
-    basic_regions_within(frame, heightfield, (bounds, 0.0), key, (out, &cap), stats)
+    let none = SmallPatches::NONE;
+    basic_regions_within(frame, heightfield, (bounds, none), key, (out, &cap), stats)
 }
 
 /// [`basic_regions`], charging every region kept to `cap`: once the cap is crossed the
@@ -360,7 +367,7 @@ pub fn basic_regions(
 pub fn basic_regions_within(
     frame: &PrincipalFrame,
     heightfield: &Heightfield,
-    (bounds, small_patch): (&Aabb, f64),
+    (bounds, small_patch): (&Aabb, SmallPatches),
     (quadric, term): (u32, u32),
     (out, cap): (&mut Vec<BasicRegion>, &RegionCap),
     stats: &mut RegionStats,
@@ -403,13 +410,33 @@ pub fn basic_regions_within(
     given_up_reach
 }
 
+/// Which rectangles the partition keeps whole as small patches ([`crate::small_patches`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SmallPatches {
+    /// A rectangle to be split whose surface fits in a world box of this diagonal is kept
+    /// whole; `0` keeps none.
+    pub diagonal: f64,
+    /// Whether the frame's centre is a cone's apex, which no small patch may hold: the normal
+    /// turns all the way round within any distance of it, and the rectangles given up there
+    /// are settled at the apex ([`crate::apex`]). Elsewhere a cone is as any quadric (a flat
+    /// elliptic cone's thin edges took millions of regions when cones kept none).
+    pub apex: bool,
+}
+
+impl SmallPatches {
+    /// No small patch: every rectangle is refined until it is decided.
+    pub const NONE: Self = Self {
+        diagonal: 0.0,
+        apex: false,
+    };
+}
+
 /// The refinement of rectangles into basic regions, for one heightfield.
 pub(crate) struct Partition<'a> {
     pub(crate) frame: &'a PrincipalFrame,
     pub(crate) heightfield: &'a Heightfield,
-    /// A rectangle to be split whose surface fits in a world box of this diagonal is kept as a
-    /// small patch instead ([`crate::small_patches`]); `0` keeps none.
-    pub(crate) small_patch: f64,
+    /// Which rectangles to be split are kept as small patches instead.
+    pub(crate) small_patch: SmallPatches,
     /// Regions each kept rectangle makes (one per sheet), charged to `cap`.
     pub(crate) sheets: u64,
     pub(crate) quadric: u32,
@@ -453,7 +480,9 @@ impl Partition<'_> {
                     // heightfield crosses it, would only cut a patch that one sample can
                     // cover into many regions.
                     RectClass::Split if self.is_small_patch(&rect) => Some((f64::INFINITY, true)),
-                    RectClass::Split if depth >= MAX_REGION_DEPTH || budget == 0 => {
+                    RectClass::Split
+                        if depth >= MAX_REGION_DEPTH || budget == 0 || self.left_to_apex(&rect) =>
+                    {
                         stats.unresolved += 1;
                         given_up_reach = given_up_reach.max(reach_from_centre(heightfield, &rect));
                         None
@@ -477,10 +506,26 @@ impl Partition<'_> {
         (kept, given_up_reach)
     }
 
-    /// Whether the surface over `rect` (both sheets) fits in a world box of diagonal
-    /// `small_patch`.
+    /// Whether `rect` holds a cone's apex (the frame's centre, over the plane's origin).
+    fn holds_apex(&self, rect: &Rect) -> bool {
+        let holds_centre = |(low, high): (f64, f64)| low <= 0.0 && 0.0 <= high;
+        self.small_patch.apex && holds_centre(rect.x) && holds_centre(rect.y)
+    }
+
+    /// Whether `rect`, which holds a cone's apex, is left to the apex's ring of samples
+    /// ([`crate::apex`]) unrefined: where the surface over it lies within [`APEX_REACH`] of
+    /// the small patches' diagonal of the apex. Refined further, it would leave beside the
+    /// apex a small patch (a sample) for every halving down to [`MAX_REGION_DEPTH`].
+    fn left_to_apex(&self, rect: &Rect) -> bool {
+        self.holds_apex(rect)
+            && reach_from_centre(self.heightfield, rect) <= APEX_REACH * self.small_patch.diagonal
+    }
+
+    /// Whether the surface over `rect` (both sheets) fits in a world box of the small patches'
+    /// diagonal, and holds no cone's apex.
     fn is_small_patch(&self, rect: &Rect) -> bool {
-        if self.small_patch <= 0.0 {
+        let diagonal = self.small_patch.diagonal;
+        if diagonal <= 0.0 || self.holds_apex(rect) {
             return false;
         }
         let region = |sheet: f64| BasicRegion {
@@ -494,7 +539,7 @@ impl Partition<'_> {
         };
         [1.0, -1.0].iter().all(|&sheet| {
             patch_bounds(self.frame, &region(sheet))
-                .is_some_and(|b| (b.max - b.min).length() <= self.small_patch)
+                .is_some_and(|b| (b.max - b.min).length() <= diagonal)
         })
     }
 }

@@ -14,26 +14,30 @@
 //! One sample settles a small patch, whatever its distortion: eq. 22 at one point `p` of its
 //! surface (where the radicand is largest, so that the surface is there), and with `E` the
 //! diagonal of its box,
-//! - `d(p) < 0`: `p` is on the CSG surface and within `E` of every point of the patch: a
-//!   sample there of radius `E` covers it ([`Settled::Sample`]);
 //! - `d(p) > E`: every point of the patch is within `E` of `p`, closer than the CSG surface,
 //!   so none is on it ([`Settled::Off`]);
+//! - `d(q) < 0` at `p` or at another point `q` of the patch (its centre, corners and the
+//!   middles of its edges are tried, [`on_surface_point`]): `q` is on the CSG surface and
+//!   within `E` of every point of the patch, so a sample there of radius `E` covers it
+//!   ([`Settled::Sample`]). A feature that crosses the patch (a part's cap through the rim of
+//!   a thin blade) leaves part of it on the surface, where one of these lands;
 //! - otherwise a feature curve of the CSG surface passes near: the patch is refined as the
 //!   partition would have ([`refine`]), and its regions are subdivided as any others. This
 //!   costs the features' scale only where a feature of the solid meets the patch (a dent of
 //!   radius 1 in a ball of radius `10⁶` at a radius of `10⁵`: the dent's regions are those of
 //!   before).
 //!
-//! Cones keep none: around a cone's apex the given-up rectangles are settled by
+//! No small patch holds a cone's apex: around it the given-up rectangles are settled by
 //! [`crate::apex`].
 
-use qcsg_quadric::PrincipalFrame;
+use qcsg_quadric::{DVec3, PrincipalFrame};
 use rayon::prelude::*;
 
 use crate::csg_distance::NearDistance;
 use crate::patches::{Patch, PlacedRegion, near_margin};
 use crate::regions::{
-    BasicRegion, Partition, RegionCap, RegionStats, patch_bounds, radicand_peak, region_point,
+    BasicRegion, Partition, Rect, RegionCap, RegionStats, SmallPatches, patch_bounds,
+    radicand_peak, region_point,
 };
 
 /// Whether `region` is a small patch.
@@ -46,9 +50,45 @@ pub fn extent(frame: &PrincipalFrame, region: &BasicRegion) -> f64 {
     patch_bounds(frame, region).map_or(f64::INFINITY, |b| (b.max - b.min).length())
 }
 
-/// The point of the plane where a small patch is tested, and its sample made.
+/// The point of the plane where a small patch is tested first: where the radicand is largest,
+/// so that the surface is there.
 pub fn test_point(region: &BasicRegion) -> (f64, f64) {
     radicand_peak(&region.heightfield, &region.rect)
+}
+
+/// The points of the plane where a small patch is tried for a point on the CSG surface, in
+/// order: its [`test_point`], centre, corners and the middles of its edges.
+fn tried_points(region: &BasicRegion) -> [(f64, f64); 10] {
+    let Rect { x, y } = region.rect;
+    let (mx, my) = region.rect.centre();
+    [
+        test_point(region),
+        (mx, my),
+        (x.0, y.0),
+        (x.1, y.0),
+        (x.0, y.1),
+        (x.1, y.1),
+        (mx, y.0),
+        (mx, y.1),
+        (x.0, my),
+        (x.1, my),
+    ]
+}
+
+/// The first of a small patch's [`tried_points`] on the CSG surface (where `distance`, eq. 22
+/// at a point of the patch, is negative), where its one sample goes: every point of the patch
+/// is within the diagonal of its box of it. A feature of the solid that crosses the patch (the
+/// cap of a part through a rim) leaves most of these on the surface even where the test point
+/// is not, and the patch then needs no refining down to the scale of its rim.
+pub fn on_surface_point(
+    frame: &PrincipalFrame,
+    region: &BasicRegion,
+    mut distance: impl FnMut(DVec3) -> f64,
+) -> Option<(f64, f64)> {
+    tried_points(region).into_iter().find(|&(x, y)| {
+        region_point(frame, &region.heightfield, region.sheet, x, y)
+            .is_some_and(|p| distance(p) < 0.0)
+    })
 }
 
 /// What eq. 22 at a small patch's test point settles (see the module doc).
@@ -73,15 +113,14 @@ pub fn settle(
     let Some(p) = region_point(frame, &region.heightfield, region.sheet, x, y) else {
         return Settled::Refine;
     };
-    let d = if on_surface {
-        f64::NEG_INFINITY
-    } else {
-        distance.distance(p)
-    };
-    if d < 0.0 {
-        Settled::Sample
-    } else if d > extent(frame, region) {
+    if on_surface {
+        return Settled::Sample;
+    }
+    let d = distance.distance(p);
+    if d > extent(frame, region) {
         Settled::Off
+    } else if d < 0.0 || on_surface_point(frame, region, |p| distance.distance(p)).is_some() {
+        Settled::Sample
     } else {
         Settled::Refine
     }
@@ -98,7 +137,7 @@ pub fn refine(
     let partition = Partition {
         frame,
         heightfield: &region.heightfield,
-        small_patch: 0.0,
+        small_patch: SmallPatches::NONE,
         sheets: 1,
         quadric: region.quadric,
         cap,

@@ -8,8 +8,8 @@ use common::{Rng, points_on};
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DMat4, DVec3, HeightfieldForm, PrincipalFrame, Quadric, QuadricKind};
 use qcsg_sample::regions::{
-    BasicRegion, Held, Owned, Rect, RegionCap, RegionStats, basic_regions, basic_regions_within,
-    patch_bounds, region_point,
+    BasicRegion, Held, Owned, Rect, RegionCap, RegionStats, SmallPatches, basic_regions,
+    basic_regions_within, patch_bounds, region_point,
 };
 
 fn kinds() -> Vec<(&'static str, Quadric)> {
@@ -260,7 +260,14 @@ fn the_region_cap_stops_the_partition() {
         for hf in frame.heightfields() {
             let key = (7, 0);
             let out = (&mut regions, &cap);
-            basic_regions_within(&frame, &hf, (&bounds, 0.0), key, out, &mut stats);
+            basic_regions_within(
+                &frame,
+                &hf,
+                (&bounds, SmallPatches::NONE),
+                key,
+                out,
+                &mut stats,
+            );
         }
         (regions, cap.crossed())
     };

@@ -37,13 +37,7 @@ pub(super) fn onto_quadric(
     fallback: DVec3,
 ) {
     let q = ctx.quadric;
-    let (gradient, length_squared) = match ctx.snap {
-        Some(settled) => snap_to_surface(q, position, settled),
-        None => {
-            let gradient = q.gradient(*position);
-            (gradient, gradient.length_squared())
-        }
-    };
+    let (gradient, length_squared) = snap_to_surface(q, position, (ctx.snap, ctx.apex));
     *normal = Quadric::normal_from_gradient_squared(gradient, length_squared).unwrap_or(fallback);
 }
 
@@ -73,24 +67,33 @@ pub(super) fn surface_sample(
 /// Most Newton steps that move a sample onto its quadric ([`snap_to_surface`]).
 pub(super) const SNAP_STEPS: usize = 2;
 
+/// The longest step [`snap_to_surface`] takes on a cone, as a fraction of the point's distance
+/// from the apex: the steps it is for are of the size of rounding.
+pub(super) const APEX_STEP: f64 = 1e-3;
+
 /// `position` moved onto the quadric by Newton steps along the gradient, each kept only while it
 /// lowers `|Q| / ‖∇Q‖` (at most [`SNAP_STEPS`], none once it is at most `settled`). The heightfield
 /// point can be off by more than the required `1e-9` of the scene where its square root cancels (a
-/// slab of half-width `1e-6`); the move is of that size, far below any sample radius. Cones are
-/// left alone: next to the apex, where the gradient vanishes, a step can cross the bounding literal
-/// at the tip. Returns the gradient at the point it leaves, with its squared length.
+/// slab of half-width `1e-6`, the thin edge of a flat cone); the move is of that size, far below
+/// any sample radius. Beside a cone's `apex`, where the gradient vanishes, a step could leap
+/// across the literal that bounds the tip: a step longer than [`APEX_STEP`] of the distance to
+/// the apex is not taken. Returns the gradient at the point it leaves, with its squared length.
 ///
 /// Nearly every heightfield point is settled already; that test comes first, squared, without
 /// the square root and division of the residual: those waited on the divider, busy with the
 /// normal's, and took 4 % of sampling a lone ball.
 #[inline]
-pub(super) fn snap_to_surface(q: &Quadric, position: &mut DVec3, settled: f64) -> (DVec3, f64) {
+pub(super) fn snap_to_surface(
+    q: &Quadric,
+    position: &mut DVec3,
+    (settled, apex): (f64, Option<DVec3>),
+) -> (DVec3, f64) {
     let (value, gradient) = (q.value(*position), q.gradient(*position));
     let length_squared = gradient.length_squared();
     if value * value <= settled * settled * length_squared {
         return (gradient, length_squared);
     }
-    let (moved, gradient) = newton_steps(q, *position, settled, (value, gradient));
+    let (moved, gradient) = newton_steps(q, *position, (settled, apex), (value, gradient));
     *position = moved;
     (gradient, gradient.length_squared())
 }
@@ -102,7 +105,7 @@ pub(super) fn snap_to_surface(q: &Quadric, position: &mut DVec3, settled: f64) -
 pub(super) fn newton_steps(
     q: &Quadric,
     mut p: DVec3,
-    settled: f64,
+    (settled, apex): (f64, Option<DVec3>),
     (mut value, mut gradient): (f64, DVec3),
 ) -> (DVec3, DVec3) {
     // `|Q| / ‖∇Q‖`, infinite where the gradient vanishes.
@@ -123,7 +126,11 @@ pub(super) fn newton_steps(
         if current <= settled || !current.is_finite() {
             break;
         }
-        let next = p - (value / gradient.length_squared()) * gradient;
+        let step = (value / gradient.length_squared()) * gradient;
+        if apex.is_some_and(|apex| step.length() > APEX_STEP * p.distance(apex)) {
+            break;
+        }
+        let next = p - step;
         let (after, next_value, next_gradient) = residual(next);
         if !(next.is_finite() && after < current) {
             break;

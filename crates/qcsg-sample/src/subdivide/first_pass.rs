@@ -11,7 +11,7 @@
 //! on one thread as on many, so the output stays the same for any thread count; on one thread
 //! it costs a join per large rectangle and nothing is copied.
 
-use super::cell::{Cell, Walk, query};
+use super::cell::{Cell, Walk};
 use super::classify::{Verdict, at_centre, classify, covered_near, split};
 use super::emit::emit;
 use super::emitted::Emitted;
@@ -73,11 +73,11 @@ pub fn sample_region(
     out.box_new();
 }
 
-/// A small patch's one sample ([`crate::small_patches`]): at its test point `p`, of radius the
-/// diagonal `E` of its box, where eq. 22 is negative there (the settling of the run kept it for
-/// that). Every point of the patch lies within `E` of `p`: a recent sample of the block that
-/// covers that ball (its radius grown up to `r`) covers the patch, as for small rectangles
-/// ([`super::classify`]).
+/// A small patch's one sample ([`crate::small_patches`]): of radius the diagonal `E` of its box,
+/// at the first of the points it is tried at where eq. 22 is negative (the settling of the run
+/// kept it for that). Every point of the patch lies within `E` of its test point `p`: a recent
+/// sample of the block that covers that ball (its radius grown up to `r`) covers the patch, as
+/// for small rectangles ([`super::classify`]).
 fn small_patch(
     ctx: &RegionContext<'_>,
     region: &BasicRegion,
@@ -94,13 +94,16 @@ fn small_patch(
         stats.small += 1;
         return;
     }
-    let d = if ctx.on_surface {
-        f64::NEG_INFINITY
+    let at = if ctx.on_surface {
+        Some((x, y))
     } else {
-        query(ctx, region, x, y, stats)
+        small_patches::on_surface_point(ctx.frame, region, |p| {
+            stats.distance_queries += 1;
+            ctx.distance.distance(p)
+        })
     };
     let mut meter = Meter::new(ctx.budget, region.quadric);
-    if d < 0.0 {
+    if let Some((x, y)) = at {
         let radius = extent.min(ctx.radius);
         emit(ctx, region, x, y, radius, out);
         stats.small += 1;

@@ -37,7 +37,7 @@ mod second_pass;
 
 use std::sync::Mutex;
 
-use qcsg_quadric::{PrincipalFrame, Quadric};
+use qcsg_quadric::{DVec3, PrincipalFrame, Quadric};
 
 use crate::budget::Budget;
 use crate::csg_distance::NearDistance;
@@ -110,8 +110,10 @@ pub struct RegionContext<'a> {
     /// The run's limits, charged as the work goes.
     pub budget: &'a Budget,
     /// Samples farther than this from the quadric (`|Q| / ‖∇Q‖`) are moved onto it by Newton
-    /// steps (`snap_to_surface`); `None` for cones, which are left alone.
-    pub snap: Option<f64>,
+    /// steps (`snap_to_surface`).
+    pub snap: f64,
+    /// The apex of a cone, beside which those steps are kept short (`snap_to_surface`).
+    pub apex: Option<DVec3>,
     /// Parts of a rectangle no larger than this on the surface are specks, below the length
     /// tolerance of the scene ([`probe_given_up`]).
     pub speck: f64,
