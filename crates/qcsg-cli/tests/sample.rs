@@ -448,13 +448,19 @@ fn crossed_sampling_limits_are_errors_at_a_span() {
     // corner bound can tell from its rims.
     let nested =
         "difference() {\n  sphere(1 + 1e-9);\n  sphere(1);\n  halfspace([0, 0, -1], -0.3);\n}\n";
-    // 60 balls that all overlap: each one's distance holds the other 59 (about 12,000
-    // samples' worth in all), while the samples and regions number a few thousand.
+    // 60 parts that all overlap, each a ball cut by a turned cube (7 literals): each one's
+    // distance holds the other 59 (about 250,000 samples' worth in all), four times what their
+    // regions take (10 samples' worth each), while the samples number a few thousand. Past a
+    // limit of 50,000 the distances hold most of what is charged, however the threads share
+    // the parts out.
     let balls = (0..60)
         .map(|i| {
             format!(
-                "rotate([0, 0, {}]) translate([1, 0, 0]) sphere(3);\n",
-                6 * i
+                "rotate([0, 0, {}]) translate([1, 0, 0]) intersection() {{ sphere(3); \
+                 rotate([{}, {}, 0]) cube(4.6, center = true); }}\n",
+                6 * i,
+                7 * i,
+                11 * i
             )
         })
         .collect::<String>();
@@ -464,7 +470,7 @@ fn crossed_sampling_limits_are_errors_at_a_span() {
         (
             &balls,
             "--max-samples",
-            "5000",
+            "50000",
             "1000000",
             "E0604",
             "distances set up",

@@ -41,16 +41,16 @@ pub(super) fn term_box(dnf: &Dnf, term: usize) -> Option<Aabb> {
 /// sheet, rectangle), with the patch each belongs to. Literals are decomposed in parallel (a
 /// scene of many parts has thousands of them), and so are each literal's sampling planes.
 /// Rectangles whose surface fits in a box of diagonal `radius` are kept whole
-/// ([`crate::small_patches`]). At most `max_regions` regions are kept in all, counting each
-/// patch's eq. 22 as the samples that take as much memory ([`RegionCap`]); past that the
+/// ([`crate::small_patches`]). The regions and each patch's eq. 22 are charged as the samples
+/// that take as much memory ([`RegionCap`]), at most `max_samples` in all; past that the
 /// decomposition stops and the quadric being sampled when the cap was crossed is the error,
 /// with what crossed it.
 pub(super) fn all_regions(
     dnf: &Dnf,
-    (radius, max_regions): (f64, u64),
+    (radius, max_samples): (f64, u64),
     stats: &mut SampleStats,
 ) -> Result<(Vec<Patch>, Vec<PlacedRegion>), (u32, Held)> {
-    let cap = RegionCap::new(max_regions);
+    let cap = RegionCap::new(max_samples);
     let mut literals = Vec::new();
     for (term_index, term) in dnf.terms.iter().enumerate() {
         let Some(bounds) = term_box(dnf, term_index) else {

@@ -242,9 +242,19 @@ impl RegionStats {
     }
 }
 
+/// The memory a basic region holds until the run ends, in samples of 72 bytes: the region with
+/// the box around its part twice (in its sampling plane's list and in the run's, both held while
+/// the one is made from the other) and eq. 22 narrowed to it (`NearDistance`, without what its
+/// lists of near terms hold). Charged as one sample each, the 927,000 regions of a flat cone
+/// took 2 GB where their charge came to 67 MB (`docs/fuzzing.md`, failure 5).
+pub const REGION_SAMPLES: u64 = {
+    let held = 2 * size_of::<(usize, BasicRegion, Aabb)>()
+        + size_of::<Option<crate::csg_distance::NearDistance<'static>>>();
+    held.div_ceil(size_of::<Sample>()) as u64
+};
+
 /// What a run holds until it ends, in samples' worth of memory (its sample limit): the basic
-/// regions, each with eq. 22 narrowed to it (one sample each, though a region can hold more:
-/// see `docs/fuzzing.md`, failure 5), and eq. 22 set up for each sampled literal
+/// regions ([`REGION_SAMPLES`] each) and eq. 22 set up for each sampled literal
 /// ([`CsgDistance::held_bytes`]). A run of more regions than its sample limit, or whose
 /// literals see so many terms near them that their distances take more memory than that many
 /// samples (thousands of overlapping parts), would hold more than the limit implies: the
@@ -270,7 +280,7 @@ pub enum Held {
 }
 
 impl RegionCap {
-    /// A cap of `limit` regions (samples' worth of memory) in all.
+    /// A cap of `limit` samples' worth of memory in all.
     pub fn new(limit: u64) -> Self {
         Self {
             limit,
@@ -280,10 +290,10 @@ impl RegionCap {
         }
     }
 
-    /// Charges `count` more regions of `quadric`; `false` once the cap is crossed (by this
-    /// charge or an earlier one).
+    /// Charges `count` more regions of `quadric`, [`REGION_SAMPLES`] each; `false` once the
+    /// cap is crossed (by this charge or an earlier one).
     fn charge(&self, count: u64, quadric: u32) -> bool {
-        self.charge_to(Held::Regions, count, quadric)
+        self.charge_to(Held::Regions, count.saturating_mul(REGION_SAMPLES), quadric)
     }
 
     /// Charges eq. 22 of a literal of `quadric`, which holds `bytes`, as the samples that take

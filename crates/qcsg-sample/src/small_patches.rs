@@ -36,8 +36,8 @@ use rayon::prelude::*;
 use crate::csg_distance::NearDistance;
 use crate::patches::{Patch, PlacedRegion, near_margin};
 use crate::regions::{
-    BasicRegion, Partition, Rect, RegionCap, RegionStats, SmallPatches, patch_bounds,
-    radicand_peak, region_point,
+    BasicRegion, Partition, REGION_SAMPLES, Rect, RegionCap, RegionStats, SmallPatches,
+    patch_bounds, radicand_peak, region_point,
 };
 
 /// Whether `region` is a small patch.
@@ -156,18 +156,19 @@ pub fn refine(
 /// The run's regions with each small patch settled: kept (for its one sample), left out (no
 /// eq. 22: it emits nothing), or replaced by its refinement, whose regions get eq. 22 narrowed
 /// from the patch's, in the order of the regions they replace. Refined regions are charged,
-/// with the regions there were, to `max_regions`; past it, the quadric that crossed it is the
-/// error.
+/// with the regions there were, to `max_samples` ([`REGION_SAMPLES`] each); past it, the
+/// quadric that crossed it is the error.
 pub fn settle_all<'a>(
     (regions, near): (Vec<PlacedRegion>, Vec<Option<NearDistance<'a>>>),
     patches: &[Patch],
-    (radius, max_regions): (f64, u64),
+    (radius, max_samples): (f64, u64),
     stats: &mut RegionStats,
 ) -> Result<(Vec<PlacedRegion>, Vec<Option<NearDistance<'a>>>), u32> {
     if !regions.iter().any(|(_, region, _)| is_small_patch(region)) {
         return Ok((regions, near));
     }
-    let cap = RegionCap::new(max_regions.saturating_sub(regions.len() as u64));
+    let held = (regions.len() as u64).saturating_mul(REGION_SAMPLES);
+    let cap = RegionCap::new(max_samples.saturating_sub(held));
     type Outcome<'a> = (Vec<(PlacedRegion, Option<NearDistance<'a>>)>, RegionStats);
     let settled: Vec<Outcome<'a>> = regions
         .into_par_iter()

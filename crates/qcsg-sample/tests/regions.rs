@@ -8,8 +8,8 @@ use common::{Rng, points_on};
 use qcsg_csg::Aabb;
 use qcsg_quadric::{DMat4, DVec3, HeightfieldForm, PrincipalFrame, Quadric, QuadricKind};
 use qcsg_sample::regions::{
-    BasicRegion, Held, Owned, Rect, RegionCap, RegionStats, SmallPatches, basic_regions,
-    basic_regions_within, patch_bounds, region_point,
+    BasicRegion, Held, Owned, REGION_SAMPLES, Rect, RegionCap, RegionStats, SmallPatches,
+    basic_regions, basic_regions_within, patch_bounds, region_point,
 };
 
 fn kinds() -> Vec<(&'static str, Quadric)> {
@@ -245,8 +245,9 @@ fn patch_bounds_hold_the_patch() {
     }
 }
 
-/// A cap on the regions kept stops the partition as soon as it is crossed and names the
-/// quadric; under the cap the regions are those of an uncapped partition.
+/// A cap on the regions kept, [`REGION_SAMPLES`] samples each, stops the partition as soon as it
+/// is crossed and names the quadric; under the cap the regions are those of an uncapped
+/// partition.
 #[test]
 fn the_region_cap_stops_the_partition() {
     let q = Quadric::sphere(DVec3::ZERO, 1.0).expect("a sphere");
@@ -271,11 +272,13 @@ fn the_region_cap_stops_the_partition() {
         }
         (regions, cap.crossed())
     };
+    // Each region is charged as the samples that take as much memory.
     let count = all.len() as u64;
-    let (under, crossed) = partition(count);
+    let held = count * REGION_SAMPLES;
+    let (under, crossed) = partition(held);
     assert_eq!(crossed, None);
     assert_eq!(under.len(), all.len());
-    let (over, crossed) = partition(count - 1);
+    let (over, crossed) = partition(held - 1);
     assert_eq!(crossed, Some((7, Held::Regions)));
     assert!((over.len() as u64) < count, "{} regions", over.len());
 }
