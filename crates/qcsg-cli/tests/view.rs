@@ -216,7 +216,6 @@ fn pixels_showing_each_call(file: &Path) -> Vec<(String, ViewRequest, u32, u32, 
     assert!(!compilation.has_errors());
     let preview = Preview::new(
         &compilation.analysis,
-        compilation.dag.expect("a DAG"),
         compilation.layers.expect("layers"),
         &compilation.instantiations,
     );

@@ -137,11 +137,14 @@ impl Backend {
         }
         let answer = self
             .query(&params.text_document.uri, move |analyzed| {
-                let Some(preview) = analyzed.geometry().and_then(|g| g.preview()) else {
+                let Some(geometry) = analyzed.geometry() else {
+                    return Ok(Value::Null);
+                };
+                let Some(preview) = geometry.preview() else {
                     return Ok(Value::Null);
                 };
                 let picked = preview
-                    .pick(&request, x, y)
+                    .pick(&geometry.evaluation().dag, &request, x, y)
                     .map_err(|e| invalid(format!("bad camera: {e}")))?;
                 Ok(serde_json::to_value(picked).unwrap_or(Value::Null))
             })

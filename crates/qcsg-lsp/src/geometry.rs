@@ -77,14 +77,7 @@ impl Geometry {
         let preview = built
             .layers
             .filter(|_| !evaluation.has_errors())
-            .map(|layers| {
-                Preview::new(
-                    analysis.sema(),
-                    evaluation.dag.clone(),
-                    layers,
-                    &evaluation.instantiations,
-                )
-            });
+            .map(|layers| Preview::new(analysis.sema(), layers, &evaluation.instantiations));
         let mut geometry = Geometry::new(analysis, evaluation, built.diagnostics, limits.clone());
         geometry.preview = preview;
         Some(geometry)

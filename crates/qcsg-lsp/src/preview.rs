@@ -120,7 +120,6 @@ struct CallSite {
 #[derive(Debug)]
 pub struct Preview {
     scene: Scene,
-    dag: Dag,
     sources: SourceMap,
     /// The user module calls that produced each node.
     calls: HashMap<NodeId, Vec<CallSite>>,
@@ -129,14 +128,11 @@ pub struct Preview {
 }
 
 impl Preview {
-    /// The preview of a scene compiled without error: its DAG, its DNF layers, and which node
-    /// each instantiation statement produced, with the analysis that names them.
-    pub fn new(
-        analysis: &Analysis,
-        dag: Dag,
-        layers: Layers,
-        instantiations: &[(Source, NodeId)],
-    ) -> Self {
+    /// The preview of a scene compiled without error: its DNF layers, and which DAG node each
+    /// instantiation statement produced, with the analysis that names them. The DAG itself
+    /// stays with the evaluation, and a pick is handed it: a copy here doubled the memory a
+    /// document's geometry takes.
+    pub fn new(analysis: &Analysis, layers: Layers, instantiations: &[(Source, NodeId)]) -> Self {
         let modules = analysis
             .definitions
             .iter()
@@ -165,7 +161,6 @@ impl Preview {
         }
         Self {
             scene: Scene::from_layers(layers),
-            dag,
             sources: analysis.sources.clone(),
             calls,
             modules,
@@ -217,9 +212,11 @@ impl Preview {
     }
 
     /// What pixel `(x, y)` of the frame of `request` shows (the ray through its centre, as the
-    /// frame traces it): the nearest surface of any layer, `None` for the background.
+    /// frame traces it): the nearest surface of any layer, `None` for the background; `dag` is
+    /// the scene's DAG, which the chain of module calls is found in.
     pub fn pick(
         &self,
+        dag: &Dag,
         request: &ViewRequest,
         x: u32,
         y: u32,
@@ -246,7 +243,7 @@ impl Preview {
         let quadric: Option<&DnfQuadric> = hit.quadric.and_then(|q| layer_quadric(layer, q));
         let place = quadric.map(|q| self.place(q.source));
         let chain = quadric
-            .map(|q| self.chain(q.source, hit.point, name == "background"))
+            .map(|q| self.chain(dag, q.source, hit.point, name == "background"))
             .unwrap_or_default();
         Ok(Some(Picked {
             layer: name,
@@ -288,13 +285,13 @@ impl Preview {
 
     /// The module calls that led to the leaf made by `source` and seen at `point`: the path
     /// from the root to such a leaf whose surface passes closest to the point.
-    fn chain(&self, source: Source, point: DVec3, background: bool) -> Vec<Call> {
+    fn chain(&self, dag: &Dag, source: Source, point: DVec3, background: bool) -> Vec<Call> {
         let roots: Vec<Edge> = if background {
-            self.dag.backgrounds().to_vec()
+            dag.backgrounds().to_vec()
         } else {
-            self.dag.root().into_iter().collect()
+            dag.root().into_iter().collect()
         };
-        let reaches = self.reaches(source);
+        let reaches = Self::reaches(dag, source);
         let mut best: Option<(f64, Vec<NodeId>)> = None;
         let mut paths = 0;
         // Depth-first over (edge, world transform, path length) with one shared path.
@@ -310,8 +307,8 @@ impl Preview {
             }
             path.truncate(depth);
             path.push(edge.child);
-            let world = above * self.dag.matrix(edge.transform);
-            let Some(node) = self.dag.node(edge.child) else {
+            let world = above * dag.matrix(edge.transform);
+            let Some(node) = dag.node(edge.child) else {
                 continue;
             };
             if let NodeKind::Leaf(quadric) = &node.kind {
@@ -339,10 +336,10 @@ impl Preview {
     }
 
     /// Per node, whether a leaf made by `source` lies below it (or is it).
-    fn reaches(&self, source: Source) -> Vec<bool> {
+    fn reaches(dag: &Dag, source: Source) -> Vec<bool> {
         // Children are created before their parents, so one pass in creation order suffices.
-        let mut reaches = vec![false; self.dag.len()];
-        for (i, node) in self.dag.nodes().iter().enumerate() {
+        let mut reaches = vec![false; dag.len()];
+        for (i, node) in dag.nodes().iter().enumerate() {
             reaches[i] = match &node.kind {
                 NodeKind::Leaf(_) => node.source == source,
                 kind => kind

@@ -23,7 +23,7 @@ use qcsg_splat::{SplatError, SplatRenderer};
 use tokio::sync::broadcast;
 
 use super::query::{self, Refusal, SizeLimit};
-use super::scene::Snapshot;
+use super::scene::{Image, Snapshot};
 
 /// The page and its assets, compiled into the binary: no other file is ever served.
 const INDEX_HTML: &str = include_str!("assets/index.html");
@@ -199,7 +199,7 @@ async fn not_found() -> Response {
 }
 
 /// The latest good scene and its generation, or the 409 answer when there has never been one.
-fn image(shared: &Shared) -> Result<(u64, Arc<Preview>), Refusal> {
+fn image(shared: &Shared) -> Result<(u64, Arc<Image>), Refusal> {
     shared.current().image.clone().ok_or_else(|| Refusal {
         status: StatusCode::CONFLICT,
         message: "the program has errors and no earlier version compiled".into(),
@@ -231,14 +231,14 @@ async fn frame(State(shared): State<Arc<Shared>>, RawQuery(raw): RawQuery) -> Re
         Ok(request) => request,
         Err(refusal) => return refuse(refusal),
     };
-    let (generation, preview) = match image(&shared) {
+    let (generation, image) = match image(&shared) {
         Ok(image) => image,
         Err(refusal) => return refuse(refusal),
     };
     let rendering = Arc::clone(&shared);
     let rendered = on_pool(&shared, move || {
         let started = Instant::now();
-        let frame = rendering.frames.render(&preview, &request)?;
+        let frame = rendering.frames.render(&image.preview, &request)?;
         let png = qcsg_render::png::encode(&frame).map_err(|error| Refusal {
             status: StatusCode::INTERNAL_SERVER_ERROR,
             message: format!("the frame cannot be encoded: {error}"),
@@ -283,11 +283,15 @@ async fn pick(State(shared): State<Arc<Shared>>, RawQuery(raw): RawQuery) -> Res
         Ok(parsed) => parsed,
         Err(refusal) => return refuse(refusal),
     };
-    let (generation, preview) = match image(&shared) {
+    let (generation, image) = match image(&shared) {
         Ok(image) => image,
         Err(refusal) => return refuse(refusal),
     };
-    match on_pool(&shared, move || preview.pick(&request, x, y)).await {
+    match on_pool(&shared, move || {
+        image.preview.pick(&image.dag, &request, x, y)
+    })
+    .await
+    {
         Err(refusal) => refuse(refusal),
         Ok(Err(error)) => refuse(camera_refusal(error)),
         Ok(Ok(picked)) => json_response(
@@ -303,10 +307,11 @@ async fn camera(State(shared): State<Arc<Shared>>, RawQuery(raw): RawQuery) -> R
         Ok(request) => request,
         Err(refusal) => return refuse(refusal),
     };
-    let (generation, preview) = match image(&shared) {
+    let (generation, image) = match image(&shared) {
         Ok(image) => image,
         Err(refusal) => return refuse(refusal),
     };
+    let preview = &image.preview;
     match request.camera(preview.scene()) {
         Err(error) => refuse(camera_refusal(error)),
         Ok(camera) => {

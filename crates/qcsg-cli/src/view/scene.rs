@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
+use qcsg_csg::Dag;
 use qcsg_driver::{Options, Stage};
 use qcsg_lsp::preview::Preview;
 use serde_json::json;
@@ -12,13 +13,22 @@ use serde_json::json;
 use crate::json::JsonDiagnostic;
 use crate::program;
 
+/// A scene that compiled without error: its preview, and the DAG in which a pick finds the
+/// module calls that made a part.
+pub struct Image {
+    /// The scene drawn, and what each of its parts came from.
+    pub preview: Preview,
+    /// The solid's DAG.
+    pub dag: Dag,
+}
+
 /// One compiled state of the program.
 #[derive(Clone)]
 pub struct Snapshot {
     /// Counts the rebuilds, from 1.
     pub generation: u64,
     /// The last scene that compiled without error, with the generation it came from.
-    pub image: Option<(u64, Arc<Preview>)>,
+    pub image: Option<(u64, Arc<Image>)>,
     /// The `change` event of this generation (JSON).
     pub event: String,
     /// Every file the program read, imported meshes included (absolute where they could be
@@ -64,19 +74,17 @@ pub fn rebuild(file: &str, options: &Options, previous: Option<&Snapshot>) -> Sn
             let image = match (ok, compilation.dag, compilation.layers) {
                 (true, Some(dag), Some(layers)) => Some((
                     generation,
-                    Arc::new(Preview::new(
-                        analysis,
+                    Arc::new(Image {
+                        preview: Preview::new(analysis, layers, &compilation.instantiations),
                         dag,
-                        layers,
-                        &compilation.instantiations,
-                    )),
+                    }),
                 )),
                 _ => previous.and_then(|p| p.image.clone()),
             };
             let quadrics = image
                 .as_ref()
                 .filter(|(g, _)| *g == generation)
-                .map(|(_, preview)| preview.scene().quadric_count());
+                .map(|(_, image)| image.preview.scene().quadric_count());
             let event = json!({
                 "generation": generation,
                 "ok": ok,
