@@ -8,6 +8,7 @@
 //! as separate roots, outside the solid.
 
 use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 
 use rustc_hash::FxHashMap;
 
@@ -147,30 +148,41 @@ impl std::fmt::Display for DagError {
 
 impl std::error::Error for DagError {}
 
-/// The exact identity of a node, for hash-consing: floats by bit pattern.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-struct NodeKey {
+/// The exact identity of a node, for hash-consing: floats by bit pattern. It borrows the node's
+/// children, so that the index holds no copy of them: a copy made each key several times the
+/// size of its entry, and a long text's DAG interns a million nodes.
+#[derive(PartialEq, Eq, Hash)]
+struct NodeKey<'n> {
     tag: u8,
-    edges: Vec<Edge>,
-    bits: Vec<u64>,
+    edges: &'n [Edge],
+    /// A leaf's origin and coefficients, a colour's channels; zeros beyond them.
+    bits: [u64; 13],
     source: Source,
     bounds: Option<[u64; 6]>,
 }
 
-impl NodeKey {
-    fn of(node: &Node) -> Self {
-        let (tag, edges, bits): (u8, Vec<Edge>, Vec<u64>) = match &node.kind {
+impl<'n> NodeKey<'n> {
+    fn of(node: &'n Node) -> Self {
+        let mut bits = [0u64; 13];
+        let (tag, edges): (u8, &[Edge]) = match &node.kind {
             NodeKind::Leaf(q) => {
-                let mut bits: Vec<u64> = q.origin().to_array().map(f64::to_bits).to_vec();
-                bits.extend(q.coefficients().map(f64::to_bits));
-                (0, Vec::new(), bits)
+                let numbers = q.origin().to_array().into_iter().chain(q.coefficients());
+                for (bit, number) in bits.iter_mut().zip(numbers) {
+                    *bit = number.to_bits();
+                }
+                (0, &[])
             }
-            NodeKind::Union(c) => (1, c.clone(), Vec::new()),
-            NodeKind::Intersection(c) => (2, c.clone(), Vec::new()),
-            NodeKind::Difference(c) => (3, c.clone(), Vec::new()),
-            NodeKind::Complement(e) => (4, vec![*e], Vec::new()),
-            NodeKind::Color(rgba, e) => (5, vec![*e], rgba.map(f64::to_bits).to_vec()),
-            NodeKind::Highlight(e) => (6, vec![*e], Vec::new()),
+            NodeKind::Union(c) => (1, c),
+            NodeKind::Intersection(c) => (2, c),
+            NodeKind::Difference(c) => (3, c),
+            NodeKind::Complement(e) => (4, std::slice::from_ref(e)),
+            NodeKind::Color(rgba, e) => {
+                for (bit, channel) in bits.iter_mut().zip(rgba) {
+                    *bit = channel.to_bits();
+                }
+                (5, std::slice::from_ref(e))
+            }
+            NodeKind::Highlight(e) => (6, std::slice::from_ref(e)),
         };
         NodeKey {
             tag,
@@ -179,6 +191,33 @@ impl NodeKey {
             source: node.source,
             bounds: node.bounds.map(|b| b.bits()),
         }
+    }
+
+    fn hash(&self) -> u64 {
+        let mut hasher = rustc_hash::FxHasher::default();
+        std::hash::Hash::hash(self, &mut hasher);
+        std::hash::Hasher::finish(&hasher)
+    }
+}
+
+/// The nodes interned under one hash of their [`NodeKey`]: nearly always one.
+#[derive(Clone, Debug)]
+enum Interned {
+    One(NodeId),
+    Many(Vec<NodeId>),
+}
+
+impl Interned {
+    fn ids(&self) -> &[NodeId] {
+        match self {
+            Interned::One(id) => std::slice::from_ref(id),
+            Interned::Many(ids) => ids,
+        }
+    }
+
+    /// These and `id`, a node whose key hashes alike.
+    fn with(&self, id: NodeId) -> Self {
+        Interned::Many(self.ids().iter().copied().chain([id]).collect())
     }
 }
 
@@ -191,8 +230,9 @@ impl NodeKey {
 #[derive(Clone, Debug)]
 pub struct Dag {
     nodes: Vec<Node>,
-    /// Keyed by a fast hash: building a mesh's cells interns hundreds of thousands of nodes.
-    node_index: FxHashMap<NodeKey, NodeId>,
+    /// The nodes by the hash of their [`NodeKey`] (a fast hash: building a mesh's cells interns
+    /// hundreds of thousands of nodes).
+    node_index: FxHashMap<u64, Interned>,
     transforms: Vec<DMat4>,
     /// Inverses of `transforms` (`None` where singular), for membership queries.
     inverses: Vec<Option<DMat4>>,
@@ -617,14 +657,26 @@ impl Dag {
             bounds,
         };
         let key = NodeKey::of(&node);
-        if let Some(&id) = self.node_index.get(&key) {
+        let hash = key.hash();
+        let nodes = &self.nodes;
+        let same = |id: &&NodeId| NodeKey::of(&nodes[id.0 as usize]) == key;
+        if let Some(&id) = (self.node_index.get(&hash)).and_then(|ids| ids.ids().iter().find(same))
+        {
             return id;
         }
         // u32 ids: four billion nodes of at least 100 bytes each exhaust memory long before
         // the id space.
         let id = NodeId(self.nodes.len() as u32);
         self.nodes.push(node);
-        self.node_index.insert(key, id);
+        match self.node_index.entry(hash) {
+            Entry::Vacant(entry) => {
+                entry.insert(Interned::One(id));
+            }
+            Entry::Occupied(mut entry) => {
+                let ids = entry.get().with(id);
+                entry.insert(ids);
+            }
+        }
         id
     }
 }
@@ -657,6 +709,49 @@ mod tests {
         assert_eq!(u1, u2);
         assert_eq!(dag.len(), 2);
         assert_eq!(dag.transforms().len(), 2);
+    }
+
+    /// Nodes that differ in any part of their identity stay apart; each is found again.
+    #[test]
+    fn distinct_nodes_are_kept_apart_and_found_again() {
+        let mut dag = Dag::new();
+        let source = Source::default();
+        let a = dag.leaf(sphere(), source);
+        let b = dag.leaf(Quadric::sphere(DVec3::ZERO, 2.0).unwrap(), source);
+        let union = dag.union([a.into(), b.into()], source);
+        let intersection = dag.intersection([a.into(), b.into()], source);
+        let swapped = dag.union([b.into(), a.into()], source);
+        let coloured = dag.color(a.into(), [1.0, 0.0, 0.0, 1.0], source).unwrap();
+        let other_colour = dag.color(a.into(), [0.0, 1.0, 0.0, 1.0], source).unwrap();
+        let elsewhere = dag.leaf(sphere(), Source::new(FileId(1), Span::new(0, 1)));
+        let made = [
+            a,
+            b,
+            union,
+            intersection,
+            swapped,
+            coloured,
+            other_colour,
+            elsewhere,
+        ];
+        let mut distinct = made.to_vec();
+        distinct.sort();
+        distinct.dedup();
+        assert_eq!(distinct.len(), made.len());
+        assert_eq!(dag.union([a.into(), b.into()], source), union);
+        assert_eq!(
+            dag.color(a.into(), [0.0, 1.0, 0.0, 1.0], source).unwrap(),
+            other_colour
+        );
+        assert_eq!(dag.len(), made.len());
+    }
+
+    /// Nodes whose keys hash alike are all kept under the hash.
+    #[test]
+    fn nodes_hashed_alike_are_all_kept() {
+        let (a, b, c) = (NodeId(3), NodeId(5), NodeId(8));
+        let many = Interned::One(a).with(b).with(c);
+        assert_eq!(many.ids(), [a, b, c]);
     }
 
     #[test]
