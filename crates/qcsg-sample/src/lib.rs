@@ -127,6 +127,7 @@ mod lanes;
 mod memo;
 mod patches;
 mod progress;
+mod region_cap;
 pub mod regions;
 mod run;
 mod sample_point;
