@@ -134,3 +134,35 @@ fn text_in_a_union_subtracted_and_intersected_keeps_its_meaning() {
         }
     }
 }
+
+#[test]
+fn glyphs_built_together_and_vertical_text_keep_their_meaning() {
+    // Tight spacing makes glyph boxes overlap, so neighbours are built together in one frame;
+    // vertical text runs along y; repeats are placed copies. Everywhere the engraved DNF, built
+    // from the text's complement, is the DAG's solid.
+    let scenes = [
+        "difference() { cube([40, 14, 3]); translate([1, 3, 1]) linear_extrude(3) text(\"AV o AVAV fi o\", size = 5, spacing = 0.8); }",
+        "difference() { cube([14, 60, 3]); translate([7, 58, 1]) linear_extrude(3) text(\"qcsgq\", size = 8, direction = \"ttb\"); }",
+        "difference() { cube([90, 12, 3]); translate([1, 3, 1]) linear_extrude(3) text(\"oooo xo ox oo\", size = 8); }",
+    ];
+    for (n, scene) in scenes.iter().enumerate() {
+        let (e, dnf) = dnf_of(scene);
+        let b = e.dag.edge_bounds(e.dag.root().expect("a solid"));
+        let mut rng = Rng::new(100 + n as u64);
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..20_000 {
+            let p = rng.in_box(b.min, b.max);
+            let expected = e.dag.contains(p);
+            assert_eq!(dnf.contains(p), expected, "{scene} at {p}");
+            if expected {
+                inside += 1;
+            } else {
+                outside += 1;
+            }
+        }
+        assert!(
+            inside > 1000 && outside > 1000,
+            "{scene}: {inside} in, {outside} out"
+        );
+    }
+}

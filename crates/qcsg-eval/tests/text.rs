@@ -187,6 +187,27 @@ fn a_paragraph_stays_near_linear() {
     assert!(four <= 4 * one + 8, "{one} terms, then {four}");
 }
 
+#[test]
+fn a_repeated_glyph_is_built_once() {
+    // Each glyph repeated is placed again, not built again: a few nodes for its place in the
+    // text and its complement, where a glyph built anew takes hundreds.
+    let line = "abcdefghijklmnopqrs";
+    let nodes = |repeat: usize| {
+        let e = eval(&format!(
+            "linear_extrude(2) text(\"{}\");",
+            line.repeat(repeat)
+        ));
+        assert!(!e.has_errors());
+        e.dag.len()
+    };
+    let (one, hundred) = (nodes(1), nodes(100));
+    let added = hundred - one;
+    assert!(
+        added <= 4 * 99 * line.len(),
+        "{one} nodes for one line, {hundred} for a hundred"
+    );
+}
+
 /// The winding number at `q` of contours with every arc cut into `n` chords.
 fn flattened_winding(contours: &[Vec<Segment>], q: DVec2, n: usize) -> (i32, f64) {
     let mut w = 0;

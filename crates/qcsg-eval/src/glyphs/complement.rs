@@ -1,6 +1,9 @@
-//! The exact complement of a line of text, for engraving: everything outside the text's box, and
-//! within it the cells the glyphs leave unfilled, cut from the same lines and parabolas as the
-//! glyphs' own cells ([`qcsg_mesh::curved::curved_complement_cells`]).
+//! The exact complement of a line of text, for engraving: for each cluster of glyphs
+//! ([`super::line`]), the cells its glyphs leave unfilled within its strip along the line, cut
+//! from the same lines and parabolas as the glyphs' own cells
+//! ([`qcsg_mesh::curved::curved_complement_cells`]), and the strip above and below them; then
+//! the strips between the clusters and the half-planes before and after them. Every piece of a
+//! cluster is built in the cluster's frame, so a cluster the line repeats shares its pieces.
 //!
 //! Subtracting text from a part intersects the part with the text's complement. Left to De
 //! Morgan, that complement is the product of every glyph cell's complement, which multiplies out
@@ -16,7 +19,7 @@ use qcsg_csg::{Dag, Edge, NodeId, Source};
 use qcsg_mesh::HalfPlane;
 use qcsg_mesh::curved::{FillRule, Segment, curved_complement_cells};
 
-use super::region_node;
+use super::{Strip, region_node};
 use crate::polygon::half_space;
 use crate::primitives_2d::column;
 
@@ -51,13 +54,46 @@ fn reversed(contours: &[Vec<Segment>]) -> Vec<Vec<Segment>> {
         .collect()
 }
 
-/// The complement of the union of `glyphs` (each a list of contours filled with the non-zero
-/// rule) as a node, or `None` where it cannot be built (the caller then keeps De Morgan's form).
-pub fn complement_node(
+/// A wall along an axis: the half-plane where coordinate `axis` is at most `value` (`upper`)
+/// or at least `value`. The two sides of one value are exact flips of each other, so pieces
+/// that meet on a wall share its face exactly.
+pub(super) fn axis_wall(
     dag: &mut Dag,
-    glyphs: &[&[Vec<Segment>]],
+    axis: usize,
+    upper: bool,
+    value: f64,
     source: Source,
-) -> Option<NodeId> {
+) -> Option<Edge> {
+    let unit = if axis == 0 { DVec2::X } else { DVec2::Y };
+    let (normal, offset) = if upper {
+        (unit, value)
+    } else {
+        (-unit, -value)
+    };
+    let q = half_space(&HalfPlane { normal, offset })?;
+    Some(dag.leaf(q, source).into())
+}
+
+/// The complement of one cluster of glyphs within its strip (its outline's extent along the
+/// line), in the cluster's frame.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ClusterComplement {
+    /// The unfilled cells within the strip, and the strip above and below the partitioned box.
+    pub inside: NodeId,
+    /// Where the strip begins along the line.
+    pub lo: f64,
+    /// Where the strip ends along the line.
+    pub hi: f64,
+}
+
+/// The complement, within its strip along `axis`, of the union of `glyphs` (each a list of
+/// contours filled with the non-zero rule); `None` where it cannot be built.
+pub(super) fn cluster_complement(
+    dag: &mut Dag,
+    glyphs: &[Vec<Vec<Segment>>],
+    axis: usize,
+    source: Source,
+) -> Option<ClusterComplement> {
     let mut contours: Vec<Vec<Segment>> = Vec::new();
     for glyph in glyphs {
         if signed_area(glyph) > 0.0 {
@@ -66,46 +102,82 @@ pub fn complement_node(
             contours.extend(glyph.iter().cloned());
         }
     }
+    let (lo, hi) = contours.iter().flatten().fold(
+        (f64::INFINITY, f64::NEG_INFINITY),
+        |(lo, hi), s| match *s {
+            Segment::Line(a, b) => (lo.min(a[axis]).min(b[axis]), hi.max(a[axis]).max(b[axis])),
+            Segment::Quad(a, c, b) => (
+                lo.min(a[axis]).min(b[axis]).min(c[axis]),
+                hi.max(a[axis]).max(b[axis]).max(c[axis]),
+            ),
+        },
+    );
     let complement = curved_complement_cells(&contours, FillRule::NonZero).ok()??;
+    // The partition's box reaches past the outline; its cells are cut back to the strip, and
+    // the strip above and below the box is added, each wall the exact flip of the partition's.
     let (min, max) = (complement.min, complement.max);
-    let inf = f64::INFINITY;
-    // Outside the box, in four disjoint pieces: left, right, and below and above between them.
-    // Each wall is the exact flip of the partition's wall, so faces on it cancel exactly.
-    let wall = |dag: &mut Dag, normal: DVec2, offset: f64| -> Option<Edge> {
-        let q = half_space(&HalfPlane { normal, offset })?;
-        Some(dag.leaf(q, source).into())
-    };
-    let mut parts: Vec<Edge> = Vec::with_capacity(5);
-    let left = wall(dag, DVec2::X, min.x)?;
-    parts.push(
-        dag.bounded(
-            left.child,
-            column(DVec2::new(-inf, -inf), DVec2::new(min.x, inf)),
-        )
-        .into(),
-    );
-    let right = wall(dag, -DVec2::X, -max.x)?;
-    parts.push(
-        dag.bounded(
-            right.child,
-            column(DVec2::new(max.x, -inf), DVec2::new(inf, inf)),
-        )
-        .into(),
-    );
-    let between = [wall(dag, -DVec2::X, -min.x)?, wall(dag, DVec2::X, max.x)?];
-    for (normal, offset, lo, hi) in [
-        (DVec2::Y, min.y, -inf, min.y),
-        (-DVec2::Y, -max.y, max.y, inf),
-    ] {
-        let side = wall(dag, normal, offset)?;
-        let node = dag.intersection([between[0], between[1], side], source);
-        parts.push(
-            dag.bounded(node, column(DVec2::new(min.x, lo), DVec2::new(max.x, hi)))
-                .into(),
-        );
-    }
-    if let Some(cells) = region_node(dag, &complement.region, source).ok()? {
+    let across = 1 - axis;
+    let strip = Strip { axis, lo, hi };
+    let mut parts: Vec<Edge> = Vec::with_capacity(3);
+    if let Some(cells) = region_node(dag, &complement.region, Some(strip), source).ok()? {
         parts.push(cells.into());
+    }
+    let inf = f64::INFINITY;
+    for (upper, (from, to)) in [(true, (-inf, min[across])), (false, (max[across], inf))] {
+        let sides = [
+            axis_wall(dag, axis, false, lo, source)?,
+            axis_wall(dag, axis, true, hi, source)?,
+            axis_wall(
+                dag,
+                across,
+                upper,
+                if upper { min[across] } else { max[across] },
+                source,
+            )?,
+        ];
+        let node = dag.intersection(sides, source);
+        let (mut box_min, mut box_max) = (DVec2::ZERO, DVec2::ZERO);
+        (box_min[axis], box_max[axis]) = (lo, hi);
+        (box_min[across], box_max[across]) = (from, to);
+        parts.push(dag.bounded(node, column(box_min, box_max)).into());
+    }
+    Some(ClusterComplement {
+        inside: dag.union(parts, source),
+        lo,
+        hi,
+    })
+}
+
+/// The complement of a line of clusters, each given by its complement within its strip and its
+/// frame's origin, in order along `axis` with their strips apart: the clusters' pieces, the
+/// strips between them, and the half-planes before the first and after the last.
+pub(super) fn outside_clusters(
+    dag: &mut Dag,
+    clusters: &[(ClusterComplement, DVec2)],
+    axis: usize,
+    source: Source,
+) -> Option<NodeId> {
+    let placed_wall = |dag: &mut Dag, upper: bool, value: f64, origin: DVec2| {
+        let wall = axis_wall(dag, axis, upper, value, source)?;
+        dag.translated(wall, origin.extend(0.0)).ok()
+    };
+    let (first, last) = (clusters.first()?, clusters.last()?);
+    let mut parts: Vec<Edge> = Vec::with_capacity(2 * clusters.len() + 1);
+    parts.push(placed_wall(dag, true, first.0.lo, first.1)?);
+    for pair in clusters.windows(2) {
+        let (a, b) = (&pair[0], &pair[1]);
+        let sides = [
+            placed_wall(dag, false, a.0.hi, a.1)?,
+            placed_wall(dag, true, b.0.lo, b.1)?,
+        ];
+        parts.push(dag.intersection(sides, source).into());
+    }
+    parts.push(placed_wall(dag, false, last.0.hi, last.1)?);
+    for (complement, origin) in clusters {
+        parts.push(
+            dag.translated(complement.inside.into(), origin.extend(0.0))
+                .ok()?,
+        );
     }
     Some(dag.union(parts, source))
 }

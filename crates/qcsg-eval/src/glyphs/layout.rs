@@ -59,12 +59,42 @@ pub enum VAlign {
     Bottom,
 }
 
-/// A glyph placed: its outline in output coordinates.
+/// A glyph placed: its outline about its own origin, and where that origin is.
+///
+/// The outline is kept about the glyph's origin so that a glyph the text repeats has the same
+/// outline, to the bit, wherever it stands: built once, it is placed with a translation.
 pub struct PlacedGlyph {
-    /// Closed contours of lines and quadratic arcs.
+    /// The font's glyph id: glyphs with the same id have the same `contours`.
+    pub id: u16,
+    /// Closed contours of lines and quadratic arcs, about the glyph's origin.
     pub contours: Vec<Vec<Segment>>,
+    /// Where the glyph's origin lies in output coordinates.
+    pub origin: DVec2,
     /// The index of the first character the glyph shows (a byte offset in the text).
     pub cluster: u32,
+}
+
+impl PlacedGlyph {
+    /// The contours in output coordinates.
+    pub fn placed_contours(&self) -> Vec<Vec<Segment>> {
+        shifted(&self.contours, self.origin)
+    }
+}
+
+/// `contours` moved by `shift`.
+pub fn shifted(contours: &[Vec<Segment>], shift: DVec2) -> Vec<Vec<Segment>> {
+    contours
+        .iter()
+        .map(|contour| {
+            contour
+                .iter()
+                .map(|s| match *s {
+                    Segment::Line(a, b) => Segment::Line(a + shift, b + shift),
+                    Segment::Quad(a, c, b) => Segment::Quad(a + shift, c + shift, b + shift),
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// Why a text could not be laid out.
@@ -76,10 +106,9 @@ pub enum LayoutError {
     Unreadable(String),
 }
 
-/// Collects a glyph's outline, scaled and moved.
+/// Collects a glyph's outline, scaled.
 struct Outline {
     scale: f64,
-    offset: DVec2,
     contours: Vec<Vec<Segment>>,
     pen: DVec2,
     cubic: bool,
@@ -87,7 +116,7 @@ struct Outline {
 
 impl Outline {
     fn at(&self, x: f32, y: f32) -> DVec2 {
-        DVec2::new(f64::from(x), f64::from(y)) * self.scale + self.offset
+        DVec2::new(f64::from(x), f64::from(y)) * self.scale
     }
 }
 
@@ -227,12 +256,12 @@ pub fn layout(
         ) + advance;
         let mut outline = Outline {
             scale,
-            offset,
             contours: Vec::new(),
-            pen: offset,
+            pen: DVec2::ZERO,
             cubic: false,
         };
-        face.outline_glyph(ttf_parser::GlyphId(info.glyph_id as u16), &mut outline);
+        let id = info.glyph_id as u16;
+        face.outline_glyph(ttf_parser::GlyphId(id), &mut outline);
         if outline.cubic {
             return Err(LayoutError::Cubic);
         }
@@ -240,7 +269,9 @@ pub fn layout(
         outline.contours.retain(|c| !c.is_empty());
         if !outline.contours.is_empty() {
             placed.push(PlacedGlyph {
+                id,
                 contours: outline.contours,
+                origin: offset,
                 cluster: info.cluster,
             });
         }

@@ -4,17 +4,18 @@
 //!
 //! Fonts are found by fontconfig-style names ([`fonts`]); glyphs are shaped and placed with
 //! OpenSCAD 2021.01's metrics ([`layout`]). Each glyph is filled with the non-zero rule, as
-//! OpenSCAD's Clipper union of the glyph outlines does, and the glyphs are united. Every glyph and
-//! every cell declares its box, so pruning leaves a far glyph out of every query. The text also
-//! records its exact complement as cells ([`complement`]), for engraving.
+//! OpenSCAD's Clipper union of the glyph outlines does, and the glyphs are united; a glyph the
+//! text repeats is built once and placed again ([`line`]). Every glyph and every cell declares
+//! its box, so pruning leaves a far glyph out of every query. The text also records its exact
+//! complement as cells ([`complement`]), for engraving.
 
 mod complement;
 pub mod fonts;
 pub mod layout;
+mod line;
 
-use glam::DVec2;
 use qcsg_csg::{Dag, Edge, NodeId, Source};
-use qcsg_mesh::curved::{CurvedError, CurvedRegion, FillRule, curved_cells};
+use qcsg_mesh::curved::CurvedRegion;
 use qcsg_quadric::Quadric;
 
 use crate::polygon::half_space;
@@ -255,44 +256,15 @@ pub fn text(
         },
         limit: false,
     })?;
-    let mut nodes: Vec<Edge> = Vec::with_capacity(glyphs.len());
-    let (mut min, mut max) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    for glyph in &glyphs {
-        let region = curved_cells(&glyph.contours, FillRule::NonZero).map_err(|e| TextFailure {
-            argument: if e == CurvedError::BadPoint {
-                "size"
-            } else {
-                "font"
-            },
-            message: format!("the glyph at byte {} of the text: {e}", glyph.cluster),
-            limit: false,
-        })?;
-        if let Some(node) = region_node(dag, &region, source).map_err(|m| TextFailure {
-            argument: "size",
-            message: m,
-            limit: false,
-        })? {
-            nodes.push(node.into());
-            min = min.min(region.min);
-            max = max.max(region.max);
+    let node = match line::build_line(dag, &glyphs, source)? {
+        Some((node, complement)) => {
+            if let Some(complement) = complement {
+                dag.set_complement(node, complement);
+            }
+            Some(node)
         }
-    }
-    let node = match nodes.len() {
-        0 => None,
-        1 => Some(nodes[0].child),
-        _ => {
-            let union = dag.union(nodes, source);
-            Some(dag.bounded(union, column(min, max)))
-        }
+        None => None,
     };
-    if let Some(node) = node {
-        // Where the text is subtracted, its unfilled cells stand for its complement.
-        let outlines: Vec<&[Vec<qcsg_mesh::curved::Segment>]> =
-            glyphs.iter().map(|g| g.contours.as_slice()).collect();
-        if let Some(complement) = complement::complement_node(dag, &outlines, source) {
-            dag.set_complement(node, complement);
-        }
-    }
     Ok(BuiltText { node, warnings })
 }
 
@@ -325,16 +297,53 @@ fn parabola_side(arc: &qcsg_mesh::curved::BezierArc, inside: bool) -> Option<Qua
     )
 }
 
+/// The part of the plane between two values of one coordinate.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Strip {
+    /// The coordinate: 0 for x, 1 for y.
+    pub axis: usize,
+    /// Its least value in the strip.
+    pub lo: f64,
+    /// Its greatest value in the strip.
+    pub hi: f64,
+}
+
 /// The union of a curved region's cells, each the intersection of its half-spaces and parabola
-/// sides within its box; `None` for an empty region.
-pub fn region_node(
+/// sides within its box, cut back to `clip` where given; `None` for an empty region.
+pub(crate) fn region_node(
     dag: &mut Dag,
     region: &CurvedRegion,
+    clip: Option<Strip>,
     source: Source,
 ) -> Result<Option<NodeId>, String> {
+    let (mut region_min, mut region_max) = (region.min, region.max);
+    if let Some(Strip { axis, lo, hi }) = clip {
+        region_min[axis] = region_min[axis].max(lo);
+        region_max[axis] = region_max[axis].min(hi);
+    }
     let mut cells: Vec<Edge> = Vec::with_capacity(region.cells.len());
     for cell in &region.cells {
-        let mut sides: Vec<Edge> = Vec::with_capacity(cell.half_planes.len() + cell.sides.len());
+        let (mut min, mut max) = (cell.min, cell.max);
+        let mut sides: Vec<Edge> =
+            Vec::with_capacity(cell.half_planes.len() + cell.sides.len() + 2);
+        if let Some(Strip { axis, lo, hi }) = clip {
+            if max[axis] <= lo || min[axis] >= hi {
+                continue;
+            }
+            let unrepresentable = "a wall of the text's complement is not representable";
+            if min[axis] < lo {
+                sides.push(
+                    complement::axis_wall(dag, axis, false, lo, source).ok_or(unrepresentable)?,
+                );
+                min[axis] = lo;
+            }
+            if max[axis] > hi {
+                sides.push(
+                    complement::axis_wall(dag, axis, true, hi, source).ok_or(unrepresentable)?,
+                );
+                max[axis] = hi;
+            }
+        }
         for h in &cell.half_planes {
             let q = half_space(h).ok_or("an edge of the glyph is not representable")?;
             sides.push(dag.leaf(q, source).into());
@@ -345,14 +354,14 @@ pub fn region_node(
             sides.push(dag.leaf(q, source).into());
         }
         let node = dag.intersection(sides, source);
-        cells.push(dag.bounded(node, column(cell.min, cell.max)).into());
+        cells.push(dag.bounded(node, column(min, max)).into());
     }
     Ok(match cells.len() {
         0 => None,
         1 => Some(cells[0].child),
         _ => {
             let node = dag.union(cells, source);
-            Some(dag.bounded(node, column(region.min, region.max)))
+            Some(dag.bounded(node, column(region_min, region_max)))
         }
     })
 }
