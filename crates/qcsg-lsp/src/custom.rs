@@ -93,7 +93,12 @@ impl Backend {
         let answer = self
             .query(&params.text_document.uri, move |analyzed| {
                 let Some(preview) = analyzed.geometry().and_then(|g| g.preview()) else {
-                    return Ok(json!({"png": null, "reason": "the program has errors"}));
+                    let reason = if analyzed.is_superseded() {
+                        "the document changed before this frame was drawn"
+                    } else {
+                        "the program has errors"
+                    };
+                    return Ok(json!({"png": null, "reason": reason}));
                 };
                 let started = Instant::now();
                 let frame = preview

@@ -4,10 +4,15 @@
 //! answered. The lock is a plain mutex held only to read or replace a document, never across an
 //! `.await` or an analysis; analyses run on a snapshot and are cached only if the document has
 //! not changed meanwhile.
+//!
+//! Evaluations (the geometry of an analysis) run one at a time, and one whose documents
+//! changed while it waited is not run: typing fast in a heavy document would otherwise start an
+//! evaluation per keystroke, all at once, each holding the memory of a whole solid.
 
 use std::collections::HashMap;
 use std::ops::Deref;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 
 use qcsg_diag::{LineCol, LineIndex, Span};
@@ -29,7 +34,13 @@ struct Document {
 #[derive(Debug, Default)]
 pub struct Documents {
     state: Mutex<State>,
+    /// The generation of the latest edit, readable without the lock by analyses that wait to be
+    /// evaluated.
+    latest: Arc<AtomicU64>,
 }
+
+/// Held by the one evaluation that runs.
+static EVALUATING: Mutex<()> = Mutex::new(());
 
 #[derive(Debug, Default)]
 struct State {
@@ -43,17 +54,30 @@ struct State {
 #[derive(Debug)]
 pub struct Analyzed {
     analysis: Analysis,
-    /// Evaluated on first need, once: concurrent callers wait for the first one.
+    /// Evaluated on first need, once: concurrent callers wait for the first one. `None` also
+    /// when a newer edit superseded the analysis before its turn to be evaluated came.
     geometry: OnceLock<Option<Geometry>>,
+    /// The generation of the documents the analysis was made from.
+    generation: u64,
+    /// The generation of the latest edit.
+    latest: Arc<AtomicU64>,
 }
 
 impl Analyzed {
-    /// Wraps a checked document; nothing is evaluated yet.
-    pub fn new(analysis: Analysis) -> Self {
+    /// Wraps a checked document made from the documents of `generation`, while `latest` follows
+    /// the latest edit; nothing is evaluated yet.
+    pub fn new(analysis: Analysis, generation: u64, latest: Arc<AtomicU64>) -> Self {
         Self {
             analysis,
             geometry: OnceLock::new(),
+            generation,
+            latest,
         }
+    }
+
+    /// Whether a document changed since the analysis was made.
+    pub fn is_superseded(&self) -> bool {
+        self.latest.load(Ordering::Acquire) != self.generation
     }
 
     /// The checked document.
@@ -61,11 +85,21 @@ impl Analyzed {
         &self.analysis
     }
 
-    /// The evaluated solid under the editor's limits (evaluated now if it was not yet); `None`
-    /// when the program has static errors.
+    /// The evaluated solid under the editor's limits (evaluated now if it was not yet, after
+    /// any evaluation running); `None` when the program has static errors, or when a document
+    /// changed before the evaluation could start (see [`Analyzed::is_superseded`]).
     pub fn geometry(&self) -> Option<&Geometry> {
         self.geometry
-            .get_or_init(|| Geometry::evaluate(&self.analysis, &editor_limits()))
+            .get_or_init(|| {
+                // A panic in an evaluation leaves nothing behind the lock to repair.
+                let _turn = EVALUATING
+                    .lock()
+                    .unwrap_or_else(|poisoned| poisoned.into_inner());
+                if self.is_superseded() {
+                    return None;
+                }
+                Geometry::evaluate(&self.analysis, &editor_limits())
+            })
             .as_ref()
     }
 }
@@ -95,6 +129,8 @@ pub struct Snapshot {
     /// Its version.
     pub version: i32,
     generation: u64,
+    /// The generation of the latest edit.
+    latest: Arc<AtomicU64>,
     /// Every open file's text by path, so includes see unsaved edits.
     buffers: HashMap<PathBuf, String>,
 }
@@ -108,6 +144,12 @@ pub fn document_path(uri: &Uri) -> String {
 }
 
 impl Documents {
+    /// Counts an edit of any document: every analysis made before it is superseded.
+    fn next_generation(&self, state: &mut State) {
+        state.generation += 1;
+        self.latest.store(state.generation, Ordering::Release);
+    }
+
     fn lock(&self) -> MutexGuard<'_, State> {
         // A panic while holding the lock cannot leave a document half-written (every update is a
         // single assignment), so a poisoned lock is still usable.
@@ -119,7 +161,7 @@ impl Documents {
     /// Opens (or reopens) a document.
     pub fn open(&self, uri: Uri, text: String, version: i32) {
         let mut state = self.lock();
-        state.generation += 1;
+        self.next_generation(&mut state);
         state.documents.insert(
             uri,
             Document {
@@ -133,7 +175,7 @@ impl Documents {
     /// Closes a document.
     pub fn close(&self, uri: &Uri) {
         let mut state = self.lock();
-        state.generation += 1;
+        self.next_generation(&mut state);
         state.documents.remove(uri);
     }
 
@@ -146,7 +188,7 @@ impl Documents {
         changes: Vec<TextDocumentContentChangeEvent>,
     ) -> bool {
         let mut state = self.lock();
-        state.generation += 1;
+        self.next_generation(&mut state);
         let Some(document) = state.documents.get_mut(uri) else {
             return false;
         };
@@ -199,6 +241,7 @@ impl Documents {
             text: document.text.clone(),
             version: document.version,
             generation: state.generation,
+            latest: self.latest.clone(),
             buffers,
         }))
     }
@@ -224,7 +267,7 @@ impl Documents {
 impl Snapshot {
     /// Checks the snapshot's document.
     pub fn analyze(&self) -> Analyzed {
-        Analyzed::new(Analysis::new(
+        let analysis = Analysis::new(
             &self.path,
             self.text.clone(),
             &CheckOptions {
@@ -232,7 +275,8 @@ impl Snapshot {
                 defines: Vec::new(),
             },
             self,
-        ))
+        );
+        Analyzed::new(analysis, self.generation, self.latest.clone())
     }
 }
 
@@ -269,6 +313,35 @@ mod tests {
 
     fn range(a: (u32, u32), b: (u32, u32)) -> Range {
         Range::new(Position::new(a.0, a.1), Position::new(b.0, b.1))
+    }
+
+    #[test]
+    fn an_analysis_superseded_before_its_evaluation_is_not_evaluated() {
+        let documents = Documents::default();
+        let uri: Uri = "file:///tmp/superseded.qcsg".parse().unwrap();
+        documents.open(uri.clone(), "sphere(1);".into(), 1);
+        let analyze = || match documents.analysis_or_snapshot(&uri) {
+            Some(Err(snapshot)) => snapshot.analyze(),
+            _ => panic!("a snapshot of an open document"),
+        };
+        let first = analyze();
+        documents.change(
+            &uri,
+            2,
+            vec![TextDocumentContentChangeEvent {
+                range: None,
+                range_length: None,
+                text: "sphere(2);".into(),
+            }],
+        );
+        assert!(first.is_superseded());
+        assert!(first.geometry().is_none());
+        let second = analyze();
+        assert!(!second.is_superseded());
+        assert!(second.geometry().is_some());
+        // Once evaluated, an analysis keeps its geometry through later edits.
+        documents.close(&uri);
+        assert!(second.is_superseded() && second.geometry().is_some());
     }
 
     #[test]
