@@ -472,8 +472,10 @@ fn limit_nesting(out: &mut Lexed, file: FileId) {
     }
     let tokens = std::mem::take(&mut out.tokens);
     let mut kept: Vec<(Tok, Span)> = Vec::with_capacity(tokens.len());
-    // Nesting tokens counted per open delimiter level (index 0: the file itself).
+    // Nesting tokens counted per open delimiter level (index 0: the file itself), and the
+    // delimiter that opened each level after the first.
     let mut counts: Vec<usize> = vec![0];
+    let mut openers: Vec<Tok> = Vec::new();
     let mut total = 0usize;
     // Whether the construct being swallowed has been reported (cleared at the next statement).
     let mut reported = false;
@@ -557,9 +559,14 @@ fn limit_nesting(out: &mut Lexed, file: FileId) {
         match tok {
             Tok::LParen | Tok::LBracket | Tok::LBrace => {
                 counts.push(0);
+                openers.push(tok);
                 total += 1;
             }
+            // The parser skips a `)` or `]` inside a block as stray: it closes nothing, and
+            // counted as closing the block it would let blocks nest without bound.
+            Tok::RParen | Tok::RBracket if openers.last() == Some(&Tok::LBrace) => {}
             Tok::RParen | Tok::RBracket | Tok::RBrace if counts.len() > 1 => {
+                openers.pop();
                 total -= counts.pop().unwrap_or(0) + 1;
                 // A closed block ends its statement unless an `else` continues it.
                 if tok == Tok::RBrace && next != Some(Tok::Else) {
