@@ -43,6 +43,7 @@ use crate::ty::Ty;
 use crate::{DefId, DefKind, Definition, Namespace, Reference, Target};
 
 use names::collect_specials;
+use scopes::undef_tests;
 
 /// Stack space kept free before growing it for deeply nested trees.
 const STACK_RED_ZONE: usize = 64 * 1024;
@@ -128,6 +129,8 @@ pub(crate) struct Resolver<'a> {
     suggester: Suggester,
     /// While resolving parameter defaults: the names of the parameters (for a better message).
     sibling_params: Vec<String>,
+    /// Where each file tests names for `undef`, indexed by `FileId`.
+    undef_tests: Vec<HashMap<String, Vec<u32>>>,
 }
 
 impl<'a> Resolver<'a> {
@@ -162,6 +165,11 @@ impl<'a> Resolver<'a> {
             enclosing: Vec::new(),
             suggester: Suggester::default(),
             sibling_params: Vec::new(),
+            undef_tests: loaded
+                .trees
+                .iter()
+                .map(|tree| undef_tests(&tree.stmts))
+                .collect(),
         }
     }
 

@@ -83,3 +83,10 @@ module optional_size(size) cube(is_undef(size) ? 1 : size);
 optional_size();
 function pick(a, b) = b == undef ? a : b;
 echo(pick(1));
+// A test in a definition nested in the body counts too (it sees the parameter), a test outside
+// the body does not.
+module outer(p) { module inner() if (is_undef(p)) cube(1); inner(); }
+outer();
+module strict(p) cube(p);
+strict();
+//@ 91:1 error[E0203]: missing argument `p`

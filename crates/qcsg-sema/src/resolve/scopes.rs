@@ -6,7 +6,7 @@
 use qcsg_diag::{FileId, Span};
 use qcsg_syntax::ast::{BinaryOp, Binding, ExprKind, Ident, Param, Stmt, StmtKind};
 
-use crate::fxhash::FxHashSet as HashSet;
+use crate::fxhash::FxHashMap as HashMap;
 use crate::ty::Ty;
 use crate::{DefId, DefKind, Definition, ParamInfo, Target};
 use qcsg_syntax::walk::{Node, walk};
@@ -52,9 +52,14 @@ impl<'a> Resolver<'a> {
         params: &[Param],
         body: Node<'_>,
     ) -> Vec<ParamInfo> {
-        let tested = tested_for_undef(body);
+        let span = match body {
+            Node::Stmt(stmt) => stmt.span,
+            Node::Expr(expr) => expr.span,
+            Node::Elem(elem) => elem.span,
+        };
         let mut infos = Vec::with_capacity(params.len());
         for param in params {
+            let tested = self.tested_for_undef(file, &param.name.name, span);
             let (def, _) = self.define(DefKind::Parameter, file, &param.name, param.span, None);
             if let Some(definition) = self.definitions.get_mut(def.0 as usize) {
                 definition.parent = Some(owner);
@@ -64,11 +69,23 @@ impl<'a> Resolver<'a> {
                 name_span: param.name.span,
                 span: param.span,
                 has_default: param.default.is_some(),
-                tested_for_undef: tested.contains(&param.name.name),
+                tested_for_undef: tested,
                 def,
             });
         }
         infos
+    }
+
+    /// Whether `file` tests `name` for `undef` within `span`.
+    fn tested_for_undef(&self, file: FileId, name: &str, span: Span) -> bool {
+        let starts = self
+            .undef_tests
+            .get(file.0 as usize)
+            .and_then(|tests| tests.get(name));
+        starts.is_some_and(|starts| {
+            let first = starts.partition_point(|&at| at < span.start);
+            starts.get(first).is_some_and(|&at| at < span.end)
+        })
     }
 
     pub(super) fn definition(&self, def: DefId) -> Option<&Definition> {
@@ -314,21 +331,25 @@ pub(super) fn element_type(ty: &Ty) -> Ty {
     }
 }
 
-/// The names a definition's body tests for `undef` (`is_undef(p)`, `p == undef`, `is_num(p)`, …):
-/// parameters it treats as optional even without a default.
-fn tested_for_undef(root: Node<'_>) -> HashSet<String> {
-    let mut names = HashSet::default();
-    walk([root], |node| {
+/// Where each name is tested for `undef` (`is_undef(p)`, `p == undef`, `is_num(p)`, …) in one
+/// file: the starts of the tests by name, in source order. A parameter tested anywhere in its
+/// definition's body, nested definitions included, is treated as optional even without a
+/// default; one walk per file, and a binary search per parameter, keep that linear where a walk
+/// of every definition's body would be quadratic in their nesting.
+pub(super) fn undef_tests(stmts: &[Stmt]) -> HashMap<String, Vec<u32>> {
+    let mut tests: HashMap<String, Vec<u32>> = HashMap::default();
+    walk(stmts.iter().map(Node::Stmt), |node| {
         let Node::Expr(expr) = node else { return };
-        match &expr.kind {
-            ExprKind::Call { callee, args, .. } => {
-                if let (ExprKind::Ident(function), [arg]) = (&callee.kind, args.as_slice())
-                    && function.name.starts_with("is_")
-                    && let ExprKind::Ident(tested) = &arg.value.kind
-                {
-                    names.insert(tested.name.clone());
+        let tested = match &expr.kind {
+            ExprKind::Call { callee, args, .. } => match (&callee.kind, args.as_slice()) {
+                (ExprKind::Ident(function), [arg]) if function.name.starts_with("is_") => {
+                    match &arg.value.kind {
+                        ExprKind::Ident(tested) => Some(tested),
+                        _ => None,
+                    }
                 }
-            }
+                _ => None,
+            },
             ExprKind::Binary {
                 op: BinaryOp::Eq | BinaryOp::Ne,
                 lhs,
@@ -336,13 +357,21 @@ fn tested_for_undef(root: Node<'_>) -> HashSet<String> {
                 ..
             } => match (&lhs.kind, &rhs.kind) {
                 (ExprKind::Ident(tested), ExprKind::Undef)
-                | (ExprKind::Undef, ExprKind::Ident(tested)) => {
-                    names.insert(tested.name.clone());
-                }
-                _ => {}
+                | (ExprKind::Undef, ExprKind::Ident(tested)) => Some(tested),
+                _ => None,
             },
-            _ => {}
+            _ => None,
+        };
+        if let Some(tested) = tested {
+            tests
+                .entry(tested.name.clone())
+                .or_default()
+                .push(expr.span.start);
         }
     });
-    names
+    // The walk is in source order already; sorted, the lookups need not rely on it.
+    for starts in tests.values_mut() {
+        starts.sort_unstable();
+    }
+    tests
 }
