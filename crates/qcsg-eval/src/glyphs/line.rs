@@ -137,9 +137,11 @@ pub(super) fn build_line(
                     limit: false,
                 })
         };
-        if let Some(shape) = made.shape {
-            shapes.push(place(dag, shape)?);
-        }
+        // A cluster that draws nothing leaves its strip to the strips around it.
+        let Some(shape) = made.shape else {
+            continue;
+        };
+        shapes.push(place(dag, shape)?);
         complements = match (complements, made.complement) {
             (Some(mut list), Some(complement)) => {
                 list.push((complement, cluster.origin));
