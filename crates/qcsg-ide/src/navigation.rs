@@ -1,5 +1,6 @@
 //! Go to definition, find references and rename.
 
+use std::collections::{HashMap, HashSet};
 use std::fmt;
 
 use qcsg_sema::{DefId, Target};
@@ -87,25 +88,23 @@ impl Analysis {
         Some(self.file_range(definition.file, definition.name_span))
     }
 
-    /// The definitions that are one variable: an assignment and its reassignments in one scope.
-    fn same_variable(&self, id: DefId) -> Vec<DefId> {
-        let mut ids = vec![id];
-        let mut changed = true;
-        while changed {
-            changed = false;
-            for (i, definition) in self.sema.definitions.iter().enumerate() {
-                let Some(earlier) = definition.redefines else {
-                    continue;
-                };
+    /// The definitions that are one variable: an assignment and its reassignments in one scope
+    /// (linked by `redefines`, each to the one before), found in one pass over the definitions.
+    fn same_variable(&self, id: DefId) -> HashSet<DefId> {
+        let mut linked: HashMap<DefId, Vec<DefId>> = HashMap::new();
+        for (i, definition) in self.sema.definitions.iter().enumerate() {
+            if let Some(earlier) = definition.redefines {
                 let later = DefId(i as u32);
-                if ids.contains(&later) != ids.contains(&earlier) {
-                    ids.extend(
-                        [later, earlier]
-                            .into_iter()
-                            .filter(|d| !ids.contains(d))
-                            .collect::<Vec<_>>(),
-                    );
-                    changed = true;
+                linked.entry(later).or_default().push(earlier);
+                linked.entry(earlier).or_default().push(later);
+            }
+        }
+        let mut ids = HashSet::from([id]);
+        let mut pending = vec![id];
+        while let Some(next) = pending.pop() {
+            for &other in linked.get(&next).into_iter().flatten() {
+                if ids.insert(other) {
+                    pending.push(other);
                 }
             }
         }
@@ -118,13 +117,22 @@ impl Analysis {
         let Some((_, Resolved::Definition(id))) = self.resolve_at(self.offset(position)) else {
             return Vec::new();
         };
+        let ids = self.same_variable(id);
         let mut spans = Vec::new();
-        for id in self.same_variable(id) {
-            if include_declaration && let Some(definition) = self.sema.definition(id) {
-                spans.push((definition.file, definition.name_span));
-            }
-            spans.extend(self.sema.references_to(id).map(|r| (r.file, r.span)));
+        if include_declaration {
+            spans.extend(
+                ids.iter()
+                    .filter_map(|&id| self.sema.definition(id))
+                    .map(|definition| (definition.file, definition.name_span)),
+            );
         }
+        spans.extend(
+            self.sema
+                .references
+                .iter()
+                .filter(|r| matches!(r.target, Target::Definition(d) if ids.contains(&d)))
+                .map(|r| (r.file, r.span)),
+        );
         spans.sort();
         spans.dedup();
         spans
