@@ -123,17 +123,13 @@ pub(super) fn cluster_complement(
         parts.push(cells.into());
     }
     let inf = f64::INFINITY;
-    for (upper, (from, to)) in [(true, (-inf, min[across])), (false, (max[across], inf))] {
+    let below = (true, min[across], -inf, min[across]);
+    let above = (false, max[across], max[across], inf);
+    for (upper, wall, from, to) in [below, above] {
         let sides = [
             axis_wall(dag, axis, false, lo, source)?,
             axis_wall(dag, axis, true, hi, source)?,
-            axis_wall(
-                dag,
-                across,
-                upper,
-                if upper { min[across] } else { max[across] },
-                source,
-            )?,
+            axis_wall(dag, across, upper, wall, source)?,
         ];
         let node = dag.intersection(sides, source);
         let (mut box_min, mut box_max) = (DVec2::ZERO, DVec2::ZERO);
