@@ -82,6 +82,34 @@ pub fn diagnostic(d: &ide::IdeDiagnostic, main_path: &str, main_uri: &Uri) -> ls
     }
 }
 
+/// The most diagnostics published for one file. An editor lists no more usefully, and each one
+/// is held, copied and serialised again on every change: a file of 280,000 stray `)` took the
+/// server past 1 GB and 24 s to publish them.
+pub const MAX_PUBLISHED: usize = 1_000;
+
+/// At most [`MAX_PUBLISHED`] of `diagnostics`, errors first (each severity in the order given),
+/// then, where some were left out, one more saying how many and where the first of them is.
+pub fn capped(mut diagnostics: Vec<lsp::Diagnostic>) -> Vec<lsp::Diagnostic> {
+    if diagnostics.len() <= MAX_PUBLISHED {
+        return diagnostics;
+    }
+    diagnostics.sort_by_key(|d| d.severity != Some(DiagnosticSeverity::ERROR));
+    let left_out = diagnostics.len() - MAX_PUBLISHED;
+    let first_left_out = diagnostics[MAX_PUBLISHED].range;
+    diagnostics.truncate(MAX_PUBLISHED);
+    diagnostics.push(lsp::Diagnostic {
+        range: first_left_out,
+        severity: Some(DiagnosticSeverity::INFORMATION),
+        source: Some("qcsg".to_owned()),
+        message: format!(
+            "{left_out} more diagnostics in this file are not shown, the first of them here; \
+             `qcsg check` lists them all"
+        ),
+        ..lsp::Diagnostic::default()
+    });
+    diagnostics
+}
+
 /// The legend of [`semantic_tokens`], in [`ide::TokenKind::ALL`] order.
 pub fn semantic_legend() -> SemanticTokensLegend {
     let token_types = ide::TokenKind::ALL
@@ -134,4 +162,50 @@ pub fn semantic_tokens(tokens: &[ide::SemanticToken]) -> Vec<lsp::SemanticToken>
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at_line(line: u32, severity: DiagnosticSeverity) -> lsp::Diagnostic {
+        lsp::Diagnostic {
+            range: Range::new(Position::new(line, 0), Position::new(line, 1)),
+            severity: Some(severity),
+            ..lsp::Diagnostic::default()
+        }
+    }
+
+    #[test]
+    fn a_flood_of_diagnostics_is_capped_errors_first_with_a_count() {
+        let few: Vec<_> = (0..10)
+            .map(|l| at_line(l, DiagnosticSeverity::WARNING))
+            .collect();
+        assert_eq!(capped(few.clone()), few);
+        // 700 warnings, then 800 errors.
+        let flood: Vec<_> = (0..1_500)
+            .map(|l| {
+                let severity = if l < 700 {
+                    DiagnosticSeverity::WARNING
+                } else {
+                    DiagnosticSeverity::ERROR
+                };
+                at_line(l, severity)
+            })
+            .collect();
+        let published = capped(flood);
+        assert_eq!(published.len(), MAX_PUBLISHED + 1);
+        // Every error, in order, then the first 200 warnings.
+        assert!(published[..800].iter().enumerate().all(|(i, d)| {
+            d.severity == Some(DiagnosticSeverity::ERROR) && d.range.start.line == 700 + i as u32
+        }));
+        assert_eq!(published[999].range.start.line, 199);
+        let summary = &published[MAX_PUBLISHED];
+        assert_eq!(summary.range.start.line, 200);
+        assert!(
+            summary.message.starts_with("500 more diagnostics"),
+            "{}",
+            summary.message
+        );
+    }
 }

@@ -5,9 +5,10 @@
 //! `.await` or an analysis; analyses run on a snapshot and are cached only if the document has
 //! not changed meanwhile.
 //!
-//! Evaluations (the geometry of an analysis) run one at a time, and one whose documents
-//! changed while it waited is not run: typing fast in a heavy document would otherwise start an
-//! evaluation per keystroke, all at once, each holding the memory of a whole solid.
+//! Analyses run one at a time, each of the latest text when its turn comes; evaluations (the
+//! geometry of an analysis) run one at a time too, and one whose documents changed while it
+//! waited is not run: typing fast in a heavy document would otherwise start an analysis and an
+//! evaluation per keystroke, all at once, each holding the memory of a whole tree or solid.
 
 use std::collections::HashMap;
 use std::ops::Deref;
@@ -41,6 +42,9 @@ pub struct Documents {
 
 /// Held by the one evaluation that runs.
 static EVALUATING: Mutex<()> = Mutex::new(());
+
+/// Held by the one analysis (parse and check) that runs.
+static ANALYZING: Mutex<()> = Mutex::new(());
 
 #[derive(Debug, Default)]
 struct State {
@@ -244,6 +248,29 @@ impl Documents {
             latest: self.latest.clone(),
             buffers,
         }))
+    }
+
+    /// An analysis of `uri`, made in its turn: analyses run one at a time, across all documents,
+    /// and the one whose turn comes analyses the document as it is then (or takes the analysis
+    /// another made meanwhile), not the older `snapshot` it was asked for. A burst of edits
+    /// would otherwise analyse every version at once, each holding a whole syntax tree and its
+    /// diagnostics. Returns the analysis and, when it was made here, the snapshot it was made
+    /// from (to [`Documents::store`]).
+    pub fn analyze_in_turn(
+        &self,
+        uri: &Uri,
+        snapshot: Snapshot,
+    ) -> (Arc<Analyzed>, Option<Snapshot>) {
+        let _turn = ANALYZING
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        let snapshot = match self.analysis_or_snapshot(uri) {
+            Some(Ok(analysis)) => return (analysis, None),
+            Some(Err(latest)) => latest,
+            // Closed meanwhile: the request still gets an answer.
+            None => snapshot,
+        };
+        (Arc::new(snapshot.analyze()), Some(snapshot))
     }
 
     /// Caches an analysis computed from `snapshot` unless anything changed since. Returns whether

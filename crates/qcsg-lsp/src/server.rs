@@ -21,7 +21,7 @@ use crate::documents::{Analyzed, Documents, document_path};
 #[derive(Debug)]
 pub struct Backend {
     client: Client,
-    documents: Documents,
+    documents: Arc<Documents>,
     published: Mutex<Published>,
 }
 
@@ -85,7 +85,7 @@ impl Backend {
     pub fn new(client: Client) -> Self {
         Self {
             client,
-            documents: Documents::default(),
+            documents: Arc::new(Documents::default()),
             published: Mutex::default(),
         }
     }
@@ -112,12 +112,13 @@ impl Backend {
         let Some(cached) = self.documents.analysis_or_snapshot(uri) else {
             return Ok(None);
         };
+        let (documents, document) = (self.documents.clone(), uri.clone());
         let outcome = tokio::task::spawn_blocking(move || {
             catch_unwind(AssertUnwindSafe(move || match cached {
                 Ok(analysis) => (query(&analysis), None),
                 Err(snapshot) => {
-                    let analysis = Arc::new(snapshot.analyze());
-                    (query(&analysis), Some((snapshot, analysis)))
+                    let (analysis, made_from) = documents.analyze_in_turn(&document, snapshot);
+                    (query(&analysis), made_from.map(|s| (s, analysis)))
                 }
             }))
         })
@@ -225,9 +226,13 @@ impl Backend {
         version: i32,
     ) {
         let mut targets: Vec<Uri> = foreign.keys().cloned().collect();
+        let foreign = foreign
+            .into_iter()
+            .map(|(target, found)| (target, convert::capped(found)))
+            .collect();
         {
             let mut published = self.lock_published();
-            published.own.insert(uri.clone(), own);
+            published.own.insert(uri.clone(), convert::capped(own));
             if let Some(before) = published.foreign.insert(uri.clone(), foreign) {
                 targets.extend(before.into_keys());
             }
