@@ -50,24 +50,13 @@ fn engraved_text_has_about_as_many_terms_as_raised_text() {
 
 #[test]
 fn engraved_text_is_the_dags_solid() {
-    let (e, dnf) = dnf_of(&engraved(TEXT));
-    let mut rng = Rng::new(40);
-    let (mut inside, mut outside) = (0, 0);
-    // Points over the plate and around it, dense where the letters are cut.
-    for k in 0..40_000 {
-        let p = if k % 4 == 0 {
-            rng.in_box(DVec3::new(-2.0, -2.0, -1.0), DVec3::new(94.0, 22.0, 5.0))
-        } else {
-            rng.in_box(DVec3::new(2.0, 3.0, 1.9), DVec3::new(90.0, 14.0, 4.0))
-        };
-        let expected = e.dag.contains(p);
-        assert_eq!(dnf.contains(p), expected, "at {p}");
-        if expected {
-            inside += 1;
-        } else {
-            outside += 1;
-        }
-    }
+    let scene = engraved(TEXT);
+    // Points over the plate and around it, and three times as many where the letters are cut.
+    let around = (DVec3::new(-2.0, -2.0, -1.0), DVec3::new(94.0, 22.0, 5.0));
+    let letters = (DVec3::new(2.0, 3.0, 1.9), DVec3::new(90.0, 14.0, 4.0));
+    let (in_around, out_around) = dnf_agrees_with_the_dag(&scene, 40, 10_000, Some(around));
+    let (in_letters, out_letters) = dnf_agrees_with_the_dag(&scene, 41, 30_000, Some(letters));
+    let (inside, outside) = (in_around + in_letters, out_around + out_letters);
     assert!(
         inside > 1000 && outside > 1000,
         "{inside} in, {outside} out"
@@ -126,13 +115,37 @@ fn text_in_a_union_subtracted_and_intersected_keeps_its_meaning() {
         "difference() { cube([40, 14, 3]); linear_extrude(5) difference() { square([40, 14]); translate([1, 2]) text(\"R&D\", size = 9); } }",
     ];
     for (n, scene) in scenes.iter().enumerate() {
-        let (e, dnf) = dnf_of(scene);
-        let mut rng = Rng::new(n as u64);
-        for _ in 0..10_000 {
-            let p = rng.in_box(DVec3::new(-1.0, -1.0, -1.0), DVec3::new(41.0, 15.0, 4.0));
-            assert_eq!(dnf.contains(p), e.dag.contains(p), "{scene} at {p}");
+        let around = (DVec3::new(-1.0, -1.0, -1.0), DVec3::new(41.0, 15.0, 4.0));
+        dnf_agrees_with_the_dag(scene, n as u64, 10_000, Some(around));
+    }
+}
+
+/// Checks at `count` random points (in `within`, else the solid's box) that the DNF of `scene`
+/// holds the points the DAG does; returns how many were inside and outside.
+fn dnf_agrees_with_the_dag(
+    scene: &str,
+    seed: u64,
+    count: usize,
+    within: Option<(DVec3, DVec3)>,
+) -> (usize, usize) {
+    let (e, dnf) = dnf_of(scene);
+    let (lo, hi) = within.unwrap_or_else(|| {
+        let b = e.dag.edge_bounds(e.dag.root().expect("a solid"));
+        (b.min, b.max)
+    });
+    let mut rng = Rng::new(seed);
+    let (mut inside, mut outside) = (0, 0);
+    for _ in 0..count {
+        let p = rng.in_box(lo, hi);
+        let expected = e.dag.contains(p);
+        assert_eq!(dnf.contains(p), expected, "{scene} at {p}");
+        if expected {
+            inside += 1;
+        } else {
+            outside += 1;
         }
     }
+    (inside, outside)
 }
 
 #[test]
@@ -146,20 +159,7 @@ fn glyphs_built_together_and_vertical_text_keep_their_meaning() {
         "difference() { cube([90, 12, 3]); translate([1, 3, 1]) linear_extrude(3) text(\"oooo xo ox oo\", size = 8); }",
     ];
     for (n, scene) in scenes.iter().enumerate() {
-        let (e, dnf) = dnf_of(scene);
-        let b = e.dag.edge_bounds(e.dag.root().expect("a solid"));
-        let mut rng = Rng::new(100 + n as u64);
-        let (mut inside, mut outside) = (0, 0);
-        for _ in 0..20_000 {
-            let p = rng.in_box(b.min, b.max);
-            let expected = e.dag.contains(p);
-            assert_eq!(dnf.contains(p), expected, "{scene} at {p}");
-            if expected {
-                inside += 1;
-            } else {
-                outside += 1;
-            }
-        }
+        let (inside, outside) = dnf_agrees_with_the_dag(scene, 100 + n as u64, 20_000, None);
         assert!(
             inside > 1000 && outside > 1000,
             "{scene}: {inside} in, {outside} out"
