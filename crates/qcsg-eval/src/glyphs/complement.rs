@@ -19,6 +19,7 @@ use qcsg_csg::{Dag, Edge, NodeId, Source};
 use qcsg_mesh::HalfPlane;
 use qcsg_mesh::curved::{FillRule, Segment, curved_complement_cells};
 
+use super::layout::control_box;
 use super::{Strip, region_node};
 use crate::polygon::half_space;
 use crate::primitives_2d::column;
@@ -102,16 +103,8 @@ pub(super) fn cluster_complement(
             contours.extend(glyph.iter().cloned());
         }
     }
-    let (lo, hi) = contours.iter().flatten().fold(
-        (f64::INFINITY, f64::NEG_INFINITY),
-        |(lo, hi), s| match *s {
-            Segment::Line(a, b) => (lo.min(a[axis]).min(b[axis]), hi.max(a[axis]).max(b[axis])),
-            Segment::Quad(a, c, b) => (
-                lo.min(a[axis]).min(b[axis]).min(c[axis]),
-                hi.max(a[axis]).max(b[axis]).max(c[axis]),
-            ),
-        },
-    );
+    let (lo, hi) = control_box(&contours);
+    let (lo, hi) = (lo[axis], hi[axis]);
     let complement = curved_complement_cells(&contours, FillRule::NonZero).ok()??;
     // The partition's box reaches past the outline; its cells are cut back to the strip, and
     // the strip above and below the box is added, each wall the exact flip of the partition's.

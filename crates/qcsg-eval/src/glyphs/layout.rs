@@ -81,6 +81,18 @@ impl PlacedGlyph {
     }
 }
 
+/// The box of the points and control points of `contours` (contours of a placed glyph hold at
+/// least one segment).
+pub fn control_box(contours: &[Vec<Segment>]) -> (DVec2, DVec2) {
+    contours.iter().flatten().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), s| match *s {
+            Segment::Line(a, b) => (lo.min(a).min(b), hi.max(a).max(b)),
+            Segment::Quad(a, c, b) => (lo.min(a).min(b).min(c), hi.max(a).max(b).max(c)),
+        },
+    )
+}
+
 /// `contours` moved by `shift`.
 pub fn shifted(contours: &[Vec<Segment>], shift: DVec2) -> Vec<Vec<Segment>> {
     contours

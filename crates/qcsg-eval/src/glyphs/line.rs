@@ -18,7 +18,7 @@ use qcsg_csg::{Dag, Edge, NodeId, Source};
 use qcsg_mesh::curved::{CurvedError, FillRule, Segment, curved_cells};
 
 use super::complement::{ClusterComplement, cluster_complement, outside_clusters};
-use super::layout::{PlacedGlyph, shifted};
+use super::layout::{PlacedGlyph, control_box, shifted};
 use super::{TextFailure, region_node};
 
 /// How far apart, relative to the size of the coordinates, two boxes must be to be built
@@ -38,18 +38,6 @@ struct Cluster {
 struct Built {
     shape: Option<NodeId>,
     complement: Option<ClusterComplement>,
-}
-
-/// The box of the points and control points of `contours` (contours of a placed glyph hold at
-/// least one segment).
-fn control_box(contours: &[Vec<Segment>]) -> (DVec2, DVec2) {
-    contours.iter().flatten().fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), s| match *s {
-            Segment::Line(a, b) => (lo.min(a).min(b), hi.max(a).max(b)),
-            Segment::Quad(a, c, b) => (lo.min(a).min(b).min(c), hi.max(a).max(b).max(c)),
-        },
-    )
 }
 
 /// The groups of `boxes` whose extents along `axis` overlap, or come within `tolerance`
