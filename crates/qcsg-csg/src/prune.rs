@@ -22,6 +22,8 @@
 
 use std::collections::HashMap;
 
+use rayon::prelude::*;
+
 use crate::bounds::Aabb;
 use crate::dnf::{DUPLICATE_TOLERANCE, Dnf, Term, shape_key};
 use crate::quadric_box::{BoxClass, classify};
@@ -369,7 +371,7 @@ fn pass_empty_bounds(dnf: &mut Dnf, own_boxes: &[Aabb]) {
 
 fn pass_literal_bounds(dnf: &mut Dnf, own_boxes: &[Aabb], region: Aabb) {
     let quadrics = &dnf.quadrics;
-    dnf.terms.retain_mut(|term| {
+    retain_terms(&mut dnf.terms, |term| {
         if term
             .literals
             .iter()
@@ -399,17 +401,27 @@ fn pass_literal_bounds(dnf: &mut Dnf, own_boxes: &[Aabb], region: Aabb) {
     });
 }
 
+/// Keeps the terms for which `keep` (which may change the term) holds, in order. Each term is
+/// decided on its own, so the terms are shared out among the threads: a scene of tens of
+/// thousands of cells (an imported mesh) spends a good part of its normal form here.
+fn retain_terms(terms: &mut Vec<Term>, keep: impl Fn(&mut Term) -> bool + Sync + Send) {
+    let kept: Vec<bool> = terms.par_iter_mut().map(&keep).collect();
+    let mut decided = kept.iter();
+    terms.retain(|_| *decided.next().expect("one decision per term"));
+}
+
 fn pass_coincident_pairs(dnf: &mut Dnf) {
     let surfaces = crate::dnf::surfaces_of(dnf);
-    dnf.terms
-        .retain(|term| !crate::coincident::has_coincident_pair(&surfaces, &term.literals));
+    retain_terms(&mut dnf.terms, |term| {
+        !crate::coincident::has_coincident_pair(&surfaces, &term.literals)
+    });
 }
 
 fn pass_duplicate_literals(dnf: &mut Dnf) {
     // Equal quadrics share a shape key, so only literals with equal keys are compared.
     let keys: Vec<[u64; 9]> = dnf.quadrics.iter().map(|q| shape_key(&q.quadric)).collect();
     let quadrics = &dnf.quadrics;
-    for term in &mut dnf.terms {
+    dnf.terms.par_iter_mut().for_each(|term| {
         let mut groups: HashMap<[u64; 9], Vec<u32>> = HashMap::new();
         let mut kept: Vec<u32> = Vec::with_capacity(term.literals.len());
         for &id in &term.literals {
@@ -426,7 +438,7 @@ fn pass_duplicate_literals(dnf: &mut Dnf) {
             }
         }
         term.literals = kept;
-    }
+    });
 }
 
 fn pass_unused_quadrics(dnf: &mut Dnf) {

@@ -20,8 +20,9 @@
 //! nothing where it goes on, never a speckle of both.
 
 use qcsg_csg::quadric_box::{BoxClass, classify};
-use qcsg_csg::{Aabb, BoxIndex, Dnf};
+use qcsg_csg::{Aabb, BoxIndex, Dnf, Term};
 use qcsg_quadric::{DVec3, Quadric};
+use rayon::prelude::*;
 
 use crate::eye::EyeValues;
 
@@ -227,54 +228,25 @@ impl TermIndex {
     fn build(dnf: &Dnf, literals_above: usize, cull: bool) -> Self {
         let boxes = padded_boxes(dnf);
         let large = large_terms(&boxes);
-        let literals = dnf
+        // Each term's bisections are its own: the terms are shared out among the threads, as a
+        // scene of thousands of cells (an imported mesh) spends most of its set-up here.
+        let (literals, holds): (Vec<_>, Vec<_>) = dnf
             .terms
-            .iter()
+            .par_iter()
             .zip(&boxes)
             .zip(&large)
             .map(|((term, bounds), &large)| {
-                let count = term.literals.len();
-                (large && count > literals_above && bounds.is_bounded()).then(|| {
-                    // A few literals are cheap to read anyway: coarser boxes, found sooner.
-                    let many = count > LITERAL_TREE_ABOVE;
-                    let splits = if many {
-                        FAIL_SPLITS
-                    } else if count > FEWER_ABOVE {
-                        FEW_FAIL_SPLITS
-                    } else {
-                        FEWER_FAIL_SPLITS
-                    };
-                    let fails = term.literals.iter().map(|&id| {
-                        dnf.quadrics
-                            .get(id as usize)
-                            .map_or(*bounds, |q| where_it_fails(&q.quadric, bounds, splits))
-                    });
-                    let boxes = if many {
-                        LiteralBoxes::Indexed(BoxIndex::new(fails.collect()))
-                    } else {
-                        LiteralBoxes::Listed(fails.collect())
-                    };
-                    TermLiterals {
-                        boxes,
-                        ids: term.literals.clone(),
-                    }
-                })
+                if !large {
+                    return (None, None);
+                }
+                let literals = (term.literals.len() > literals_above && bounds.is_bounded())
+                    .then(|| term_literals(dnf, term, bounds));
+                let holds = cull
+                    .then(|| crate::cull::where_it_may_hold(dnf, term, bounds))
+                    .flatten();
+                (literals, holds)
             })
-            .collect();
-        let holds: Vec<Option<Aabb>> = if cull {
-            dnf.terms
-                .iter()
-                .zip(&boxes)
-                .zip(&large)
-                .map(|((term, bounds), &large)| {
-                    large
-                        .then(|| crate::cull::where_it_may_hold(dnf, term, bounds))
-                        .flatten()
-                })
-                .collect()
-        } else {
-            vec![None; boxes.len()]
-        };
+            .unzip();
         let square_boxes = holds
             .iter()
             .zip(&boxes)
@@ -302,6 +274,34 @@ impl TermBoxes for TermIndex {
     fn literal_boxes(&self, term: usize) -> Option<(&[Aabb], &[u32])> {
         let literals = self.literals.get(term)?.as_ref()?;
         Some((literals.boxes.all(), &literals.ids))
+    }
+}
+
+/// Where each literal of `term` may fail within `bounds`, the term's padded box.
+fn term_literals(dnf: &Dnf, term: &Term, bounds: &Aabb) -> TermLiterals {
+    let count = term.literals.len();
+    // A few literals are cheap to read anyway: coarser boxes, found sooner.
+    let many = count > LITERAL_TREE_ABOVE;
+    let splits = if many {
+        FAIL_SPLITS
+    } else if count > FEWER_ABOVE {
+        FEW_FAIL_SPLITS
+    } else {
+        FEWER_FAIL_SPLITS
+    };
+    let fails = term.literals.iter().map(|&id| {
+        dnf.quadrics
+            .get(id as usize)
+            .map_or(*bounds, |q| where_it_fails(&q.quadric, bounds, splits))
+    });
+    let boxes = if many {
+        LiteralBoxes::Indexed(BoxIndex::new(fails.collect()))
+    } else {
+        LiteralBoxes::Listed(fails.collect())
+    };
+    TermLiterals {
+        boxes,
+        ids: term.literals.clone(),
     }
 }
 

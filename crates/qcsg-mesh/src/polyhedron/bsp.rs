@@ -38,6 +38,10 @@ const SPLITTER_CANDIDATES: usize = 16;
 /// take longer (measured in the crate's README).
 const LEAF_TRIANGLES: usize = 32;
 
+/// Children that both hold at least this many triangles are partitioned in parallel: enough
+/// work to outweigh handing it to another thread.
+const PARALLEL_TRIANGLES: usize = 512;
+
 /// A region awaiting its split.
 struct Region {
     polytope: Polytope,
@@ -138,7 +142,8 @@ impl Partition<'_> {
                 let plane = halving_plane(&region.polytope);
                 // A region too thin to halve is treated as it stands.
                 if let Some((low, high)) = region.polytope.split(plane, self.tolerance(&plane)) {
-                    stack.extend(self.children(&region, plane, low, high, None));
+                    let children = self.children(&region, plane, low, high, None);
+                    self.descend(children, &mut stack);
                     continue;
                 }
             }
@@ -150,7 +155,7 @@ impl Partition<'_> {
                     // Where every triangle reaches both sides (a fan around one point), the
                     // triangles' own planes separate them instead.
                     if children.iter().all(|c| c.triangles.len() < total) {
-                        stack.extend(children);
+                        self.descend(children, &mut stack);
                         continue;
                     }
                 }
@@ -176,6 +181,34 @@ impl Partition<'_> {
                 }
             }
         }
+    }
+
+    /// Partitions `children` next: on the stack, or, for children of many triangles, each on
+    /// its own thread. Either way the cells come out in the same order, the last child's first,
+    /// as a region popped off the stack is partitioned whole before the regions beneath it.
+    fn descend(&mut self, children: [Region; 2], stack: &mut Vec<Region>) {
+        if children
+            .iter()
+            .any(|c| c.triangles.len() < PARALLEL_TRIANGLES)
+        {
+            stack.extend(children);
+            return;
+        }
+        let [low, high] = children;
+        let part = |region: Region| {
+            let mut part = Partition {
+                cells: Vec::new(),
+                visits: 0,
+                ..*self
+            };
+            part.run(region);
+            (part.cells, part.visits)
+        };
+        let ((high_cells, high_visits), (low_cells, low_visits)) =
+            rayon::join(|| part(high), || part(low));
+        self.cells.extend(high_cells);
+        self.cells.extend(low_cells);
+        self.visits += high_visits + low_visits;
     }
 
     /// The two children of `parent` cut by `plane`, a triangle's (`splitter`) or a free one.
