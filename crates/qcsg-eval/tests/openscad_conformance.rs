@@ -131,9 +131,14 @@ impl Comparison {
         }
     }
 
+    /// Whether too few points lie on either side to compare.
+    fn too_few_points(&self) -> bool {
+        self.inside < MIN_POINTS_PER_SIDE || self.outside < MIN_POINTS_PER_SIDE
+    }
+
     /// Why the comparison fails, if it does.
     fn failure(&self) -> Option<String> {
-        if self.inside < MIN_POINTS_PER_SIDE || self.outside < MIN_POINTS_PER_SIDE {
+        if self.too_few_points() {
             Some(format!(
                 "too few points to compare ({} inside, {} outside)",
                 self.inside, self.outside
@@ -302,20 +307,17 @@ const MAX_TERMS: usize = 300;
 
 /// Scenes whose export is known to fail, each with the reason. Such a scene that exports and
 /// agrees fails the test, so that the list stays true.
-const KNOWN_EXPORT_FAILURES: &[(&str, &str)] = &[
-    (
-        "dxf_deprecated_extrude.scad",
-        "the mesh keeps walls where cells touch on a curved face (the cells of its rotational \
+const KNOWN_EXPORT_FAILURES: &[(&str, &str)] = &[(
+    "dxf_deprecated_extrude.scad",
+    "the mesh keeps walls where cells touch on a curved face (the cells of its rotational \
          extrusions are bounded by cones and cylinders): only shared plane faces are grown so \
          that the union merges them (docs/export.md, Known limits)",
-    ),
-    ("dxf_example009.scad", TOO_THIN),
-    ("projection_import.scad", TOO_THIN),
-];
+)];
 
-const TOO_THIN: &str = "exports within the tolerance, but its plates are thinner than the band \
-     of 1 % of the diagonal around the mesh that the comparison leaves out, so too few points \
-     inside remain to compare";
+/// The finest tolerance tried, as a fraction of the diagonal: a scene of plates thinner than the
+/// band of [`EXPORT_TOLERANCE`] around the mesh, which the comparison leaves out, leaves too few
+/// points inside to compare; it is exported again at an eighth of the tolerance, down to this.
+const FINEST_EXPORT_TOLERANCE: f64 = EXPORT_TOLERANCE / 64.0;
 
 /// Exports `scene` as `qcsg export` does and compares the mesh with OpenSCAD's: a summary of
 /// the export, or why it fails.
@@ -331,43 +333,52 @@ fn compare_export(scene: &Path, openscad: &TriangleMesh) -> Result<String, Strin
         return Ok(format!("skipped: {} terms", dnf.terms.len()));
     }
     let openscad_tolerance = openscad_tolerance(&text, openscad)?;
-    let tolerance = EXPORT_TOLERANCE * (dnf.bounds.max - dnf.bounds.min).length();
-    let started = Instant::now();
-    let exported = export(&dnf, &ExportOptions::new(tolerance), &|_| {})
-        .map_err(|e| format!("qcsg export: {e}"))?;
-    let seconds = started.elapsed().as_secs_f64();
-    let topology = topology(&exported.mesh);
-    if !topology.is_closed_solid() {
-        return Err(format!("the exported mesh bounds no solid: {topology:?}"));
-    }
-    let mesh = TriangleMesh::new(exported.mesh.triangle_soup())?;
-    let mut comparison = Comparison::new();
-    for p in test_points(&text, openscad) {
-        if openscad.is_within(p, openscad_tolerance) || mesh.is_within(p, tolerance) {
+    let diagonal = (dnf.bounds.max - dnf.bounds.min).length();
+    let mut fraction = EXPORT_TOLERANCE;
+    loop {
+        let tolerance = fraction * diagonal;
+        let started = Instant::now();
+        let exported = export(&dnf, &ExportOptions::new(tolerance), &|_| {})
+            .map_err(|e| format!("qcsg export: {e}"))?;
+        let seconds = started.elapsed().as_secs_f64();
+        let topology = topology(&exported.mesh);
+        if !topology.is_closed_solid() {
+            return Err(format!("the exported mesh bounds no solid: {topology:?}"));
+        }
+        let mesh = TriangleMesh::new(exported.mesh.triangle_soup())?;
+        let mut comparison = Comparison::new();
+        for p in test_points(&text, openscad) {
+            if openscad.is_within(p, openscad_tolerance) || mesh.is_within(p, tolerance) {
+                continue;
+            }
+            let in_openscad = openscad.winding_number(p) > 0.5;
+            comparison.count(in_openscad);
+            let in_export = mesh.winding_number(p) > 0.5;
+            if in_export != in_openscad {
+                comparison.disagreements.push(format!(
+                    "({:.4}, {:.4}, {:.4}): OpenSCAD {}, qcsg export {}",
+                    p.x,
+                    p.y,
+                    p.z,
+                    side(in_openscad),
+                    side(in_export)
+                ));
+            }
+        }
+        if comparison.too_few_points() && fraction > FINEST_EXPORT_TOLERANCE {
+            fraction /= 8.0;
             continue;
         }
-        let in_openscad = openscad.winding_number(p) > 0.5;
-        comparison.count(in_openscad);
-        let in_export = mesh.winding_number(p) > 0.5;
-        if in_export != in_openscad {
-            comparison.disagreements.push(format!(
-                "({:.4}, {:.4}, {:.4}): OpenSCAD {}, qcsg export {}",
-                p.x,
-                p.y,
-                p.z,
-                side(in_openscad),
-                side(in_export)
-            ));
-        }
-    }
-    match comparison.failure() {
-        Some(failure) => Err(failure),
-        None => Ok(format!(
-            "{} triangles in {seconds:.2} s, {} points inside and {} outside agree",
-            exported.mesh.triangles.len(),
-            comparison.inside,
-            comparison.outside
-        )),
+        return match comparison.failure() {
+            Some(failure) => Err(format!("at {fraction} of the diagonal, {failure}")),
+            None => Ok(format!(
+                "{} triangles at {fraction} of the diagonal in {seconds:.2} s, {} points inside \
+                 and {} outside agree",
+                exported.mesh.triangles.len(),
+                comparison.inside,
+                comparison.outside
+            )),
+        };
     }
 }
 
