@@ -320,6 +320,11 @@ const FEWER_ABOVE: usize = 16;
 /// the union of the pieces of `bounds`, bisected along their longest side, that
 /// `quadric_box::classify` does not prove inside.
 fn where_it_fails(q: &Quadric, bounds: &Aabb, splits: u32) -> Aabb {
+    where_a_plane_fails(q, bounds).unwrap_or_else(|| where_it_fails_by_bisection(q, bounds, splits))
+}
+
+/// [`where_it_fails`] by bisecting `bounds` along its longest side, `splits` times at most.
+fn where_it_fails_by_bisection(q: &Quadric, bounds: &Aabb, splits: u32) -> Aabb {
     let mut found = Aabb::EMPTY;
     let mut stack = vec![(*bounds, 0)];
     while let Some((piece, depth)) = stack.pop() {
@@ -338,6 +343,54 @@ fn where_it_fails(q: &Quadric, bounds: &Aabb, splits: u32) -> Aabb {
         }
     }
     found
+}
+
+/// For a plane, [`where_it_fails`] found directly and more tightly than by bisection: the box
+/// of the part of the finite `bounds` where `q ≥ −2e`, `e` the largest bound on the rounding of
+/// `q` at its corners (which bounds it over the box), from the corners on that side and the
+/// points where the plane `q = −2e` crosses the box's edges, grown by `1e-9` of the box's size
+/// for the rounding of those crossings. `None` for a quadric that is not a plane or a box that
+/// is not finite.
+fn where_a_plane_fails(q: &Quadric, bounds: &Aabb) -> Option<Aabb> {
+    let planar = q.matrix_a().iter().flatten().all(|&a| a == 0.0);
+    if !planar || bounds.is_empty() || !bounds.is_bounded() {
+        return None;
+    }
+    let corners = bounds.corners();
+    let values = corners.map(|c| q.value_with_error(c));
+    let slack = 2.0 * values.iter().fold(0.0f64, |m, &(_, e)| m.max(e));
+    let shifted = values.map(|(v, _)| v + slack);
+    if shifted.iter().any(|s| !s.is_finite()) {
+        return None;
+    }
+    let mut found = Aabb::EMPTY;
+    let mut add = |p: DVec3| found = found.union(&Aabb::new(p, p));
+    for (corner, &s) in corners.iter().zip(&shifted) {
+        if s >= 0.0 {
+            add(*corner);
+        }
+    }
+    // The edges join corners whose indices differ in one bit (one per axis).
+    for a in 0..8 {
+        for bit in [1, 2, 4] {
+            let b = a | bit;
+            let (sa, sb) = (shifted[a], shifted[b]);
+            if b != a && (sa < 0.0) != (sb < 0.0) {
+                add(corners[a] + (corners[b] - corners[a]) * (sa / (sa - sb)));
+            }
+        }
+    }
+    if found.is_empty() {
+        return Some(found);
+    }
+    let margin = 1e-9 * (bounds.max - bounds.min);
+    Some(
+        Aabb {
+            min: found.min - margin,
+            max: found.max + margin,
+        }
+        .intersection(bounds),
+    )
 }
 
 /// A term whose box is under this fraction of the scene's on its longest side is small.
@@ -661,5 +714,47 @@ fn box_face_normal(ray: &Ray) -> DVec3 {
         DVec3::new(0.0, -d.y.signum(), 0.0)
     } else {
         DVec3::new(0.0, 0.0, -d.z.signum())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qcsg_testkit::Rng;
+
+    /// A plane's box of where it fails, found directly, holds every point of the box where the
+    /// plane's literal fails and is no larger than the bisection's, at every scale and offset.
+    #[test]
+    fn a_plane_fails_within_its_direct_box_and_no_wider_than_bisected() {
+        let mut rng = Rng::new(20261208);
+        for case in 0..400 {
+            let (scale, offset) = ([1e-6, 1.0, 1e6][case % 3], [0.0, 1e6][case / 3 % 2]);
+            let centre =
+                DVec3::splat(offset) + rng.in_box(DVec3::splat(-scale), DVec3::splat(scale));
+            let half =
+                DVec3::new(rng.unit(), rng.unit(), rng.unit()) * scale + DVec3::splat(1e-3 * scale);
+            let bounds = Aabb::new(centre - half, centre + half);
+            // Through a point of the box, or beside it (missing it or holding it whole).
+            let through = centre + rng.in_box(-2.0 * half, 2.0 * half);
+            let q = Quadric::half_space(through, rng.direction()).expect("a unit normal");
+            let found = where_a_plane_fails(&q, &bounds).expect("a plane in a finite box");
+            let bisected = where_it_fails_by_bisection(&q, &bounds, FAIL_SPLITS);
+            let margin = 1e-8 * (bounds.max - bounds.min);
+            assert!(
+                found.is_empty()
+                    || (found.min.cmpge(bisected.min - margin).all()
+                        && found.max.cmple(bisected.max + margin).all()),
+                "case {case}: {found:?} wider than {bisected:?}"
+            );
+            for _ in 0..200 {
+                let p = rng.in_box(bounds.min, bounds.max);
+                if q.value(p) >= 0.0 {
+                    assert!(
+                        found.contains(p),
+                        "case {case}: {p} fails outside {found:?}"
+                    );
+                }
+            }
+        }
     }
 }
