@@ -317,13 +317,14 @@ const FEWER_FAIL_SPLITS: u32 = 8;
 const FEWER_ABOVE: usize = 16;
 
 /// A box around the points of `bounds` where `q ≤ 0` fails or holds only up to its surface:
-/// the union of the pieces of `bounds`, bisected along their longest side, that
-/// `quadric_box::classify` does not prove inside.
+/// for a plane in a finite box found directly ([`where_a_plane_fails`]), else by bisection
+/// ([`where_it_fails_by_bisection`]).
 fn where_it_fails(q: &Quadric, bounds: &Aabb, splits: u32) -> Aabb {
     where_a_plane_fails(q, bounds).unwrap_or_else(|| where_it_fails_by_bisection(q, bounds, splits))
 }
 
-/// [`where_it_fails`] by bisecting `bounds` along its longest side, `splits` times at most.
+/// [`where_it_fails`] by bisection: the union of the pieces of `bounds`, bisected along their
+/// longest side at most `splits` times, that `quadric_box::classify` does not prove inside.
 fn where_it_fails_by_bisection(q: &Quadric, bounds: &Aabb, splits: u32) -> Aabb {
     let mut found = Aabb::EMPTY;
     let mut stack = vec![(*bounds, 0)];
